@@ -1,0 +1,180 @@
+#pragma once
+/// @file
+/// The replication protocol: keeps one graph replica in step with its peers over any Transport.
+///
+///  - Every local commit becomes a delta numbered by a per-origin sequence number and is
+///    broadcast at once (or coalesced into delta intervals when `coalesce` is set).
+///  - Receivers join deltas in any order; they track which (origin, seq) they hold, and every
+///    heartbeat broadcasts that set (a summary): it is both the acknowledgement and the
+///    liveness signal.
+///  - A replica that sees a peer holding changes it lacks (from a summary, or a gap in the
+///    sequence numbers) pulls from that peer - any peer, not only the origin. The peer answers
+///    with the missing deltas from its bounded relay buffer, or, if they were evicted, with a
+///    context diff of its whole state (chunked). A pull that times out is retried elsewhere.
+///  - Nothing blocks; time comes in through `now` arguments, so the simulator runs this exactly.
+///
+/// Threading: a Replicator and its Graph belong to one thread.
+
+#include <cstdint>
+#include <functional>
+#include <list>
+#include <map>
+#include <memory>
+#include <span>
+#include <string>
+#include <unordered_map>
+#include <vector>
+
+#include "quiver/agents/transport.h"
+#include "quiver/crdt/causal_context.h"
+#include "quiver/graph/graph.h"
+#include "quiver/hash.h"
+#include "quiver/result.h"
+
+namespace quiver::agents {
+
+struct ReplicatorOptions {
+  std::string name;                          ///< the agent's name, announced to peers
+  bool observer = false;                     ///< announce as a read-only observer
+  std::int64_t heartbeat_ns = 100'000'000;   ///< summary period
+  std::int64_t lease_ns = 1'000'000'000;     ///< a peer silent this long has left
+  std::int64_t pull_timeout_ns = 400'000'000;
+  std::int64_t gap_grace_ns = 30'000'000;    ///< reordering tolerated before a gap is pulled
+  std::size_t buffer_bytes = 16u << 20;      ///< relay buffer of recent deltas (all origins)
+  std::size_t chunk_bytes = 256u << 10;      ///< state transfer chunk size
+  std::size_t max_frame_bytes = 60u << 10;   ///< messages are batched into frames up to this
+  bool coalesce = false;                     ///< hold local deltas until flush() or tick()
+};
+
+struct PeerInfo {
+  PeerId id;
+  std::string name;
+  bool observer = false;
+  bool alive = false;
+  std::int64_t last_heard_ns = 0;
+};
+
+enum class Membership : std::uint8_t { kJoined, kLeft };
+
+struct ReplicatorStats {
+  std::uint64_t frames_sent = 0, bytes_sent = 0, frames_received = 0, bytes_received = 0;
+  std::uint64_t deltas_published = 0, deltas_applied = 0, deltas_duplicate = 0, deltas_relayed = 0;
+  std::uint64_t pulls_sent = 0, pulls_timed_out = 0, pulls_answered_with_deltas = 0, pulls_answered_with_state = 0;
+  std::uint64_t states_applied = 0, state_bytes_received = 0;
+  std::uint64_t rejected_frames = 0, buffer_evictions = 0;
+};
+
+class Replicator {
+ public:
+  /// Installs itself as `g`'s delta sink. `g` and `t` must outlive the replicator.
+  Replicator(graph::Graph& g, Transport& t, ReplicatorOptions options = {});
+  ~Replicator();
+  Replicator(const Replicator&) = delete;
+  Replicator& operator=(const Replicator&) = delete;
+
+  /// Announces this replica (a summary) and starts the heartbeat clock.
+  void start(std::int64_t now_ns);
+  /// Handles one received frame. Malformed frames are counted, reported and dropped; the replica
+  /// is unchanged by them.
+  void on_frame(std::span<const std::uint8_t> frame, std::int64_t now_ns);
+  /// Timers: heartbeats, pull timeouts, gaps, liveness, buffer trimming; flushes coalesced deltas.
+  void tick(std::int64_t now_ns);
+  /// Sends coalesced local deltas now.
+  void flush();
+  /// Says goodbye so that peers drop this replica at once instead of after the lease.
+  void leave();
+
+  /// True when this replica holds every change any live peer has told it about, and at least
+  /// one peer is known.
+  bool synced() const;
+  std::vector<PeerInfo> peers() const;
+  std::size_t live_peer_count() const;
+  void on_membership(std::function<void(Membership, const PeerInfo&)> cb) { membership_cb_ = std::move(cb); }
+  /// Called with a description of every rejected frame (malformed, oversized, ...).
+  void on_error(std::function<void(const Error&)> cb) { error_cb_ = std::move(cb); }
+  /// The (origin, seq) pairs whose effects this replica holds.
+  const crdt::CausalContext& applied() const { return applied_; }
+  const ReplicatorStats& stats() const { return stats_; }
+  const ReplicatorOptions& options() const { return opt_; }
+  graph::Graph& graph() { return g_; }
+
+ private:
+  struct Buffered {
+    PeerId origin;
+    std::uint64_t lo, hi;
+    std::shared_ptr<const std::vector<std::uint8_t>> bytes;
+  };
+  struct Peer {
+    PeerInfo info;
+    crdt::CausalContext applied;
+  };
+  struct Reassembly {
+    std::uint64_t request = 0;
+    std::uint64_t count = 0;
+    std::int64_t started_ns = 0;
+    std::vector<std::vector<std::uint8_t>> chunks;
+    std::size_t received = 0, bytes = 0;
+    crdt::CausalContext applied;
+  };
+  struct Outgoing {
+    PeerId to;  // null = broadcast
+    std::vector<std::uint8_t> msg;
+  };
+
+  void on_local_delta(const graph::GraphDelta& d);
+  void publish(std::vector<std::uint8_t> bytes, std::uint64_t lo, std::uint64_t hi);
+  void handle_summary(const PeerId& from, std::span<const std::uint8_t> body);
+  void handle_delta(const PeerId& from, std::span<const std::uint8_t> body);
+  void handle_pull(const PeerId& from, std::span<const std::uint8_t> body);
+  void handle_state(const PeerId& from, std::span<const std::uint8_t> body);
+  Peer& heard_from(const PeerId& from);
+  void mark_left(Peer& p);
+  void send_summary();
+  void pull_from(const PeerId& target);
+  bool behind(const Peer& p) const { return !applied_.includes(p.applied); }
+  void remember(const PeerId& origin, std::uint64_t lo, std::uint64_t hi,
+                std::shared_ptr<const std::vector<std::uint8_t>> bytes);
+  void evict_front();
+  void trim_buffer();
+  void queue(const PeerId& to, std::vector<std::uint8_t> msg);
+  void send_queued();
+  void reject(const Error& e);
+
+  graph::Graph& g_;
+  Transport& t_;
+  ReplicatorOptions opt_;
+  PeerId self_;
+  std::int64_t now_ = 0;
+  std::int64_t next_heartbeat_ = 0;
+  bool started_ = false;
+
+  std::uint64_t seq_ = 0;  // last local sequence number
+  crdt::CausalContext applied_;
+  graph::GraphDelta pending_;  // coalesced local deltas
+  std::uint64_t pending_lo_ = 0;
+
+  std::list<Buffered> buffer_;
+  std::map<PeerId, std::map<std::uint64_t, std::list<Buffered>::iterator>> buffer_index_;
+  std::size_t buffer_bytes_ = 0;
+
+  std::map<PeerId, Peer> peers_;
+  std::map<PeerId, Reassembly> reassembly_;
+
+  // Outstanding pull.
+  bool pulling_ = false;
+  PeerId pull_target_;
+  std::uint64_t pull_request_ = 0;
+  std::int64_t pull_sent_ns_ = 0;
+  PeerId last_failed_target_;
+  bool gap_pending_ = false;
+  std::int64_t gap_since_ns_ = 0;
+  PeerId gap_peer_;
+
+  std::vector<Outgoing> outbox_;
+  graph::GraphDelta scratch_;
+  ReplicatorStats stats_;
+  std::function<void(Membership, const PeerInfo&)> membership_cb_;
+  std::function<void(const Error&)> error_cb_;
+};
+
+}  // namespace quiver::agents

@@ -1,0 +1,67 @@
+#pragma once
+/// @file
+/// Replica ids and dots: the unique names of events in a causal CRDT.
+
+#include <compare>
+#include <cstdint>
+#include <functional>
+#include <string>
+
+#include "quiver/hash.h"
+
+namespace quiver::crdt {
+
+/// A replica is one incarnation of one agent. An agent restarted without durable state comes
+/// back under a new incarnation, so it can never mint a dot it minted before.
+struct ReplicaId {
+  std::uint64_t agent = 0;        ///< Stable id of the agent (e.g. the hash of its name).
+  std::uint64_t incarnation = 0;  ///< Distinct for every start of the agent.
+
+  friend auto operator<=>(const ReplicaId&, const ReplicaId&) = default;
+  friend bool operator==(const ReplicaId&, const ReplicaId&) = default;
+  bool is_null() const { return agent == 0 && incarnation == 0; }
+  /// "00000000000000ab.3".
+  std::string to_string() const;
+};
+
+/// A dot names one event of one replica: its counter-th. Counters start at 1.
+struct Dot {
+  ReplicaId replica;
+  std::uint64_t counter = 0;
+
+  friend auto operator<=>(const Dot&, const Dot&) = default;
+  friend bool operator==(const Dot&, const Dot&) = default;
+  bool is_null() const { return counter == 0; }
+  /// "00000000000000ab.3:42".
+  std::string to_string() const;
+};
+
+/// Cheap pre-mix of a replica id (combined with a counter and mixed once by hash_value(Dot)).
+constexpr std::uint64_t r_hash_seed(const ReplicaId& r) {
+  return r.agent * 0xff51afd7ed558ccdULL ^ (r.incarnation + 0x632be59bd9b4e019ULL);
+}
+
+/// Total order used to pick deterministic winners among concurrent events: the counter first
+/// (counters are Lamport clocks in Quiver's graph, so "later" wins), then the replica id.
+inline bool lamport_less(const Dot& a, const Dot& b) {
+  if (a.counter != b.counter) return a.counter < b.counter;
+  return a.replica < b.replica;
+}
+
+inline std::uint64_t hash_value(const ReplicaId& r) {
+  return mix64(r.agent ^ (r.incarnation * 0x9e3779b97f4a7c15ULL));
+}
+inline std::uint64_t hash_value(const Dot& d) {
+  return mix64(r_hash_seed(d.replica) ^ (d.counter * 0xc2b2ae3d27d4eb4fULL));
+}
+
+}  // namespace quiver::crdt
+
+template <>
+struct std::hash<quiver::crdt::ReplicaId> {
+  std::size_t operator()(const quiver::crdt::ReplicaId& r) const noexcept { return hash_value(r); }
+};
+template <>
+struct std::hash<quiver::crdt::Dot> {
+  std::size_t operator()(const quiver::crdt::Dot& d) const noexcept { return hash_value(d); }
+};

@@ -1,0 +1,284 @@
+#pragma once
+/// @file
+/// The world-model replica: ONE causal delta-state CRDT holding typed nodes, typed multi-edges,
+/// attribute registers and the kinematic (RT) tree, all sharing one causal context.
+///
+/// Semantics, in short:
+///  - a node's id is its creation dot; deleting a node removes its attributes and every incident
+///    edge it has seen; a concurrent attribute write never resurrects a deleted node;
+///  - an edge (from, to, type) is add-wins against a concurrent delete, and is visible only
+///    while both endpoints are;
+///  - an attribute is a multi-value register: concurrent writes are all kept, `attr()` returns a
+///    deterministic winner (greatest Lamport dot) and `attr_values()` shows the conflict;
+///  - names are unique among visible nodes: a local create with a taken name is refused, and of
+///    concurrently created namesakes the earliest (Lamport order) keeps the name while the
+///    others read as "name~<id>";
+///  - the RT tree: at most one parent per node and no cycle, whatever concurrent moves arrive
+///    (the replicated-tree move operation: moves ordered by Lamport dot, a move that would close
+///    a cycle is skipped and the node keeps the parent it had when the move was made).
+///
+/// Threading: a Graph is owned by one thread. Nothing here blocks or spawns threads.
+
+#include <functional>
+#include <memory>
+#include <optional>
+#include <span>
+#include <string>
+#include <string_view>
+#include <utility>
+#include <vector>
+
+#include "quiver/crdt/causal_context.h"
+#include "quiver/graph/delta.h"
+#include "quiver/graph/ids.h"
+#include "quiver/graph/symbol.h"
+#include "quiver/graph/value.h"
+#include "quiver/hash.h"
+#include "quiver/result.h"
+
+namespace quiver::graph {
+
+class Graph;
+
+/// One value of a register with the dot of the write that made it.
+struct AttrValue {
+  Value value;
+  Dot dot;
+};
+
+enum class ChangeKind : std::uint8_t { kCreated, kUpdated, kDeleted };
+const char* to_string(ChangeKind k);
+
+struct NodeChange {
+  NodeId id;
+  ChangeKind kind;
+  Symbol type;
+  std::vector<Symbol> attrs;  ///< attribute names whose visible value changed (kUpdated)
+};
+struct EdgeChange {
+  EdgeKey key;  ///< RT edges appear with type symbols::rt(), from parent to child.
+  ChangeKind kind;
+  std::vector<Symbol> attrs;  ///< for RT edges: "pose" when the transform changed
+};
+/// Everything one commit or one merge changed in the visible graph.
+struct ChangeBatch {
+  bool local = false;
+  ReplicaId origin;  ///< the replica whose change this is (this replica's id when local)
+  std::vector<NodeChange> nodes;
+  std::vector<EdgeChange> edges;
+  bool empty() const { return nodes.empty() && edges.empty(); }
+};
+using ChangeCallback = std::function<void(const ChangeBatch&)>;
+
+/// The current RT edge of a child: its parent and the latest pose.
+struct RtEdge {
+  NodeId parent;
+  NodeId child;
+  Pose pose;           ///< X_PC, the newest sample of the current move (or the move's own pose)
+  std::int64_t stamp;  ///< stamp of `pose`
+  Dot epoch;           ///< the move (claim) this edge comes from
+};
+
+/// A pending change inside a transaction, as a grammar or lock checker sees it.
+struct TxnOp {
+  enum class Kind : std::uint8_t {
+    kCreateNode,
+    kDeleteNode,
+    kSetAttr,
+    kRemoveAttr,
+    kInsertEdge,
+    kDeleteEdge,
+    kSetEdgeAttr,
+    kRemoveEdgeAttr,
+    kSetRt,
+    kRemoveRt,
+  };
+  Kind kind;
+  NodeId node;   ///< the node; for edges, `from`; for RT, the child
+  NodeId other;  ///< for edges, `to`; for RT, the parent
+  Symbol type;   ///< node type or edge type
+  Symbol attr;
+  std::string name;  ///< node name (create)
+  Value value;
+  Pose pose;
+  std::int64_t stamp = 0;
+  std::vector<std::pair<Symbol, Value>> attrs;  ///< initial attributes (create node / insert edge)
+};
+
+/// What a commit published.
+struct CommitInfo {
+  std::size_t ops = 0;
+  std::uint64_t first_counter = 0;  ///< dots minted or skipped: [first_counter, last_counter]
+  std::uint64_t last_counter = 0;
+};
+
+/// Batches local changes into one delta. Each call validates against the replica (plus the
+/// transaction's own earlier changes) and returns an error without recording anything if the
+/// change is invalid. `commit()` applies everything atomically, fires events and hands the delta
+/// to the graph's delta sink. A transaction not committed is discarded.
+class Transaction {
+ public:
+  Transaction(Transaction&&) noexcept;
+  Transaction& operator=(Transaction&&) noexcept;
+  ~Transaction();
+
+  /// Creates a node; its id is known at once. Fails if `name` is taken or empty.
+  Result<NodeId> create_node(std::string_view type, std::string_view name,
+                             std::vector<std::pair<Symbol, Value>> attrs = {});
+  /// Deletes a node with its attributes, its incident edges and its RT edges.
+  Status delete_node(NodeId id);
+  Status set(NodeId id, Symbol attr, Value value);
+  Status set(NodeId id, std::string_view attr, Value value) { return set(id, Symbol(attr), std::move(value)); }
+  Status remove_attr(NodeId id, Symbol attr);
+  /// Inserts (or re-inserts, replacing its attributes) a symbolic edge. No self-loops. The type
+  /// "RT" is reserved for set_rt().
+  Status insert_edge(NodeId from, NodeId to, Symbol type, std::vector<std::pair<Symbol, Value>> attrs = {});
+  Status insert_edge(NodeId from, NodeId to, std::string_view type) { return insert_edge(from, to, Symbol(type)); }
+  Status delete_edge(NodeId from, NodeId to, Symbol type);
+  Status set_edge_attr(const EdgeKey& key, Symbol attr, Value value);
+  Status remove_edge_attr(const EdgeKey& key, Symbol attr);
+  /// Puts `child` under `parent` with transform X_PC at time `stamp`. If the child already hangs
+  /// under `parent` this is a pose update (a new history sample); otherwise it is a move.
+  /// Refused if it would close a cycle.
+  Status set_rt(NodeId parent, NodeId child, const Pose& X_PC, std::int64_t stamp = 0);
+  /// Detaches `child` from its RT parent.
+  Status remove_rt(NodeId child);
+
+  Result<CommitInfo> commit();
+  void abort();
+
+  bool empty() const { return ops_.empty(); }
+  std::size_t size() const { return ops_.size(); }
+  const std::vector<TxnOp>& ops() const { return ops_; }
+  Graph& graph() { return *graph_; }
+
+ private:
+  friend class Graph;
+  explicit Transaction(Graph* g);
+  bool node_usable(NodeId id) const;
+  std::optional<NodeId> pending_parent(NodeId child, bool* known) const;
+
+  Graph* graph_;
+  std::vector<TxnOp> ops_;
+  // Node records looked up while validating, reused at commit if nothing changed in between.
+  std::vector<const void*> hints_;
+  std::uint64_t epoch_ = 0;
+  std::vector<NodeId> created_;
+  std::vector<NodeId> deleted_;
+  std::vector<std::string> created_names_;
+};
+
+/// Options fixed at construction.
+struct GraphOptions {
+  /// Build change events even when nobody subscribed (e.g. for tests).
+  bool always_track_changes = false;
+};
+
+class Graph {
+ public:
+  explicit Graph(ReplicaId self, GraphOptions options = {});
+  ~Graph();
+  Graph(const Graph&) = delete;
+  Graph& operator=(const Graph&) = delete;
+
+  const ReplicaId& replica() const;
+
+  // ---- Reads (visible state) ----
+  bool has_node(NodeId id) const;
+  std::size_t node_count() const;
+  std::vector<NodeId> nodes() const;
+  std::optional<NodeId> find_node(std::string_view name) const;
+  std::vector<NodeId> nodes_of_type(Symbol type) const;
+  std::vector<NodeId> nodes_of_type(std::string_view type) const { return nodes_of_type(Symbol(type)); }
+  /// Type of a visible node (null symbol if absent).
+  Symbol type_of(NodeId id) const;
+  /// Effective (unique) name of a visible node; empty if absent.
+  std::string name_of(NodeId id) const;
+  /// Visible nodes sharing the stored name `name` (more than one after concurrent creations).
+  std::vector<NodeId> namesakes(std::string_view name) const;
+
+  /// The winning value of an attribute, or nullptr.
+  const Value* attr(NodeId id, Symbol name) const;
+  const Value* attr(NodeId id, std::string_view name) const { return attr(id, Symbol(name)); }
+  /// Typed read with an error naming what was missing or mistyped.
+  template <class T>
+  Result<T> get(NodeId id, std::string_view name) const {
+    const Value* v = attr(id, Symbol(name));
+    if (v == nullptr) return missing_attr_error(id, name);
+    const T* p = v->get_if<T>();
+    if (p == nullptr) return wrong_type_error(id, name, *v);
+    return *p;
+  }
+  /// All concurrent values of an attribute, winner first. Size > 1 means a conflict.
+  std::vector<AttrValue> attr_values(NodeId id, Symbol name) const;
+  std::vector<Symbol> attr_names(NodeId id) const;
+
+  bool has_edge(NodeId from, NodeId to, Symbol type) const;
+  /// Visible edges out of / into a node (RT edges included, type "RT"); `type` null = all.
+  std::vector<EdgeKey> edges_from(NodeId id, Symbol type = {}) const;
+  std::vector<EdgeKey> edges_to(NodeId id, Symbol type = {}) const;
+  std::vector<EdgeKey> edges_of_type(Symbol type) const;
+  std::size_t edge_count() const;
+  const Value* edge_attr(const EdgeKey& key, Symbol name) const;
+  std::vector<AttrValue> edge_attr_values(const EdgeKey& key, Symbol name) const;
+  std::vector<Symbol> edge_attr_names(const EdgeKey& key) const;
+
+  std::optional<NodeId> rt_parent(NodeId child) const;
+  std::vector<NodeId> rt_children(NodeId parent) const;
+  std::optional<RtEdge> rt_edge(NodeId child) const;
+  /// Stored samples of the child's RT edge, ascending by (stamp, dot); all epochs.
+  std::span<const RtSample> rt_history(NodeId child) const;
+  /// Visible RT roots (visible nodes without an RT parent that have RT children).
+  std::vector<NodeId> rt_roots() const;
+
+  // ---- Local writes ----
+  Transaction begin();
+
+  // ---- Replication ----
+  /// Joins a delta (kDelta) or a state / context diff (kState). `delta` must come from the
+  /// codec (already validated). Idempotent, commutative, associative.
+  void merge(const GraphDelta& delta);
+  /// The whole state as a kState fragment.
+  GraphDelta state() const;
+  /// A context diff: what a replica whose context is `theirs` lacks, plus the dots it must keep.
+  GraphDelta state_diff(const crdt::CausalContext& theirs) const;
+  const crdt::CausalContext& context() const;
+  /// Canonical digest of the whole CRDT state (store and context): equal on two replicas iff
+  /// their states are equal.
+  Digest128 digest() const;
+
+  /// Receives every delta this replica commits (the replicator installs itself here).
+  void set_delta_sink(std::function<void(const GraphDelta&)> sink);
+
+  /// Observed just before a commit applies: return an error to refuse the transaction.
+  using CommitValidator = std::function<Status(const Graph&, const std::vector<TxnOp>&)>;
+  void set_commit_validator(CommitValidator v);
+
+  // ---- Events ----
+  using SubscriptionId = std::uint64_t;
+  SubscriptionId subscribe(ChangeCallback cb);
+  void unsubscribe(SubscriptionId id);
+
+  // ---- Checks and statistics ----
+  /// Structural invariants; returns one message per violation (empty = all hold).
+  std::vector<std::string> check_invariants() const;
+  struct Stats {
+    std::size_t node_records = 0;  ///< including invisible placeholders
+    std::size_t edge_records = 0;
+    std::size_t entries = 0;       ///< register entries, existence dots and RT claims
+    std::size_t samples = 0;
+    std::size_t context_ranges = 0;
+  };
+  Stats stats() const;
+
+ private:
+  friend class Transaction;
+  friend struct GraphAccess;
+  Error missing_attr_error(NodeId id, std::string_view name) const;
+  Error wrong_type_error(NodeId id, std::string_view name, const Value& v) const;
+
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace quiver::graph

@@ -1,0 +1,53 @@
+#pragma once
+/// @file
+/// Interned strings for attribute names and node/edge types. A Symbol is a small index into a
+/// process-wide table; comparisons that must be deterministic across processes use the string
+/// (`str()`), never the index, because indices depend on interning order.
+
+#include <compare>
+#include <cstdint>
+#include <functional>
+#include <string>
+#include <string_view>
+
+namespace quiver::graph {
+
+class Symbol {
+ public:
+  Symbol() = default;
+  /// Interns `name` (thread-safe). The empty string is the null symbol.
+  explicit Symbol(std::string_view name);
+  static Symbol from_index(std::uint32_t index) {
+    Symbol s;
+    s.index_ = index;
+    return s;
+  }
+
+  /// The interned text; valid for the life of the process. Thread-safe.
+  const std::string& str() const;
+  std::uint32_t index() const { return index_; }
+  /// A hash of the text: the same in every process (unlike the index).
+  std::uint64_t stable_hash() const;
+  bool is_null() const { return index_ == 0; }
+
+  friend bool operator==(Symbol a, Symbol b) { return a.index_ == b.index_; }
+
+ private:
+  std::uint32_t index_ = 0;
+};
+
+/// Deterministic order of symbols: by text.
+inline bool text_less(Symbol a, Symbol b) { return !(a == b) && a.str() < b.str(); }
+
+/// Well-known symbols.
+namespace symbols {
+/// The edge type of kinematic (rigid transform) edges.
+Symbol rt();
+}  // namespace symbols
+
+}  // namespace quiver::graph
+
+template <>
+struct std::hash<quiver::graph::Symbol> {
+  std::size_t operator()(quiver::graph::Symbol s) const noexcept { return s.stable_hash(); }
+};

@@ -1,0 +1,142 @@
+#pragma once
+/// @file
+/// Typed attribute values: a superset of CORTEX DSR's 14 types.
+
+#include <array>
+#include <cstdint>
+#include <memory>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <type_traits>
+#include <variant>
+#include <vector>
+
+#include "quiver/hash.h"
+#include "quiver/result.h"
+#include "quiver/wire.h"
+
+namespace quiver::graph {
+
+enum class ValueType : std::uint8_t {
+  kString = 1,
+  kBool,
+  kInt32,
+  kInt64,
+  kUInt32,
+  kUInt64,
+  kFloat,
+  kDouble,
+  kBytes,
+  kFloatVec,
+  kDoubleVec,
+  kUInt64Vec,
+  kVec2f,
+  kVec3f,
+  kVec4f,
+  kVec6f,
+  kMat4d,
+};
+inline constexpr int kValueTypeCount = 17;
+
+/// Stable name of a type ("double", "vec3f", ...), as used in world files and errors.
+const char* to_string(ValueType t);
+/// Inverse of to_string; nullopt for an unknown name.
+std::optional<ValueType> value_type_from_string(std::string_view name);
+
+using Bytes = std::vector<std::uint8_t>;
+using FloatVec = std::vector<float>;
+using DoubleVec = std::vector<double>;
+using UInt64Vec = std::vector<std::uint64_t>;
+using Vec2f = std::array<float, 2>;
+using Vec3f = std::array<float, 3>;
+using Vec4f = std::array<float, 4>;
+using Vec6f = std::array<float, 6>;
+/// A 4x4 matrix of doubles, row-major.
+struct Mat4d {
+  std::array<double, 16> m{};
+  static Mat4d identity() {
+    Mat4d r;
+    r.m[0] = r.m[5] = r.m[10] = r.m[15] = 1.0;
+    return r;
+  }
+  friend bool operator==(const Mat4d&, const Mat4d&) = default;
+};
+
+/// One attribute value. Small types are stored inline; a Mat4d lives on the heap so that every
+/// register does not pay for 128 bytes.
+class Value {
+ public:
+  Value() : v_(std::string()) {}
+  Value(std::string v) : v_(std::move(v)) {}          // NOLINT(google-explicit-constructor)
+  Value(const char* v) : v_(std::string(v)) {}        // NOLINT
+  Value(std::string_view v) : v_(std::string(v)) {}   // NOLINT
+  Value(bool v) : v_(v) {}                            // NOLINT
+  Value(std::int32_t v) : v_(v) {}                    // NOLINT
+  Value(std::int64_t v) : v_(v) {}                    // NOLINT
+  Value(std::uint32_t v) : v_(v) {}                   // NOLINT
+  Value(std::uint64_t v) : v_(v) {}                   // NOLINT
+  Value(float v) : v_(v) {}                           // NOLINT
+  Value(double v) : v_(v) {}                          // NOLINT
+  Value(Bytes v) : v_(std::move(v)) {}                // NOLINT
+  Value(FloatVec v) : v_(std::move(v)) {}             // NOLINT
+  Value(DoubleVec v) : v_(std::move(v)) {}            // NOLINT
+  Value(UInt64Vec v) : v_(std::move(v)) {}            // NOLINT
+  Value(Vec2f v) : v_(v) {}                           // NOLINT
+  Value(Vec3f v) : v_(v) {}                           // NOLINT
+  Value(Vec4f v) : v_(v) {}                           // NOLINT
+  Value(Vec6f v) : v_(v) {}                           // NOLINT
+  Value(const Mat4d& v) : v_(Boxed(v)) {}             // NOLINT
+
+  ValueType type() const { return static_cast<ValueType>(v_.index() + 1); }
+
+  /// Pointer to the payload if it has type T, else nullptr.
+  template <class T>
+  const T* get_if() const {
+    if constexpr (std::is_same_v<T, Mat4d>) {
+      const Boxed* b = std::get_if<Boxed>(&v_);
+      return b ? b->p.get() : nullptr;
+    } else {
+      return std::get_if<T>(&v_);
+    }
+  }
+  /// The payload as T, or a kTypeMismatch error naming both types.
+  template <class T>
+  Result<T> as() const {
+    if (const T* p = get_if<T>()) return *p;
+    return make_error(ErrorCode::kTypeMismatch,
+                      std::string("value holds ") + graph::to_string(type()) + ", not the requested type");
+  }
+
+  friend bool operator==(const Value& a, const Value& b);
+  /// Feeds type and payload into a hasher.
+  void hash_into(Hasher& h) const;
+  /// Short human-readable rendering (vectors abbreviated).
+  std::string to_string() const;
+  /// Encoded size estimate in bytes (for limits and statistics).
+  std::size_t payload_bytes() const;
+
+  /// Binary codec: a type tag byte, then the payload.
+  void encode(wire::Writer& w) const;
+  /// Decodes a value; on failure the reader records why.
+  static Value decode(wire::Reader& r, std::uint64_t max_value_bytes);
+
+ private:
+  struct Boxed {
+    std::unique_ptr<Mat4d> p;
+    explicit Boxed(const Mat4d& m) : p(std::make_unique<Mat4d>(m)) {}
+    Boxed(const Boxed& o) : p(std::make_unique<Mat4d>(*o.p)) {}
+    Boxed(Boxed&&) noexcept = default;
+    Boxed& operator=(const Boxed& o) {
+      p = std::make_unique<Mat4d>(*o.p);
+      return *this;
+    }
+    Boxed& operator=(Boxed&&) noexcept = default;
+    friend bool operator==(const Boxed& a, const Boxed& b) { return *a.p == *b.p; }
+  };
+  std::variant<std::string, bool, std::int32_t, std::int64_t, std::uint32_t, std::uint64_t, float,
+               double, Bytes, FloatVec, DoubleVec, UInt64Vec, Vec2f, Vec3f, Vec4f, Vec6f, Boxed>
+      v_;
+};
+
+}  // namespace quiver::graph

@@ -1,0 +1,38 @@
+#pragma once
+/// @file
+/// JSON world files: load a graph's initial content, save a snapshot. Format: docs/world-format.md.
+///
+/// Loading validates the whole file before changing anything: on any error (syntax, unknown type,
+/// dangling reference, taken name, cycle) the graph is left as it was and the error names the
+/// place — line:column for syntax errors, a JSON pointer such as /nodes/3/attrs/pos otherwise.
+
+#include <string>
+#include <string_view>
+
+#include "quiver/graph/graph.h"
+#include "quiver/result.h"
+
+namespace quiver::graph {
+
+/// Statistics of a load.
+struct WorldLoadInfo {
+  std::size_t nodes = 0;
+  std::size_t edges = 0;
+  std::size_t rt_edges = 0;
+};
+
+/// Parses `text` (named `source` in errors) and adds its nodes, edges and RT edges to `g` in one
+/// transaction.
+Result<WorldLoadInfo> load_world(Graph& g, std::string_view text, std::string_view source = "world");
+Result<WorldLoadInfo> load_world_file(Graph& g, const std::string& path);
+
+/// The visible graph as a world file (winning values only; RT edges with their current pose).
+std::string save_world(const Graph& g);
+Status save_world_file(const Graph& g, const std::string& path);
+
+/// A Value from its JSON form (see the format document); errors name `where`.
+Result<Value> value_from_json_text(std::string_view json, std::string_view where = "value");
+/// The JSON form of a value.
+std::string value_to_json_text(const Value& v);
+
+}  // namespace quiver::graph

@@ -1,0 +1,737 @@
+// GraphDelta codec.
+//
+// Node op:  hdr varint = attr_count << 5 | flags (1 header, 2 removed, 4 claims, 8 samples,
+//           16 replica differs from the previous node's), [replica index], counter (delta from
+//           the previous node of that replica: unsigned when the message is sorted, else
+//           zigzag; absolute after a replica change), [header: type symbol, name],
+//           attr ops, [claims: removed dots, added claims], [samples]
+// Attr op:  hdr varint = symbol << 2 | code
+//           code 0: one value whose dot is the origin's; overwrites one origin dot (gap varint)
+//           code 1: one value (origin dot), removes nothing
+//           code 2: general: removed dots, then values with explicit dots
+//           code 3: removes dots only
+// Edge op:  from, to (node refs), type symbol, flags (1 removed, 2 added, 4 attrs), lists.
+// "Origin dot" = the next implicit dot when the message has kImplicitDots, else an offset
+// (varint) from the origin's lowest context counter.
+
+#include "quiver/graph/codec.h"
+
+#include <algorithm>
+#include <unordered_map>
+
+#include "quiver/wire.h"
+
+namespace quiver::graph {
+namespace {
+
+constexpr std::uint8_t kMagic0 = 'Q';
+constexpr std::uint8_t kMagic1 = 'G';
+// Message flags.
+constexpr std::uint64_t kImplicitDots = 1, kSortedNodes = 2;
+// Node op flags.
+constexpr std::uint64_t kHdr = 1, kRemoved = 2, kClaims = 4, kSamples = 8, kReplicaSwitch = 16;
+// Edge op flags.
+constexpr std::uint64_t kEdgeRemoved = 1, kEdgeAdded = 2, kEdgeAttrs = 4;
+// Attribute op codes.
+constexpr std::uint64_t kOverwrite = 0, kFresh = 1, kGeneral = 2, kRemoveOnly = 3;
+
+std::uint32_t u32(std::size_t n) { return static_cast<std::uint32_t>(n); }
+
+// ------------------------------------------------------------------ encoder
+
+class Encoder {
+ public:
+  Encoder(const GraphDelta& d, std::vector<std::uint8_t>& out) : d_(d), w_(out) {}
+
+  void run() {
+    collect_tables();
+    w_.u8(kMagic0);
+    w_.u8(kMagic1);
+    w_.u8(kCodecVersion);
+    w_.u8(static_cast<std::uint8_t>(d_.kind));
+    plan_dots();
+    std::uint64_t flags = (implicit_ ? kImplicitDots : 0) | (sorted_ ? kSortedNodes : 0);
+    w_.varint(flags);
+    w_.varint(replicas_.size());
+    for (const ReplicaId& r : replicas_) {
+      w_.fixed64(r.agent);
+      w_.varint(r.incarnation);
+    }
+    w_.varint(symbols_.size());
+    for (Symbol s : symbols_) w_.string(s.str());
+    std::size_t nranges = d_.context.range_count();
+    w_.varint(nranges);
+    d_.context.for_each_range([&](const ReplicaId& r, std::uint64_t lo, std::uint64_t hi) {
+      w_.varint(rindex(r));
+      w_.varint(lo);
+      w_.varint(hi - lo);
+    });
+    if (implicit_) w_.varint(next_implicit_);
+    else w_.varint(base_);
+    w_.varint(d_.nodes.size());
+    NodeId prev{};
+    for (const auto& n : d_.nodes) {
+      node(n, prev);
+      prev = n.id;
+    }
+    w_.varint(d_.edges.size());
+    for (const auto& e : d_.edges) edge(e);
+    if (d_.kind == GraphDelta::Kind::kState) keep();
+  }
+
+ private:
+  // Tables are tiny in deltas (one or two replicas, a handful of names): a linear scan with a
+  // last-hit cache beats hashing; large states switch to a hash index.
+  template <class T, class Map>
+  static std::uint64_t find_or_add(std::vector<T>& items, Map& index, std::size_t& last, const T& x, bool add) {
+    if (last < items.size() && items[last] == x) return last;
+    if (items.size() <= 16 && index.empty()) {
+      for (std::size_t i = 0; i < items.size(); ++i)
+        if (items[i] == x) return last = i;
+      if (!add) return UINT64_MAX;
+      items.push_back(x);
+      if (items.size() > 16)
+        for (std::size_t i = 0; i < items.size(); ++i) index.emplace(items[i], i);
+      return last = items.size() - 1;
+    }
+    if (!add) {
+      auto it = index.find(x);
+      return it == index.end() ? UINT64_MAX : (last = it->second);
+    }
+    auto [it, fresh] = index.emplace(x, items.size());
+    if (fresh) items.push_back(x);
+    return last = it->second;
+  }
+  std::uint64_t rindex(const ReplicaId& r) { return find_or_add(replicas_, rmap_, rlast_, r, false); }
+  void add_replica(const ReplicaId& r) { find_or_add(replicas_, rmap_, rlast_, r, true); }
+  void add_symbol(Symbol s) { find_or_add(symbols_, smap_, slast_, s, true); }
+  std::uint64_t sindex(Symbol s) { return find_or_add(symbols_, smap_, slast_, s, false); }
+
+  void collect_tables() {
+    add_replica(d_.origin);
+    d_.context.for_each_range([&](const ReplicaId& r, std::uint64_t, std::uint64_t) { add_replica(r); });
+    for (const auto& n : d_.nodes) {
+      add_replica(n.id.dot.replica);
+      if (n.has_header) add_symbol(n.type);
+    }
+    for (const auto& a : d_.attrs) add_symbol(a.name);
+    for (const auto& e : d_.edges) {
+      add_replica(e.key.from.dot.replica);
+      add_replica(e.key.to.dot.replica);
+      add_symbol(e.key.type);
+    }
+    for (const Dot& x : d_.removed) add_replica(x.replica);
+    for (const Dot& x : d_.added) add_replica(x.replica);
+    for (const Dot& x : d_.keep) add_replica(x.replica);
+    for (const auto& e : d_.values) add_replica(e.dot.replica);
+    for (const auto& e : d_.claims) {
+      add_replica(e.dot.replica);
+      if (!e.value.parent.is_null()) add_replica(e.value.parent.dot.replica);
+      if (!e.value.fallback_parent.is_null()) {
+        add_replica(e.value.fallback_parent.dot.replica);
+        add_replica(e.value.fallback_epoch.replica);
+      }
+    }
+    for (const auto& s : d_.samples) {
+      add_replica(s.dot.replica);
+      add_replica(s.epoch.replica);
+    }
+  }
+
+  // Added dots in stream order (must match the decoder's order).
+  template <class F>
+  void for_each_added_in_order(F&& f) const {
+    for (const auto& n : d_.nodes) {
+      for (std::uint32_t i = n.attrs.begin; i < n.attrs.end; ++i)
+        for (std::uint32_t j = d_.attrs[i].added.begin; j < d_.attrs[i].added.end; ++j) f(d_.values[j].dot);
+      for (std::uint32_t j = n.claim_added.begin; j < n.claim_added.end; ++j) f(d_.claims[j].dot);
+      for (std::uint32_t j = n.samples.begin; j < n.samples.end; ++j) f(d_.samples[j].dot);
+    }
+    for (const auto& e : d_.edges) {
+      for (std::uint32_t j = e.added.begin; j < e.added.end; ++j) f(d_.added[j]);
+      for (std::uint32_t i = e.attrs.begin; i < e.attrs.end; ++i)
+        for (std::uint32_t j = d_.attrs[i].added.begin; j < d_.attrs[i].added.end; ++j) f(d_.values[j].dot);
+    }
+  }
+
+  void plan_dots() {
+    // Implicit dots: every added dot is the origin's and they run F, F+1, ... in stream order.
+    bool ok = true, first = true;
+    std::uint64_t expect = 0;
+    base_ = UINT64_MAX;
+    for_each_added_in_order([&](const Dot& x) {
+      if (x.replica == d_.origin) base_ = std::min(base_, x.counter);
+      if (!ok) return;
+      if (!(x.replica == d_.origin)) {
+        ok = false;
+        return;
+      }
+      if (first) {
+        expect = x.counter;
+        first = false;
+      } else if (x.counter != expect) {
+        ok = false;
+        return;
+      }
+      ++expect;
+    });
+    implicit_ = ok && !first;
+    if (implicit_) {
+      std::uint64_t f = 0;
+      bool got = false;
+      for_each_added_in_order([&](const Dot& x) {
+        if (!got) {
+          f = x.counter;
+          got = true;
+        }
+      });
+      next_implicit_ = f;
+    }
+    if (base_ == UINT64_MAX) base_ = 0;
+    // Sorted nodes: within each replica, node counters never decrease.
+    sorted_ = true;
+    for (std::size_t i = 1; i < d_.nodes.size(); ++i) {
+      const Dot& a = d_.nodes[i - 1].id.dot;
+      const Dot& b = d_.nodes[i].id.dot;
+      if (a.replica == b.replica && b.counter < a.counter) sorted_ = false;
+    }
+  }
+
+  void dot(const Dot& x) {
+    w_.varint(rindex(x.replica));
+    w_.varint(x.counter);
+  }
+  void node_ref(const NodeId& n) {
+    w_.varint(n.dot.counter);
+    if (n.dot.counter != 0) w_.varint(rindex(n.dot.replica));
+  }
+  void origin_dot(const Dot& x) {
+    if (implicit_) return;
+    w_.varint(x.counter - base_);
+  }
+  bool is_origin_dot(const Dot& x) const {
+    return x.replica == d_.origin && (implicit_ || x.counter >= base_);
+  }
+  void pose(const Pose& p) {
+    for (double v : p.translation) w_.f64(v);
+    for (double v : p.rotation) w_.f64(v);
+  }
+
+  void attr(const GraphDelta::AttrOp& a) {
+    std::uint64_t sym = sindex(a.name);
+    const std::uint32_t nrem = a.removed.size(), nadd = a.added.size();
+    if (nadd == 1 && is_origin_dot(d_.values[a.added.begin].dot)) {
+      const auto& e = d_.values[a.added.begin];
+      if (nrem == 0) {
+        w_.varint(sym << 2 | kFresh);
+        origin_dot(e.dot);
+        e.value.encode(w_);
+        return;
+      }
+      const Dot& old = d_.removed[a.removed.begin];
+      if (nrem == 1 && old.replica == e.dot.replica && old.counter < e.dot.counter) {
+        w_.varint(sym << 2 | kOverwrite);
+        origin_dot(e.dot);
+        w_.varint(e.dot.counter - old.counter);
+        e.value.encode(w_);
+        return;
+      }
+    }
+    if (nadd == 0) {
+      w_.varint(sym << 2 | kRemoveOnly);
+      w_.varint(nrem);
+      for (std::uint32_t i = a.removed.begin; i < a.removed.end; ++i) dot(d_.removed[i]);
+      return;
+    }
+    w_.varint(sym << 2 | kGeneral);
+    w_.varint(nrem);
+    for (std::uint32_t i = a.removed.begin; i < a.removed.end; ++i) dot(d_.removed[i]);
+    w_.varint(nadd);
+    for (std::uint32_t i = a.added.begin; i < a.added.end; ++i) {
+      // Under implicit dots the dot is known; otherwise it is written in full.
+      if (!implicit_) dot(d_.values[i].dot);
+      d_.values[i].value.encode(w_);
+    }
+  }
+
+  void node(const GraphDelta::NodeOp& n, const NodeId& prev) {
+    bool switch_replica = prev.is_null() || !(prev.dot.replica == n.id.dot.replica);
+    std::uint64_t flags = (n.has_header ? kHdr : 0) | (n.removed ? kRemoved : 0) |
+                          (!n.claim_removed.empty() || !n.claim_added.empty() ? kClaims : 0) |
+                          (!n.samples.empty() ? kSamples : 0) | (switch_replica ? kReplicaSwitch : 0);
+    w_.varint(static_cast<std::uint64_t>(n.attrs.size()) << 5 | flags);
+    if (switch_replica) {
+      w_.varint(rindex(n.id.dot.replica));
+      w_.varint(n.id.dot.counter);
+    } else if (sorted_) {
+      w_.varint(n.id.dot.counter - prev.dot.counter);
+    } else {
+      w_.svarint(static_cast<std::int64_t>(n.id.dot.counter - prev.dot.counter));
+    }
+    if (n.has_header) {
+      w_.varint(sindex(n.type));
+      w_.string(n.name);
+    }
+    for (std::uint32_t i = n.attrs.begin; i < n.attrs.end; ++i) attr(d_.attrs[i]);
+    if (flags & kClaims) {
+      w_.varint(n.claim_removed.size());
+      for (std::uint32_t i = n.claim_removed.begin; i < n.claim_removed.end; ++i) dot(d_.removed[i]);
+      w_.varint(n.claim_added.size());
+      for (std::uint32_t i = n.claim_added.begin; i < n.claim_added.end; ++i) {
+        const auto& e = d_.claims[i];
+        if (!implicit_) dot(e.dot);
+        node_ref(e.value.parent);
+        pose(e.value.pose);
+        w_.svarint(e.value.stamp);
+        node_ref(e.value.fallback_parent);
+        if (!e.value.fallback_parent.is_null()) {
+          pose(e.value.fallback_pose);
+          dot(e.value.fallback_epoch);
+        }
+      }
+    }
+    if (flags & kSamples) {
+      w_.varint(n.samples.size());
+      for (std::uint32_t i = n.samples.begin; i < n.samples.end; ++i) {
+        const RtSample& s = d_.samples[i];
+        if (!implicit_) dot(s.dot);
+        w_.svarint(s.stamp);
+        dot(s.epoch);
+        pose(s.pose);
+      }
+    }
+  }
+
+  void edge(const GraphDelta::EdgeOp& e) {
+    node_ref(e.key.from);
+    node_ref(e.key.to);
+    w_.varint(sindex(e.key.type));
+    std::uint64_t flags = (!e.removed.empty() ? kEdgeRemoved : 0) | (!e.added.empty() ? kEdgeAdded : 0) |
+                          (!e.attrs.empty() ? kEdgeAttrs : 0);
+    w_.varint(flags);
+    if (flags & kEdgeRemoved) {
+      w_.varint(e.removed.size());
+      for (std::uint32_t i = e.removed.begin; i < e.removed.end; ++i) dot(d_.removed[i]);
+    }
+    if (flags & kEdgeAdded) {
+      w_.varint(e.added.size());
+      if (!implicit_)
+        for (std::uint32_t i = e.added.begin; i < e.added.end; ++i) dot(d_.added[i]);
+    }
+    if (flags & kEdgeAttrs) {
+      w_.varint(e.attrs.size());
+      for (std::uint32_t i = e.attrs.begin; i < e.attrs.end; ++i) attr(d_.attrs[i]);
+    }
+  }
+
+  void keep() {
+    std::vector<Dot> k = d_.keep;
+    std::sort(k.begin(), k.end());
+    w_.varint(k.size());
+    ReplicaId cur{};
+    std::uint64_t prev = 0;
+    bool first = true;
+    for (const Dot& x : k) {
+      // Each dot: a "same replica" flag in bit 0; counters as gaps.
+      if (first || !(x.replica == cur)) {
+        w_.varint(rindex(x.replica) << 1 | 1);
+        w_.varint(x.counter);
+        cur = x.replica;
+        first = false;
+      } else {
+        w_.varint((x.counter - prev) << 1);
+      }
+      prev = x.counter;
+    }
+  }
+
+  const GraphDelta& d_;
+  wire::Writer w_;
+  std::vector<ReplicaId> replicas_;
+  std::unordered_map<ReplicaId, std::uint64_t> rmap_;
+  std::size_t rlast_ = 0;
+  std::vector<Symbol> symbols_;
+  std::unordered_map<Symbol, std::uint64_t> smap_;
+  std::size_t slast_ = 0;
+  bool implicit_ = false;
+  bool sorted_ = true;
+  std::uint64_t next_implicit_ = 0;
+  std::uint64_t base_ = 0;
+};
+
+// ------------------------------------------------------------------ decoder
+
+class Decoder {
+ public:
+  Decoder(std::span<const std::uint8_t> in, GraphDelta& out, const DecodeLimits& lim)
+      : r_(in, "graph delta"), d_(out), lim_(lim) {}
+
+  Status run() {
+    d_.clear();
+    std::uint8_t m0 = r_.u8("magic"), m1 = r_.u8("magic");
+    if (r_.ok() && (m0 != kMagic0 || m1 != kMagic1)) return fail(ErrorCode::kMalformed, "magic", "not a Quiver graph message");
+    std::uint8_t version = r_.u8("version");
+    if (r_.ok() && version != kCodecVersion)
+      return fail(ErrorCode::kUnsupportedVersion, "version",
+                  "format version " + std::to_string(version) + " is not supported (this build reads " +
+                      std::to_string(kCodecVersion) + ")");
+    std::uint8_t kind = r_.u8("kind");
+    if (r_.ok() && kind != 1 && kind != 2) return fail(ErrorCode::kMalformed, "kind", "unknown message kind " + std::to_string(kind));
+    d_.kind = static_cast<GraphDelta::Kind>(kind);
+    std::uint64_t flags = r_.varint("flags");
+    if (flags & ~std::uint64_t{3}) return fail(ErrorCode::kMalformed, "flags", "unknown flag bits");
+    implicit_ = flags & kImplicitDots;
+    sorted_ = flags & kSortedNodes;
+
+    std::uint64_t nrep = r_.count("replica count", lim_.max_table, 2);
+    if (r_.ok() && nrep == 0) return fail(ErrorCode::kMalformed, "replica count", "the replica table is empty");
+    replicas_.resize(nrep);
+    for (auto& rep : replicas_) {
+      rep.agent = r_.fixed64("replica agent");
+      rep.incarnation = r_.varint("replica incarnation");
+    }
+    if (!r_.ok()) return r_.error();
+    d_.origin = replicas_[0];
+    std::uint64_t nsym = r_.count("symbol count", lim_.max_table, 1);
+    symbols_.resize(nsym);
+    for (auto& s : symbols_) {
+      std::string_view name = r_.string("symbol", lim_.max_name_bytes);
+      if (!r_.ok()) return r_.error();
+      if (name.empty()) return fail(ErrorCode::kMalformed, "symbol", "empty symbol");
+      s = Symbol(name);
+    }
+    std::uint64_t nranges = r_.count("context range count", UINT32_MAX, 3);
+    for (std::uint64_t i = 0; i < nranges && r_.ok(); ++i) {
+      const ReplicaId* rep = replica("context replica");
+      std::uint64_t lo = r_.varint("context lo");
+      std::uint64_t len = r_.varint("context length");
+      if (!r_.ok()) break;
+      if (lo == 0 || lo + len < lo) return fail(ErrorCode::kMalformed, "context range", "invalid counter range");
+      d_.context.add_range(*rep, lo, lo + len);
+    }
+    if (implicit_) next_implicit_ = r_.varint("first implicit dot");
+    else base_ = r_.varint("dot base");
+    if (implicit_ && r_.ok() && next_implicit_ == 0) return fail(ErrorCode::kMalformed, "first implicit dot", "counter 0");
+
+    std::uint64_t nnodes = r_.count("node count", UINT32_MAX, 2);
+    d_.nodes.reserve(nnodes);
+    NodeId prev{};
+    for (std::uint64_t i = 0; i < nnodes && r_.ok(); ++i) {
+      node(prev);
+      if (r_.ok()) prev = d_.nodes.back().id;
+    }
+    std::uint64_t nedges = r_.count("edge count", UINT32_MAX, 4);
+    for (std::uint64_t i = 0; i < nedges && r_.ok(); ++i) edge();
+    if (d_.kind == GraphDelta::Kind::kState) keep();
+    if (!r_.ok()) return r_.error();
+    if (!r_.at_end())
+      return fail(ErrorCode::kMalformed, "end", std::to_string(r_.remaining()) + " trailing bytes after the message");
+    return {};
+  }
+
+ private:
+  Status fail(ErrorCode code, const char* field, const std::string& why) {
+    r_.fail(code, field, why);
+    return r_.error();
+  }
+  const ReplicaId* replica(const char* field) {
+    std::uint64_t i = r_.varint(field);
+    if (!r_.ok()) return &replicas_[0];
+    if (i >= replicas_.size()) {
+      r_.fail(ErrorCode::kMalformed, field, "replica index " + std::to_string(i) + " is out of the table (" +
+                                                std::to_string(replicas_.size()) + " entries)");
+      return &replicas_[0];
+    }
+    return &replicas_[i];
+  }
+  Symbol symbol(const char* field) {
+    std::uint64_t i = r_.varint(field);
+    if (!r_.ok()) return Symbol();
+    if (i >= symbols_.size()) {
+      r_.fail(ErrorCode::kMalformed, field, "symbol index " + std::to_string(i) + " is out of the table");
+      return Symbol();
+    }
+    return symbols_[i];
+  }
+  Dot dot(const char* field) {
+    const ReplicaId* rep = replica(field);
+    std::uint64_t c = r_.varint(field);
+    if (r_.ok() && c == 0) r_.fail(ErrorCode::kMalformed, field, "dot counter 0");
+    return Dot{*rep, c};
+  }
+  NodeId node_ref(const char* field) {
+    std::uint64_t c = r_.varint(field);
+    if (!r_.ok() || c == 0) return NodeId{};
+    const ReplicaId* rep = replica(field);
+    return NodeId{Dot{*rep, c}};
+  }
+  Dot origin_dot(const char* field) {
+    if (implicit_) {
+      if (next_implicit_ == UINT64_MAX) r_.fail(ErrorCode::kMalformed, field, "implicit dot counter overflows");
+      return Dot{d_.origin, next_implicit_++};
+    }
+    std::uint64_t off = r_.varint(field);
+    if (r_.ok() && base_ + off < base_) r_.fail(ErrorCode::kMalformed, field, "dot offset overflows");
+    if (r_.ok() && base_ + off == 0) r_.fail(ErrorCode::kMalformed, field, "dot counter 0");
+    return Dot{d_.origin, base_ + off};
+  }
+  Dot entry_dot(const char* field) { return implicit_ ? origin_dot(field) : dot(field); }
+  Pose pose() {
+    Pose p;
+    for (double& v : p.translation) v = r_.f64("pose translation");
+    for (double& v : p.rotation) v = r_.f64("pose rotation");
+    return p;
+  }
+  Value value() { return Value::decode(r_, lim_.max_value_bytes); }
+
+  void attr() {
+    GraphDelta::AttrOp a;
+    std::uint64_t hdr = r_.varint("attribute header");
+    std::uint64_t sidx = hdr >> 2;
+    if (r_.ok() && sidx >= symbols_.size()) {
+      r_.fail(ErrorCode::kMalformed, "attribute name", "symbol index " + std::to_string(sidx) + " is out of the table");
+      return;
+    }
+    a.name = symbols_.empty() ? Symbol() : symbols_[sidx];
+    a.removed = {u32(d_.removed.size()), u32(d_.removed.size())};
+    a.added = {u32(d_.values.size()), u32(d_.values.size())};
+    switch (hdr & 3) {
+      case kFresh:
+      case kOverwrite: {
+        Dot x = origin_dot("attribute dot");
+        if ((hdr & 3) == kOverwrite) {
+          std::uint64_t gap = r_.varint("overwritten dot gap");
+          if (r_.ok() && (gap == 0 || gap >= x.counter)) {
+            r_.fail(ErrorCode::kMalformed, "overwritten dot gap", "gap " + std::to_string(gap) + " is invalid");
+            return;
+          }
+          d_.removed.push_back(Dot{x.replica, x.counter - gap});
+        }
+        Value v = value();
+        d_.values.push_back(crdt::Entry<Value>{x, std::move(v)});
+        break;
+      }
+      case kRemoveOnly:
+      case kGeneral: {
+        std::uint64_t nrem = r_.count("removed dot count", UINT32_MAX, 2);
+        for (std::uint64_t i = 0; i < nrem && r_.ok(); ++i) d_.removed.push_back(dot("removed dot"));
+        if ((hdr & 3) == kGeneral) {
+          std::uint64_t nadd = r_.count("value count", UINT32_MAX, 1);
+          for (std::uint64_t i = 0; i < nadd && r_.ok(); ++i) {
+            Dot x = entry_dot("value dot");
+            Value v = value();
+            d_.values.push_back(crdt::Entry<Value>{x, std::move(v)});
+          }
+        }
+        break;
+      }
+    }
+    a.removed.end = u32(d_.removed.size());
+    a.added.end = u32(d_.values.size());
+    d_.attrs.push_back(a);
+  }
+
+  void node(const NodeId& prev) {
+    GraphDelta::NodeOp n;
+    std::uint64_t hdr = r_.varint("node header");
+    std::uint64_t flags = hdr & 31;
+    std::uint64_t nattrs = hdr >> 5;
+    if (!r_.ok()) return;
+    if (nattrs > r_.remaining()) {
+      r_.fail(ErrorCode::kTruncated, "node attribute count", "more attributes than bytes remain");
+      return;
+    }
+    if (flags & kReplicaSwitch || prev.is_null()) {
+      if (!(flags & kReplicaSwitch)) {
+        r_.fail(ErrorCode::kMalformed, "node header", "the first node must name its replica");
+        return;
+      }
+      const ReplicaId* rep = replica("node replica");
+      n.id = NodeId{Dot{*rep, r_.varint("node counter")}};
+    } else if (sorted_) {
+      std::uint64_t delta = r_.varint("node counter delta");
+      if (prev.dot.counter + delta < prev.dot.counter) {
+        r_.fail(ErrorCode::kMalformed, "node counter delta", "overflow");
+        return;
+      }
+      n.id = NodeId{Dot{prev.dot.replica, prev.dot.counter + delta}};
+    } else {
+      std::int64_t delta = r_.svarint("node counter delta");
+      n.id = NodeId{Dot{prev.dot.replica, prev.dot.counter + static_cast<std::uint64_t>(delta)}};
+    }
+    if (r_.ok() && n.id.dot.counter == 0) {
+      r_.fail(ErrorCode::kMalformed, "node id", "node counter 0");
+      return;
+    }
+    n.has_header = flags & kHdr;
+    n.removed = flags & kRemoved;
+    if (n.has_header) {
+      n.type = symbol("node type");
+      n.name = std::string(r_.string("node name", lim_.max_name_bytes));
+      if (r_.ok() && n.name.empty()) {
+        r_.fail(ErrorCode::kMalformed, "node name", "a node name is empty");
+        return;
+      }
+    }
+    n.attrs.begin = u32(d_.attrs.size());
+    for (std::uint64_t i = 0; i < nattrs && r_.ok(); ++i) attr();
+    n.attrs.end = u32(d_.attrs.size());
+    n.claim_removed = {u32(d_.removed.size()), u32(d_.removed.size())};
+    n.claim_added = {u32(d_.claims.size()), u32(d_.claims.size())};
+    if (flags & kClaims) {
+      std::uint64_t nrem = r_.count("claim removed count", UINT32_MAX, 2);
+      for (std::uint64_t i = 0; i < nrem && r_.ok(); ++i) d_.removed.push_back(dot("claim removed dot"));
+      n.claim_removed.end = u32(d_.removed.size());
+      std::uint64_t nadd = r_.count("claim count", UINT32_MAX, 57);
+      for (std::uint64_t i = 0; i < nadd && r_.ok(); ++i) {
+        crdt::Entry<RtClaim> e;
+        e.dot = entry_dot("claim dot");
+        e.value.parent = node_ref("claim parent");
+        e.value.pose = pose();
+        e.value.stamp = r_.svarint("claim stamp");
+        e.value.fallback_parent = node_ref("claim fallback parent");
+        if (!e.value.fallback_parent.is_null()) {
+          e.value.fallback_pose = pose();
+          e.value.fallback_epoch = dot("claim fallback epoch");
+        }
+        if (r_.ok() && (e.value.parent == n.id || e.value.fallback_parent == n.id)) {
+          r_.fail(ErrorCode::kMalformed, "claim parent", "a node cannot be its own RT parent");
+          return;
+        }
+        d_.claims.push_back(e);
+      }
+      n.claim_added.end = u32(d_.claims.size());
+    }
+    n.samples = {u32(d_.samples.size()), u32(d_.samples.size())};
+    if (flags & kSamples) {
+      std::uint64_t ns = r_.count("sample count", UINT32_MAX, 58);
+      for (std::uint64_t i = 0; i < ns && r_.ok(); ++i) {
+        RtSample s;
+        s.dot = entry_dot("sample dot");
+        s.stamp = r_.svarint("sample stamp");
+        s.epoch = dot("sample epoch");
+        s.pose = pose();
+        d_.samples.push_back(s);
+      }
+      n.samples.end = u32(d_.samples.size());
+    }
+    d_.nodes.push_back(std::move(n));
+  }
+
+  void edge() {
+    GraphDelta::EdgeOp e;
+    e.key.from = node_ref("edge from");
+    e.key.to = node_ref("edge to");
+    e.key.type = symbol("edge type");
+    std::uint64_t flags = r_.varint("edge flags");
+    if (!r_.ok()) return;
+    if (e.key.from.is_null() || e.key.to.is_null()) {
+      r_.fail(ErrorCode::kMalformed, "edge endpoint", "null edge endpoint");
+      return;
+    }
+    if (e.key.from == e.key.to) {
+      r_.fail(ErrorCode::kMalformed, "edge endpoint", "self-loop edge " + e.key.to_string());
+      return;
+    }
+    if (e.key.type == symbols::rt()) {
+      r_.fail(ErrorCode::kMalformed, "edge type", "RT edges travel as claims, not as symbolic edges");
+      return;
+    }
+    if (flags & ~std::uint64_t{7}) {
+      r_.fail(ErrorCode::kMalformed, "edge flags", "unknown flag bits");
+      return;
+    }
+    e.removed = {u32(d_.removed.size()), u32(d_.removed.size())};
+    e.added = {u32(d_.added.size()), u32(d_.added.size())};
+    e.attrs = {u32(d_.attrs.size()), u32(d_.attrs.size())};
+    if (flags & kEdgeRemoved) {
+      std::uint64_t n = r_.count("edge removed count", UINT32_MAX, 2);
+      for (std::uint64_t i = 0; i < n && r_.ok(); ++i) d_.removed.push_back(dot("edge removed dot"));
+      e.removed.end = u32(d_.removed.size());
+    }
+    if (flags & kEdgeAdded) {
+      // Implicit dots take no bytes, so their count is capped instead (an edge gains one
+      // existence dot per insert; a handful at most after concurrent inserts).
+      std::uint64_t n = implicit_ ? r_.bounded("edge added count", 64) : r_.count("edge added count", UINT32_MAX, 2);
+      for (std::uint64_t i = 0; i < n && r_.ok(); ++i) d_.added.push_back(entry_dot("edge added dot"));
+      e.added.end = u32(d_.added.size());
+    }
+    if (flags & kEdgeAttrs) {
+      std::uint64_t n = r_.count("edge attribute count", UINT32_MAX, 2);
+      for (std::uint64_t i = 0; i < n && r_.ok(); ++i) attr();
+      e.attrs.end = u32(d_.attrs.size());
+    }
+    d_.edges.push_back(e);
+  }
+
+  void keep() {
+    std::uint64_t n = r_.count("keep count", UINT32_MAX, 1);
+    d_.keep.reserve(n);
+    ReplicaId cur{};
+    std::uint64_t prev = 0;
+    bool have = false;
+    for (std::uint64_t i = 0; i < n && r_.ok(); ++i) {
+      std::uint64_t v = r_.varint("keep dot");
+      if (v & 1) {
+        cur = *replica_at(v >> 1, "keep replica");
+        prev = r_.varint("keep counter");
+        have = true;
+      } else {
+        if (!have) {
+          r_.fail(ErrorCode::kMalformed, "keep dot", "the first kept dot must name its replica");
+          return;
+        }
+        if (prev + (v >> 1) < prev) {
+          r_.fail(ErrorCode::kMalformed, "keep dot", "overflow");
+          return;
+        }
+        prev += v >> 1;
+      }
+      if (r_.ok() && prev == 0) {
+        r_.fail(ErrorCode::kMalformed, "keep dot", "dot counter 0");
+        return;
+      }
+      d_.keep.push_back(Dot{cur, prev});
+    }
+  }
+  const ReplicaId* replica_at(std::uint64_t i, const char* field) {
+    if (i >= replicas_.size()) {
+      r_.fail(ErrorCode::kMalformed, field, "replica index out of the table");
+      return &replicas_[0];
+    }
+    return &replicas_[i];
+  }
+
+  wire::Reader r_;
+  GraphDelta& d_;
+  const DecodeLimits& lim_;
+  std::vector<ReplicaId> replicas_;
+  std::vector<Symbol> symbols_;
+  bool implicit_ = false;
+  bool sorted_ = false;
+  std::uint64_t next_implicit_ = 0;
+  std::uint64_t base_ = 0;
+};
+
+}  // namespace
+
+void encode(const GraphDelta& d, std::vector<std::uint8_t>& out) { Encoder(d, out).run(); }
+
+std::vector<std::uint8_t> encode(const GraphDelta& d) {
+  std::vector<std::uint8_t> out;
+  encode(d, out);
+  return out;
+}
+
+Status decode(std::span<const std::uint8_t> in, GraphDelta& out, const DecodeLimits& limits) {
+  return Decoder(in, out, limits).run();
+}
+
+Result<GraphDelta> decode(std::span<const std::uint8_t> in, const DecodeLimits& limits) {
+  GraphDelta d;
+  Status s = decode(in, d, limits);
+  if (!s.ok()) return s.error();
+  return d;
+}
+
+}  // namespace quiver::graph

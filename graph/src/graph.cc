@@ -1,0 +1,507 @@
+// Graph: reads, records, indexes and events.
+
+#include <algorithm>
+
+#include "graph_impl.h"
+
+namespace quiver::graph {
+
+const char* to_string(ChangeKind k) {
+  switch (k) {
+    case ChangeKind::kCreated: return "created";
+    case ChangeKind::kUpdated: return "updated";
+    case ChangeKind::kDeleted: return "deleted";
+  }
+  return "unknown";
+}
+
+std::string EdgeKey::to_string() const {
+  return from.to_string() + " -[" + type.str() + "]-> " + to.to_string();
+}
+
+bool canonical_less(const EdgeKey& a, const EdgeKey& b) {
+  if (a.from != b.from) return a.from < b.from;
+  if (a.to != b.to) return a.to < b.to;
+  return text_less(a.type, b.type);
+}
+
+AttrSlot* find_slot(AttrList& attrs, Symbol name) {
+  for (AttrSlot& s : attrs)
+    if (s.name == name) return &s;
+  return nullptr;
+}
+const AttrSlot* find_slot(const AttrList& attrs, Symbol name) {
+  for (const AttrSlot& s : attrs)
+    if (s.name == name) return &s;
+  return nullptr;
+}
+
+namespace {
+template <class T>
+void swap_remove(std::vector<T>& v, const T& x) {
+  auto it = std::find(v.begin(), v.end(), x);
+  if (it != v.end()) {
+    *it = v.back();
+    v.pop_back();
+  }
+}
+std::vector<AttrValue> register_values(const crdt::DotFun<Value>& reg) {
+  std::vector<AttrValue> out;
+  for (const auto& e : reg) out.push_back(AttrValue{e.value, e.dot});
+  std::sort(out.begin(), out.end(),
+            [](const AttrValue& a, const AttrValue& b) { return crdt::lamport_less(b.dot, a.dot); });
+  return out;
+}
+}  // namespace
+
+// ---------------------------------------------------------------- records and indexes
+
+bool Graph::Impl::edge_visible(const EdgeRec& e) const {
+  if (e.exists.empty()) return false;
+  const NodeRec* f = find_node(e.key.from);
+  const NodeRec* t = find_node(e.key.to);
+  return f && f->alive && t && t->alive;
+}
+
+NodeRec& Graph::Impl::node_record(NodeId id) {
+  auto [it, fresh] = nodes.try_emplace(id);
+  if (fresh) it->second.id = id;
+  return it->second;
+}
+
+EdgeRec& Graph::Impl::edge_record(const EdgeKey& k) {
+  auto [it, fresh] = edges.try_emplace(k);
+  if (fresh) {
+    it->second.key = k;
+    node_record(k.from).out.push_back(&it->second);
+    node_record(k.to).in.push_back(&it->second);
+  }
+  return it->second;
+}
+
+void Graph::Impl::erase_edge_record(EdgeRec* e) {
+  EdgeKey k = e->key;
+  NodeRec* f = find_node(k.from);
+  NodeRec* t = find_node(k.to);
+  if (f) swap_remove(f->out, e);
+  if (t) swap_remove(t->in, e);
+  edges.erase(k);
+  if (f) erase_node_record_if_empty(f);
+  if (t) erase_node_record_if_empty(t);
+}
+
+void Graph::Impl::erase_node_record_if_empty(NodeRec* r) {
+  if (r->is_empty_placeholder() && r->rt_children.empty()) nodes.erase(r->id);
+}
+
+void Graph::Impl::set_alive(NodeRec* r, bool alive, Symbol type, const std::string& name) {
+  if (r->alive == alive) return;
+  if (alive) {
+    r->alive = true;
+    r->type = type;
+    r->name = name;
+    ++alive_count;
+    by_name[r->name].push_back(r);
+    by_type[r->type].insert(r);
+  } else {
+    r->alive = false;
+    --alive_count;
+    auto it = by_name.find(r->name);
+    if (it != by_name.end()) {
+      for (NodeRec** p = it->second.begin(); p != it->second.end(); ++p)
+        if (*p == r) {
+          it->second.swap_erase(p);
+          break;
+        }
+      if (it->second.empty()) by_name.erase(it);
+    }
+    auto tt = by_type.find(r->type);
+    if (tt != by_type.end()) {
+      tt->second.erase(r);
+      if (tt->second.empty()) by_type.erase(tt);
+    }
+  }
+  if (claimants.count(r) || claim_parent_refs.count(r->id)) rt_dirty = true;
+}
+
+void Graph::Impl::index_claim_entry(const RtClaim& c, int delta) {
+  for (const NodeId* p : {&c.parent, &c.fallback_parent}) {
+    if (p->is_null()) continue;
+    int& n = claim_parent_refs[*p];
+    n += delta;
+    if (n <= 0) claim_parent_refs.erase(*p);
+  }
+}
+
+bool Graph::Impl::insert_sample(NodeRec* r, const RtSample& s) {
+  auto& h = r->history;
+  auto pos = std::lower_bound(h.begin(), h.end(), s, sample_less);
+  if (pos != h.end() && pos->dot == s.dot) return false;
+  for (const RtSample& x : h)
+    if (x.dot == s.dot) return false;
+  if (h.size() >= kRtHistoryDepth) {
+    if (pos == h.begin()) return false;  // older than everything kept
+    h.erase(h.begin());
+    pos = std::lower_bound(h.begin(), h.end(), s, sample_less);
+  }
+  h.insert(pos, s);
+  if (r->rt_parent && s.epoch == r->rt_epoch && tracker.enabled) {
+    auto* t = tracker.touch_edge(EdgeKey{r->rt_parent->id, r->id, symbols::rt()}, true);
+    add_unique(t->attrs, Symbol("pose"));
+  }
+  return true;
+}
+
+void Graph::Impl::kill_record(NodeRec* r) {
+  NodeId id = r->id;
+  touch_node(r);
+  touch_incident_edges(r);
+  if (r->alive) set_alive(r, false, {}, {});
+  // RT edges in which r takes part.
+  if (tracker.enabled) {
+    if (r->rt_parent) tracker.touch_edge(EdgeKey{r->rt_parent->id, id, symbols::rt()}, true);
+    for (NodeRec* c : r->rt_children) tracker.touch_edge(EdgeKey{id, c->id, symbols::rt()}, true);
+  }
+  for (NodeRec* c : r->rt_children) c->rt_parent = nullptr;
+  r->rt_children.clear();
+  if (r->rt_parent) {
+    swap_remove(r->rt_parent->rt_children, r);
+    r->rt_parent = nullptr;
+  }
+  for (const auto& e : r->claim) index_claim_entry(e.value, -1);
+  r->claim.clear();
+  claimants.erase(r);
+  r->history.clear();
+  r->attrs.clear();
+  if (claim_parent_refs.count(id)) rt_dirty = true;
+  rt_dirty = true;
+  std::vector<EdgeRec*> incident = r->out;
+  incident.insert(incident.end(), r->in.begin(), r->in.end());
+  for (EdgeRec* e : incident) {
+    // The other endpoint may be erased as an empty placeholder; r itself is kept until below.
+    NodeId other = e->key.from == id ? e->key.to : e->key.from;
+    NodeRec* o = find_node(other);
+    if (o) swap_remove(e->key.from == id ? o->in : o->out, e);
+    edges.erase(EdgeKey(e->key));
+    if (o) erase_node_record_if_empty(o);
+  }
+  nodes.erase(id);
+}
+
+void Graph::Impl::gc_candidates_sweep() {
+  for (NodeId id : gc_candidates) {
+    NodeRec* r = find_node(id);
+    if (r == nullptr) continue;
+    if (!r->alive && ctx.contains(id.dot)) kill_record(r);
+    else erase_node_record_if_empty(r);
+  }
+  gc_candidates.clear();
+}
+
+// ---------------------------------------------------------------- events
+
+void Graph::Impl::touch_edge(const EdgeRec& e) {
+  if (!tracker.enabled || tracker.edge_touched(e.key)) return;
+  bool was = !e.exists.empty();
+  if (was) {
+    const NodeRec* f = find_node(e.key.from);
+    const NodeRec* t = find_node(e.key.to);
+    was = tracker.node_was_alive(e.key.from, f && f->alive) && tracker.node_was_alive(e.key.to, t && t->alive);
+  }
+  tracker.touch_edge(e.key, was);
+}
+
+void Graph::Impl::touch_edge_attr(const EdgeRec& e, Symbol name) {
+  if (!tracker.enabled) return;
+  touch_edge(e);
+  add_unique(tracker.touch_edge(e.key, false)->attrs, name);
+}
+
+void Graph::Impl::touch_incident_edges(NodeRec* r) {
+  if (!tracker.enabled) return;
+  for (EdgeRec* e : r->out) touch_edge(*e);
+  for (EdgeRec* e : r->in) touch_edge(*e);
+}
+
+void Graph::Impl::finish_tracking(bool local, ReplicaId origin,
+                                  const std::vector<std::pair<NodeRec*, NodeRec*>>*) {
+  if (!tracker.enabled) return;
+  ChangeBatch b;
+  b.local = local;
+  b.origin = origin;
+  for (auto& t : tracker.nodes()) {
+    const NodeRec* r = find_node(t.id);
+    bool now = r && r->alive;
+    if (!t.was_alive && now) b.nodes.push_back(NodeChange{t.id, ChangeKind::kCreated, r->type, std::move(t.attrs)});
+    else if (t.was_alive && !now) b.nodes.push_back(NodeChange{t.id, ChangeKind::kDeleted, t.type, {}});
+    else if (now && !t.attrs.empty())
+      b.nodes.push_back(NodeChange{t.id, ChangeKind::kUpdated, r->type, std::move(t.attrs)});
+  }
+  for (auto& t : tracker.edges()) {
+    bool now;
+    if (t.key.type == symbols::rt()) {
+      const NodeRec* c = find_node(t.key.to);
+      now = c && c->alive && c->rt_parent && c->rt_parent->id == t.key.from;
+    } else {
+      const EdgeRec* e = find_edge(t.key);
+      now = e && edge_visible(*e);
+    }
+    if (!t.was_visible && now) b.edges.push_back(EdgeChange{t.key, ChangeKind::kCreated, std::move(t.attrs)});
+    else if (t.was_visible && !now) b.edges.push_back(EdgeChange{t.key, ChangeKind::kDeleted, {}});
+    else if (now && !t.attrs.empty()) b.edges.push_back(EdgeChange{t.key, ChangeKind::kUpdated, std::move(t.attrs)});
+  }
+  tracker.reset();
+  tracker.enabled = false;
+  if (b.empty()) return;
+  // Copy: a callback may unsubscribe.
+  auto subs = subscribers;
+  for (auto& [id, cb] : subs) cb(b);
+}
+
+// ---------------------------------------------------------------- Graph: construction, reads
+
+Graph::Graph(ReplicaId self, GraphOptions options) : impl_(std::make_unique<Impl>(self, options)) {}
+Graph::~Graph() = default;
+
+const ReplicaId& Graph::replica() const { return impl_->self; }
+
+bool Graph::has_node(NodeId id) const { return impl_->visible_node(id) != nullptr; }
+std::size_t Graph::node_count() const { return impl_->alive_count; }
+
+std::vector<NodeId> Graph::nodes() const {
+  std::vector<NodeId> out;
+  out.reserve(impl_->alive_count);
+  for (const auto& [id, r] : impl_->nodes)
+    if (r.alive) out.push_back(id);
+  std::sort(out.begin(), out.end());
+  return out;
+}
+
+namespace {
+const NodeRec* name_winner(const crdt::SmallVec<NodeRec*, 1>& v) {
+  const NodeRec* best = nullptr;
+  for (const NodeRec* r : v)
+    if (best == nullptr || crdt::lamport_less(r->id.dot, best->id.dot)) best = r;
+  return best;
+}
+}  // namespace
+
+std::optional<NodeId> Graph::find_node(std::string_view name) const {
+  auto it = impl_->by_name.find(std::string(name));
+  if (it != impl_->by_name.end()) return name_winner(it->second)->id;
+  // "name~id" addresses a namesake that lost its name.
+  auto tilde = name.rfind('~');
+  if (tilde == std::string_view::npos) return std::nullopt;
+  auto base = impl_->by_name.find(std::string(name.substr(0, tilde)));
+  if (base == impl_->by_name.end()) return std::nullopt;
+  for (const NodeRec* r : base->second)
+    if (r->id.to_string() == name.substr(tilde + 1)) return r->id;
+  return std::nullopt;
+}
+
+std::vector<NodeId> Graph::nodes_of_type(Symbol type) const {
+  std::vector<NodeId> out;
+  auto it = impl_->by_type.find(type);
+  if (it == impl_->by_type.end()) return out;
+  for (const NodeRec* r : it->second) out.push_back(r->id);
+  std::sort(out.begin(), out.end());
+  return out;
+}
+
+Symbol Graph::type_of(NodeId id) const {
+  const NodeRec* r = impl_->visible_node(id);
+  return r ? r->type : Symbol();
+}
+
+std::string Graph::name_of(NodeId id) const {
+  const NodeRec* r = impl_->visible_node(id);
+  if (r == nullptr) return {};
+  auto it = impl_->by_name.find(r->name);
+  if (it == impl_->by_name.end() || it->second.size() == 1 || name_winner(it->second) == r) return r->name;
+  return r->name + "~" + r->id.to_string();
+}
+
+std::vector<NodeId> Graph::namesakes(std::string_view name) const {
+  std::vector<NodeId> out;
+  auto it = impl_->by_name.find(std::string(name));
+  if (it == impl_->by_name.end()) return out;
+  for (const NodeRec* r : it->second) out.push_back(r->id);
+  std::sort(out.begin(), out.end(), [](NodeId a, NodeId b) { return crdt::lamport_less(a.dot, b.dot); });
+  return out;
+}
+
+const Value* Graph::attr(NodeId id, Symbol name) const {
+  const NodeRec* r = impl_->visible_node(id);
+  if (r == nullptr) return nullptr;
+  const AttrSlot* s = find_slot(r->attrs, name);
+  if (s == nullptr) return nullptr;
+  const auto* w = winner(s->reg);
+  return w ? &w->value : nullptr;
+}
+
+std::vector<AttrValue> Graph::attr_values(NodeId id, Symbol name) const {
+  const NodeRec* r = impl_->visible_node(id);
+  if (r == nullptr) return {};
+  const AttrSlot* s = find_slot(r->attrs, name);
+  return s ? register_values(s->reg) : std::vector<AttrValue>{};
+}
+
+std::vector<Symbol> Graph::attr_names(NodeId id) const {
+  std::vector<Symbol> out;
+  const NodeRec* r = impl_->visible_node(id);
+  if (r == nullptr) return out;
+  for (const AttrSlot& s : r->attrs)
+    if (!s.reg.empty()) out.push_back(s.name);
+  std::sort(out.begin(), out.end(), text_less);
+  return out;
+}
+
+Error Graph::missing_attr_error(NodeId id, std::string_view name) const {
+  const NodeRec* r = impl_->visible_node(id);
+  if (r == nullptr) return make_error(ErrorCode::kNotFound, "get(): node " + id.to_string() + " does not exist");
+  return make_error(ErrorCode::kNotFound,
+                    "get(): node '" + name_of(id) + "' has no attribute '" + std::string(name) + "'");
+}
+
+Error Graph::wrong_type_error(NodeId id, std::string_view name, const Value& v) const {
+  return make_error(ErrorCode::kTypeMismatch, "get(): attribute '" + std::string(name) + "' of node '" +
+                                                  name_of(id) + "' holds " + to_string(v.type()) +
+                                                  ", not the requested type");
+}
+
+bool Graph::has_edge(NodeId from, NodeId to, Symbol type) const {
+  if (type == symbols::rt()) {
+    auto p = rt_parent(to);
+    return p && *p == from;
+  }
+  const EdgeRec* e = impl_->find_edge(EdgeKey{from, to, type});
+  return e && impl_->edge_visible(*e);
+}
+
+std::vector<EdgeKey> Graph::edges_from(NodeId id, Symbol type) const {
+  std::vector<EdgeKey> out;
+  const NodeRec* r = impl_->visible_node(id);
+  if (r == nullptr) return out;
+  for (const EdgeRec* e : r->out)
+    if ((type.is_null() || e->key.type == type) && impl_->edge_visible(*e)) out.push_back(e->key);
+  if (type.is_null() || type == symbols::rt())
+    for (const NodeRec* c : r->rt_children) out.push_back(EdgeKey{id, c->id, symbols::rt()});
+  std::sort(out.begin(), out.end(), canonical_less);
+  return out;
+}
+
+std::vector<EdgeKey> Graph::edges_to(NodeId id, Symbol type) const {
+  std::vector<EdgeKey> out;
+  const NodeRec* r = impl_->visible_node(id);
+  if (r == nullptr) return out;
+  for (const EdgeRec* e : r->in)
+    if ((type.is_null() || e->key.type == type) && impl_->edge_visible(*e)) out.push_back(e->key);
+  if ((type.is_null() || type == symbols::rt()) && r->rt_parent)
+    out.push_back(EdgeKey{r->rt_parent->id, id, symbols::rt()});
+  std::sort(out.begin(), out.end(), canonical_less);
+  return out;
+}
+
+std::vector<EdgeKey> Graph::edges_of_type(Symbol type) const {
+  std::vector<EdgeKey> out;
+  if (type == symbols::rt()) {
+    for (const auto& [id, r] : impl_->nodes)
+      if (r.alive && r.rt_parent) out.push_back(EdgeKey{r.rt_parent->id, id, type});
+  } else {
+    for (const auto& [k, e] : impl_->edges)
+      if (k.type == type && impl_->edge_visible(e)) out.push_back(k);
+  }
+  std::sort(out.begin(), out.end(), canonical_less);
+  return out;
+}
+
+std::size_t Graph::edge_count() const {
+  std::size_t n = 0;
+  for (const auto& [k, e] : impl_->edges) n += impl_->edge_visible(e) ? 1 : 0;
+  for (const auto& [id, r] : impl_->nodes) n += (r.alive && r.rt_parent) ? 1 : 0;
+  return n;
+}
+
+const Value* Graph::edge_attr(const EdgeKey& key, Symbol name) const {
+  const EdgeRec* e = impl_->find_edge(key);
+  if (e == nullptr || !impl_->edge_visible(*e)) return nullptr;
+  const AttrSlot* s = find_slot(e->attrs, name);
+  if (s == nullptr) return nullptr;
+  const auto* w = winner(s->reg);
+  return w ? &w->value : nullptr;
+}
+
+std::vector<AttrValue> Graph::edge_attr_values(const EdgeKey& key, Symbol name) const {
+  const EdgeRec* e = impl_->find_edge(key);
+  if (e == nullptr || !impl_->edge_visible(*e)) return {};
+  const AttrSlot* s = find_slot(e->attrs, name);
+  return s ? register_values(s->reg) : std::vector<AttrValue>{};
+}
+
+std::vector<Symbol> Graph::edge_attr_names(const EdgeKey& key) const {
+  std::vector<Symbol> out;
+  const EdgeRec* e = impl_->find_edge(key);
+  if (e == nullptr || !impl_->edge_visible(*e)) return out;
+  for (const AttrSlot& s : e->attrs)
+    if (!s.reg.empty()) out.push_back(s.name);
+  std::sort(out.begin(), out.end(), text_less);
+  return out;
+}
+
+std::optional<NodeId> Graph::rt_parent(NodeId child) const {
+  const NodeRec* r = impl_->visible_node(child);
+  if (r == nullptr || r->rt_parent == nullptr) return std::nullopt;
+  return r->rt_parent->id;
+}
+
+std::vector<NodeId> Graph::rt_children(NodeId parent) const {
+  std::vector<NodeId> out;
+  const NodeRec* r = impl_->visible_node(parent);
+  if (r == nullptr) return out;
+  for (const NodeRec* c : r->rt_children) out.push_back(c->id);
+  std::sort(out.begin(), out.end());
+  return out;
+}
+
+std::optional<RtEdge> Graph::rt_edge(NodeId child) const {
+  const NodeRec* r = impl_->visible_node(child);
+  if (r == nullptr || r->rt_parent == nullptr) return std::nullopt;
+  return impl_->current_rt(*r);
+}
+
+std::span<const RtSample> Graph::rt_history(NodeId child) const {
+  const NodeRec* r = impl_->visible_node(child);
+  if (r == nullptr) return {};
+  return {r->history.data(), r->history.size()};
+}
+
+std::vector<NodeId> Graph::rt_roots() const {
+  std::vector<NodeId> out;
+  for (const auto& [id, r] : impl_->nodes)
+    if (r.alive && r.rt_parent == nullptr && !r.rt_children.empty()) out.push_back(id);
+  std::sort(out.begin(), out.end());
+  return out;
+}
+
+const crdt::CausalContext& Graph::context() const { return impl_->ctx; }
+
+void Graph::set_delta_sink(std::function<void(const GraphDelta&)> sink) { impl_->sink = std::move(sink); }
+void Graph::set_commit_validator(CommitValidator v) { impl_->validator = std::move(v); }
+
+Graph::SubscriptionId Graph::subscribe(ChangeCallback cb) {
+  SubscriptionId id = impl_->next_subscription++;
+  impl_->subscribers.emplace_back(id, std::move(cb));
+  return id;
+}
+
+void Graph::unsubscribe(SubscriptionId id) {
+  auto& s = impl_->subscribers;
+  s.erase(std::remove_if(s.begin(), s.end(), [&](const auto& p) { return p.first == id; }), s.end());
+}
+
+void Graph::merge(const GraphDelta& delta) {
+  if (delta.kind == GraphDelta::Kind::kState) impl_->merge_state(delta);
+  else impl_->merge_delta(delta);
+}
+
+}  // namespace quiver::graph

@@ -1,0 +1,254 @@
+#pragma once
+// Private: the records behind quiver::graph::Graph.
+
+#include <functional>
+#include <string>
+#include <unordered_map>
+#include <unordered_set>
+#include <vector>
+
+#include "quiver/crdt/dot_store.h"
+#include "quiver/crdt/small_vector.h"
+#include "quiver/graph/graph.h"
+
+namespace quiver::graph {
+
+struct AttrSlot {
+  Symbol name;
+  crdt::DotFun<Value> reg;
+};
+using AttrList = std::vector<AttrSlot>;
+
+AttrSlot* find_slot(AttrList& attrs, Symbol name);
+const AttrSlot* find_slot(const AttrList& attrs, Symbol name);
+/// The winning entry of a register: greatest Lamport dot.
+template <class V>
+const crdt::Entry<V>* winner(const crdt::DotFun<V>& reg) {
+  const crdt::Entry<V>* best = nullptr;
+  for (const auto& e : reg)
+    if (best == nullptr || crdt::lamport_less(best->dot, e.dot)) best = &e;
+  return best;
+}
+
+struct EdgeRec;
+
+struct NodeRec {
+  NodeId id;
+  bool alive = false;  // the creation entry is present
+  Symbol type;
+  std::string name;
+  AttrList attrs;
+  std::vector<EdgeRec*> out;  // every edge record (visible or not) from / to this node
+  std::vector<EdgeRec*> in;
+  crdt::DotFun<RtClaim> claim;    // RT claims of this node as a child
+  std::vector<RtSample> history;  // ascending by (stamp, dot), at most kRtHistoryDepth
+
+  // Derived kinematic tree (recomputed from the claims).
+  NodeRec* rt_parent = nullptr;
+  std::vector<NodeRec*> rt_children;
+  Dot rt_epoch;
+  Pose rt_base_pose;
+  std::int64_t rt_base_stamp = 0;
+
+  bool is_empty_placeholder() const {
+    return !alive && attrs.empty() && out.empty() && in.empty() && claim.empty() && history.empty();
+  }
+};
+
+struct EdgeRec {
+  EdgeKey key;
+  crdt::DotSet exists;
+  AttrList attrs;
+};
+
+/// Collects what a commit or merge changed, to produce a ChangeBatch.
+class ChangeTracker {
+ public:
+  bool enabled = false;
+
+  void reset() {
+    node_index_.clear();
+    nodes_.clear();
+    edge_index_.clear();
+    edges_.clear();
+    rt_touched_.clear();
+  }
+  struct NodeTouch {
+    NodeId id;
+    bool was_alive;
+    Symbol type;
+    std::vector<Symbol> attrs;
+  };
+  struct EdgeTouch {
+    EdgeKey key;
+    bool was_visible;
+    std::vector<Symbol> attrs;
+  };
+  NodeTouch* touch_node(NodeId id, bool was_alive, Symbol type) {
+    auto [it, fresh] = node_index_.try_emplace(id, nodes_.size());
+    if (fresh) nodes_.push_back(NodeTouch{id, was_alive, type, {}});
+    return &nodes_[it->second];
+  }
+  bool node_was_alive(NodeId id, bool current) const {
+    auto it = node_index_.find(id);
+    return it == node_index_.end() ? current : nodes_[it->second].was_alive;
+  }
+  EdgeTouch* touch_edge(const EdgeKey& key, bool was_visible) {
+    auto [it, fresh] = edge_index_.try_emplace(key, edges_.size());
+    if (fresh) edges_.push_back(EdgeTouch{key, was_visible, {}});
+    return &edges_[it->second];
+  }
+  bool edge_touched(const EdgeKey& key) const { return edge_index_.count(key) != 0; }
+  void touch_rt_pose(NodeId child) { rt_touched_.insert(child); }
+
+  std::vector<NodeTouch>& nodes() { return nodes_; }
+  std::vector<EdgeTouch>& edges() { return edges_; }
+  std::unordered_set<NodeId>& rt_touched() { return rt_touched_; }
+
+ private:
+  std::unordered_map<NodeId, std::size_t> node_index_;
+  std::vector<NodeTouch> nodes_;
+  std::unordered_map<EdgeKey, std::size_t> edge_index_;
+  std::vector<EdgeTouch> edges_;
+  std::unordered_set<NodeId> rt_touched_;
+};
+
+inline void add_unique(std::vector<Symbol>& v, Symbol s) {
+  for (Symbol x : v)
+    if (x == s) return;
+  v.push_back(s);
+}
+
+struct Graph::Impl {
+  explicit Impl(ReplicaId self, GraphOptions opts) : self(self), options(opts) {}
+
+  ReplicaId self;
+  GraphOptions options;
+  crdt::CausalContext ctx;
+  std::unordered_map<NodeId, NodeRec> nodes;
+  std::unordered_map<EdgeKey, EdgeRec> edges;
+  std::size_t alive_count = 0;
+  std::uint64_t epoch = 1;  // bumped by every commit and merge (invalidates transaction hints)
+  std::unordered_map<std::string, crdt::SmallVec<NodeRec*, 1>> by_name;
+  std::unordered_map<Symbol, std::unordered_set<NodeRec*>> by_type;
+
+  // Kinematic tree bookkeeping.
+  std::unordered_set<NodeRec*> claimants;            // records with a non-empty claim register
+  std::unordered_map<NodeId, int> claim_parent_refs;  // node -> number of claims naming it
+  bool rt_dirty = false;
+  std::size_t rt_skips = 0;  // claims not applied as written in the last full derivation
+  Dot rt_max_order;          // greatest winning claim dot applied so far
+
+  // Local dot minting: counters are Lamport clocks (never below anything seen).
+  std::uint64_t next_counter = 0;   // last counter handed out
+  std::uint64_t published_max = 0;  // last counter covered by a committed delta
+
+  // Output of local commits.
+  GraphDelta out;
+  std::function<void(const GraphDelta&)> sink;
+  CommitValidator validator;
+
+  // Events.
+  std::vector<std::pair<SubscriptionId, ChangeCallback>> subscribers;
+  SubscriptionId next_subscription = 1;
+  ChangeTracker tracker;
+
+  // Scratch for commits and merges.
+  std::vector<std::uint32_t> commit_order;
+  std::vector<NodeId> pending_kills;
+  std::vector<NodeId> gc_candidates;
+
+  // ---- helpers (graph.cc) ----
+  NodeRec* find_node(NodeId id) {
+    auto it = nodes.find(id);
+    return it == nodes.end() ? nullptr : &it->second;
+  }
+  const NodeRec* find_node(NodeId id) const {
+    auto it = nodes.find(id);
+    return it == nodes.end() ? nullptr : &it->second;
+  }
+  const NodeRec* visible_node(NodeId id) const {
+    const NodeRec* r = find_node(id);
+    return (r && r->alive) ? r : nullptr;
+  }
+  EdgeRec* find_edge(const EdgeKey& k) {
+    auto it = edges.find(k);
+    return it == edges.end() ? nullptr : &it->second;
+  }
+  const EdgeRec* find_edge(const EdgeKey& k) const {
+    auto it = edges.find(k);
+    return it == edges.end() ? nullptr : &it->second;
+  }
+  bool edge_visible(const EdgeRec& e) const;
+  /// A node is dead when its creation dot was seen and its creation entry is gone: forever.
+  bool is_dead(NodeId id) const {
+    if (!ctx.contains(id.dot)) return false;
+    const NodeRec* r = find_node(id);
+    return r == nullptr || !r->alive;
+  }
+  NodeRec& node_record(NodeId id);  // finds or creates a (placeholder) record
+  EdgeRec& edge_record(const EdgeKey& k);
+  void erase_edge_record(EdgeRec* e);
+  void erase_node_record_if_empty(NodeRec* r);
+  void set_alive(NodeRec* r, bool alive, Symbol type, const std::string& name);
+  void index_claim_entry(const RtClaim& c, int delta);
+  bool insert_sample(NodeRec* r, const RtSample& s);
+  /// Removes every trace of a dead node: attributes, incident edges, claims, samples.
+  void kill_record(NodeRec* r);
+  void gc_candidates_sweep();
+
+  // ---- events ----
+  bool tracking() const { return options.always_track_changes || !subscribers.empty(); }
+  void begin_tracking() {
+    tracker.enabled = tracking();
+    tracker.reset();
+  }
+  void touch_node(NodeRec* r) {
+    if (tracker.enabled) tracker.touch_node(r->id, r->alive, r->type);
+  }
+  void touch_attr(NodeRec* r, Symbol name) {
+    if (tracker.enabled) add_unique(tracker.touch_node(r->id, r->alive, r->type)->attrs, name);
+  }
+  void touch_edge(const EdgeRec& e);
+  void touch_edge_attr(const EdgeRec& e, Symbol name);
+  void touch_incident_edges(NodeRec* r);
+  /// Builds and delivers the change batch; returns it (for tests).
+  void finish_tracking(bool local, ReplicaId origin, const std::vector<std::pair<NodeRec*, NodeRec*>>* rt_before);
+
+  // ---- kinematic tree (graph_rt.cc) ----
+  void recompute_rt(std::vector<std::pair<NodeId, NodeId>>* changes);
+  RtEdge current_rt(const NodeRec& r) const;
+  /// After c's claim register changed: applies its winning claim directly when that equals a
+  /// full derivation (the claim is the newest and nothing is skipped); otherwise marks dirty.
+  void claim_updated(NodeRec* c);
+  void link_rt(NodeRec* c, NodeRec* parent);
+  /// Keeps `claimants` in step with c's claim register; a node without claims has no parent.
+  void sync_claimant(NodeRec* c);
+  bool would_cycle(const NodeRec* parent, const NodeRec* child) const;
+
+  // ---- merging (graph_merge.cc) ----
+  void merge_delta(const GraphDelta& d);
+  void merge_state(const GraphDelta& s);
+  /// Adds what `d` adds and removes what it removes under its keys (phases shared by both).
+  void merge_ops(const GraphDelta& d);
+  bool merge_register(AttrList& attrs, const GraphDelta& d, const GraphDelta::AttrOp& a);
+  void after_merge(const GraphDelta& d, bool full_gc);
+
+  // ---- local changes (graph_local.cc) ----
+  Dot mint();
+  GraphDelta::NodeOp& out_node(NodeId id, int section);
+  GraphDelta::EdgeOp& out_edge(const EdgeKey& key);
+  void local_write_attr(NodeRec* r, Symbol name, Value v);
+  void local_remove_attr(NodeRec* r, Symbol name);
+  void local_create_node(NodeId id, Symbol type, const std::string& name,
+                         const std::vector<std::pair<Symbol, Value>>& attrs);
+  void local_delete_node(NodeRec* r);
+  void local_insert_edge(const EdgeKey& key, const std::vector<std::pair<Symbol, Value>>& attrs);
+  void local_delete_edge(EdgeRec* e);
+  void local_write_edge_attr(EdgeRec* e, Symbol name, const Value* v);
+  void local_set_rt(NodeRec* parent, NodeRec* child, const Pose& pose, std::int64_t stamp);
+  void local_remove_rt(NodeRec* child);
+  void record_attr_removals(std::vector<GraphDelta::AttrOp>& ops, AttrList& attrs);
+};
+
+}  // namespace quiver::graph

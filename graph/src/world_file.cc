@@ -1,0 +1,568 @@
+#include "quiver/graph/world_file.h"
+
+#include <cmath>
+#include <fstream>
+#include <limits>
+#include <nlohmann/json.hpp>
+#include <sstream>
+#include <unordered_map>
+#include <unordered_set>
+
+namespace quiver::graph {
+namespace {
+
+using json = nlohmann::json;
+
+constexpr char kB64[] = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+
+std::string base64_encode(const Bytes& b) {
+  std::string out;
+  out.reserve((b.size() + 2) / 3 * 4);
+  for (std::size_t i = 0; i < b.size(); i += 3) {
+    std::uint32_t v = static_cast<std::uint32_t>(b[i]) << 16;
+    if (i + 1 < b.size()) v |= static_cast<std::uint32_t>(b[i + 1]) << 8;
+    if (i + 2 < b.size()) v |= b[i + 2];
+    out += kB64[(v >> 18) & 63];
+    out += kB64[(v >> 12) & 63];
+    out += i + 1 < b.size() ? kB64[(v >> 6) & 63] : '=';
+    out += i + 2 < b.size() ? kB64[v & 63] : '=';
+  }
+  return out;
+}
+
+bool base64_decode(std::string_view s, Bytes& out) {
+  if (s.size() % 4 != 0) return false;
+  auto val = [](char c) -> int {
+    if (c >= 'A' && c <= 'Z') return c - 'A';
+    if (c >= 'a' && c <= 'z') return c - 'a' + 26;
+    if (c >= '0' && c <= '9') return c - '0' + 52;
+    if (c == '+') return 62;
+    if (c == '/') return 63;
+    return -1;
+  };
+  out.clear();
+  for (std::size_t i = 0; i < s.size(); i += 4) {
+    int a = val(s[i]), b = val(s[i + 1]);
+    int c = s[i + 2] == '=' ? 0 : val(s[i + 2]);
+    int d = s[i + 3] == '=' ? 0 : val(s[i + 3]);
+    if (a < 0 || b < 0 || c < 0 || d < 0) return false;
+    if (s[i + 2] == '=' && s[i + 3] != '=') return false;
+    if ((s[i + 2] == '=' || s[i + 3] == '=') && i + 4 != s.size()) return false;
+    std::uint32_t v = (a << 18) | (b << 12) | (c << 6) | d;
+    out.push_back(static_cast<std::uint8_t>(v >> 16));
+    if (s[i + 2] != '=') out.push_back(static_cast<std::uint8_t>(v >> 8));
+    if (s[i + 3] != '=') out.push_back(static_cast<std::uint8_t>(v));
+  }
+  return true;
+}
+
+// Semantic errors carry a JSON pointer to the offending value.
+struct Failure {
+  std::string where;
+  std::string what;
+};
+
+template <class T>
+bool number_as(const json& j, T& out) {
+  if constexpr (std::is_floating_point_v<T>) {
+    if (!j.is_number()) return false;
+    double d = j.get<double>();
+    if constexpr (std::is_same_v<T, float>) {
+      if (std::isfinite(d) && std::fabs(d) > std::numeric_limits<float>::max()) return false;
+    }
+    out = static_cast<T>(d);
+    return true;
+  } else if constexpr (std::is_signed_v<T>) {
+    if (j.is_number_unsigned()) {
+      auto v = j.get<std::uint64_t>();
+      if (v > static_cast<std::uint64_t>(std::numeric_limits<T>::max())) return false;
+      out = static_cast<T>(v);
+      return true;
+    }
+    if (!j.is_number_integer()) return false;
+    auto v = j.get<std::int64_t>();
+    if (v < std::numeric_limits<T>::min() || v > std::numeric_limits<T>::max()) return false;
+    out = static_cast<T>(v);
+    return true;
+  } else {
+    if (!j.is_number_unsigned() && !(j.is_number_integer() && j.get<std::int64_t>() >= 0)) return false;
+    auto v = j.get<std::uint64_t>();
+    if (v > std::numeric_limits<T>::max()) return false;
+    out = static_cast<T>(v);
+    return true;
+  }
+}
+
+template <class T>
+bool array_as(const json& j, std::vector<T>& out) {
+  if (!j.is_array()) return false;
+  out.clear();
+  out.reserve(j.size());
+  for (const json& e : j) {
+    T v{};
+    if (!number_as(e, v)) return false;
+    out.push_back(v);
+  }
+  return true;
+}
+
+template <std::size_t N>
+bool fixed_as(const json& j, std::array<float, N>& out) {
+  if (!j.is_array() || j.size() != N) return false;
+  for (std::size_t i = 0; i < N; ++i)
+    if (!number_as(j[i], out[i])) return false;
+  return true;
+}
+
+bool parse_value(const json& j, const std::string& where, Value& out, Failure& f) {
+  auto bad = [&](const std::string& what) {
+    f = Failure{where, what};
+    return false;
+  };
+  if (j.is_string()) return out = Value(j.get<std::string>()), true;
+  if (j.is_boolean()) return out = Value(j.get<bool>()), true;
+  if (j.is_number_unsigned()) {
+    auto v = j.get<std::uint64_t>();
+    if (v > static_cast<std::uint64_t>(INT64_MAX)) return out = Value(v), true;
+    return out = Value(static_cast<std::int64_t>(v)), true;
+  }
+  if (j.is_number_integer()) return out = Value(j.get<std::int64_t>()), true;
+  if (j.is_number_float()) return out = Value(j.get<double>()), true;
+  if (!j.is_object() || j.size() != 1)
+    return bad("expected a string, bool, number or an object {\"<type>\": value} with one key");
+  const std::string& tname = j.begin().key();
+  const json& v = j.begin().value();
+  auto type = value_type_from_string(tname);
+  if (!type) return bad("unknown value type '" + tname + "'");
+  std::string expect = std::string("a value of type ") + tname;
+  switch (*type) {
+    case ValueType::kString:
+      if (!v.is_string()) return bad("expected " + expect);
+      return out = Value(v.get<std::string>()), true;
+    case ValueType::kBool:
+      if (!v.is_boolean()) return bad("expected " + expect);
+      return out = Value(v.get<bool>()), true;
+    case ValueType::kInt32: {
+      std::int32_t x;
+      if (!number_as(v, x)) return bad("expected an integer in int32 range");
+      return out = Value(x), true;
+    }
+    case ValueType::kInt64: {
+      std::int64_t x;
+      if (!number_as(v, x)) return bad("expected an integer in int64 range");
+      return out = Value(x), true;
+    }
+    case ValueType::kUInt32: {
+      std::uint32_t x;
+      if (!number_as(v, x)) return bad("expected an integer in uint32 range");
+      return out = Value(x), true;
+    }
+    case ValueType::kUInt64: {
+      std::uint64_t x;
+      if (!number_as(v, x)) return bad("expected an integer in uint64 range");
+      return out = Value(x), true;
+    }
+    case ValueType::kFloat: {
+      float x;
+      if (!number_as(v, x)) return bad("expected a number in float range");
+      return out = Value(x), true;
+    }
+    case ValueType::kDouble: {
+      double x;
+      if (!number_as(v, x)) return bad("expected a number");
+      return out = Value(x), true;
+    }
+    case ValueType::kBytes: {
+      Bytes b;
+      if (!v.is_string() || !base64_decode(v.get<std::string>(), b)) return bad("expected base64 text");
+      return out = Value(std::move(b)), true;
+    }
+    case ValueType::kFloatVec: {
+      FloatVec x;
+      if (!array_as(v, x)) return bad("expected an array of numbers");
+      return out = Value(std::move(x)), true;
+    }
+    case ValueType::kDoubleVec: {
+      DoubleVec x;
+      if (!array_as(v, x)) return bad("expected an array of numbers");
+      return out = Value(std::move(x)), true;
+    }
+    case ValueType::kUInt64Vec: {
+      UInt64Vec x;
+      if (!array_as(v, x)) return bad("expected an array of unsigned integers");
+      return out = Value(std::move(x)), true;
+    }
+    case ValueType::kVec2f: {
+      Vec2f x;
+      if (!fixed_as(v, x)) return bad("expected an array of 2 numbers");
+      return out = Value(x), true;
+    }
+    case ValueType::kVec3f: {
+      Vec3f x;
+      if (!fixed_as(v, x)) return bad("expected an array of 3 numbers");
+      return out = Value(x), true;
+    }
+    case ValueType::kVec4f: {
+      Vec4f x;
+      if (!fixed_as(v, x)) return bad("expected an array of 4 numbers");
+      return out = Value(x), true;
+    }
+    case ValueType::kVec6f: {
+      Vec6f x;
+      if (!fixed_as(v, x)) return bad("expected an array of 6 numbers");
+      return out = Value(x), true;
+    }
+    case ValueType::kMat4d: {
+      Mat4d m;
+      if (!v.is_array() || v.size() != 16) return bad("expected an array of 16 numbers (row-major 4x4)");
+      for (std::size_t i = 0; i < 16; ++i)
+        if (!number_as(v[i], m.m[i])) return bad("expected an array of 16 numbers (row-major 4x4)");
+      return out = Value(m), true;
+    }
+  }
+  return bad("unsupported value type");
+}
+
+json value_to_json(const Value& v) {
+  auto typed = [&](const char* t, json x) {
+    json o = json::object();
+    o[t] = std::move(x);
+    return o;
+  };
+  switch (v.type()) {
+    case ValueType::kString: return *v.get_if<std::string>();
+    case ValueType::kBool: return *v.get_if<bool>();
+    case ValueType::kInt64: return *v.get_if<std::int64_t>();
+    case ValueType::kDouble: {
+      double d = *v.get_if<double>();
+      if (!std::isfinite(d)) return typed("double", nullptr);
+      // A double that happens to be integral must stay a double on reload.
+      if (d == std::floor(d) && std::fabs(d) < 1e15) return typed("double", d);
+      return d;
+    }
+    case ValueType::kInt32: return typed("int32", *v.get_if<std::int32_t>());
+    case ValueType::kUInt32: return typed("uint32", *v.get_if<std::uint32_t>());
+    case ValueType::kUInt64: return typed("uint64", *v.get_if<std::uint64_t>());
+    case ValueType::kFloat: return typed("float", *v.get_if<float>());
+    case ValueType::kBytes: return typed("bytes", base64_encode(*v.get_if<Bytes>()));
+    case ValueType::kFloatVec: return typed("float_vec", *v.get_if<FloatVec>());
+    case ValueType::kDoubleVec: return typed("double_vec", *v.get_if<DoubleVec>());
+    case ValueType::kUInt64Vec: return typed("uint64_vec", *v.get_if<UInt64Vec>());
+    case ValueType::kVec2f: return typed("vec2f", *v.get_if<Vec2f>());
+    case ValueType::kVec3f: return typed("vec3f", *v.get_if<Vec3f>());
+    case ValueType::kVec4f: return typed("vec4f", *v.get_if<Vec4f>());
+    case ValueType::kVec6f: return typed("vec6f", *v.get_if<Vec6f>());
+    case ValueType::kMat4d: return typed("mat4d", v.get_if<Mat4d>()->m);
+  }
+  return nullptr;
+}
+
+std::string line_col(std::string_view text, std::size_t byte) {
+  std::size_t line = 1, col = 1;
+  for (std::size_t i = 0; i < byte && i < text.size(); ++i) {
+    if (text[i] == '\n') {
+      ++line;
+      col = 1;
+    } else {
+      ++col;
+    }
+  }
+  return std::to_string(line) + ":" + std::to_string(col);
+}
+
+struct PlannedNode {
+  std::string name, type;
+  std::vector<std::pair<Symbol, Value>> attrs;
+};
+struct PlannedEdge {
+  std::string from, to, type;
+  std::vector<std::pair<Symbol, Value>> attrs;
+};
+struct PlannedRt {
+  std::string parent, child;
+  Pose pose;
+  std::int64_t stamp = 0;
+};
+
+bool parse_attrs(const json& j, const std::string& where, std::vector<std::pair<Symbol, Value>>& out, Failure& f) {
+  if (j.is_null()) return true;
+  if (!j.is_object()) {
+    f = Failure{where, "expected an object of attributes"};
+    return false;
+  }
+  for (auto it = j.begin(); it != j.end(); ++it) {
+    if (it.key().empty()) {
+      f = Failure{where, "an attribute name is empty"};
+      return false;
+    }
+    Value v;
+    if (!parse_value(it.value(), where + "/" + it.key(), v, f)) return false;
+    out.emplace_back(Symbol(it.key()), std::move(v));
+  }
+  return true;
+}
+
+bool parse_string_field(const json& obj, const char* key, const std::string& where, std::string& out, Failure& f,
+                        bool required = true) {
+  auto it = obj.find(key);
+  if (it == obj.end()) {
+    if (!required) return true;
+    f = Failure{where, std::string("missing \"") + key + "\""};
+    return false;
+  }
+  if (!it->is_string() || it->get<std::string>().empty()) {
+    f = Failure{where + "/" + key, "expected a non-empty string"};
+    return false;
+  }
+  out = it->get<std::string>();
+  return true;
+}
+
+bool parse_doubles(const json& j, std::size_t n, double* out) {
+  if (!j.is_array() || j.size() != n) return false;
+  for (std::size_t i = 0; i < n; ++i) {
+    if (!j[i].is_number()) return false;
+    out[i] = j[i].get<double>();
+    if (!std::isfinite(out[i])) return false;
+  }
+  return true;
+}
+
+bool parse_pose(const json& o, const std::string& where, Pose& p, Failure& f) {
+  if (auto t = o.find("translation"); t != o.end() && !parse_doubles(*t, 3, p.translation.data())) {
+    f = Failure{where + "/translation", "expected an array of 3 finite numbers"};
+    return false;
+  }
+  auto q = o.find("rotation");
+  auto rpy = o.find("rpy");
+  if (q != o.end() && rpy != o.end()) {
+    f = Failure{where, "give either \"rotation\" (quaternion w,x,y,z) or \"rpy\", not both"};
+    return false;
+  }
+  if (q != o.end()) {
+    if (!parse_doubles(*q, 4, p.rotation.data())) {
+      f = Failure{where + "/rotation", "expected a quaternion [w, x, y, z] of finite numbers"};
+      return false;
+    }
+    double n = std::sqrt(p.rotation[0] * p.rotation[0] + p.rotation[1] * p.rotation[1] +
+                         p.rotation[2] * p.rotation[2] + p.rotation[3] * p.rotation[3]);
+    if (n < 1e-9) {
+      f = Failure{where + "/rotation", "the quaternion has zero length"};
+      return false;
+    }
+    for (double& x : p.rotation) x /= n;
+  } else if (rpy != o.end()) {
+    double a[3];
+    if (!parse_doubles(*rpy, 3, a)) {
+      f = Failure{where + "/rpy", "expected [roll, pitch, yaw] in radians"};
+      return false;
+    }
+    // R = Rz(yaw) * Ry(pitch) * Rx(roll), as in URDF.
+    double cr = std::cos(a[0] / 2), sr = std::sin(a[0] / 2), cp = std::cos(a[1] / 2), sp = std::sin(a[1] / 2),
+           cy = std::cos(a[2] / 2), sy = std::sin(a[2] / 2);
+    p.rotation = {cr * cp * cy + sr * sp * sy, sr * cp * cy - cr * sp * sy, cr * sp * cy + sr * cp * sy,
+                  cr * cp * sy - sr * sp * cy};
+  }
+  if (auto s = o.find("stamp"); s != o.end() && !s->is_number_integer()) {
+    f = Failure{where + "/stamp", "expected an integer time stamp"};
+    return false;
+  }
+  return true;
+}
+
+}  // namespace
+
+Result<Value> value_from_json_text(std::string_view text, std::string_view where) {
+  json j = json::parse(text, nullptr, false);
+  if (j.is_discarded()) return make_error(ErrorCode::kMalformed, std::string(where) + ": not valid JSON");
+  Value v;
+  Failure f;
+  if (!parse_value(j, std::string(where), v, f)) return make_error(ErrorCode::kMalformed, f.where + ": " + f.what);
+  return v;
+}
+
+std::string value_to_json_text(const Value& v) { return value_to_json(v).dump(); }
+
+Result<WorldLoadInfo> load_world(Graph& g, std::string_view text, std::string_view source) {
+  const std::string src(source);
+  json root;
+  try {
+    root = json::parse(text);
+  } catch (const json::parse_error& e) {
+    std::string msg = e.what();
+    auto pos = msg.find("; ");  // drop nlohmann's "[json.exception...] parse error at line..." prefix
+    std::string why = pos == std::string::npos ? msg : msg.substr(pos + 2);
+    return make_error(ErrorCode::kMalformed, src + ":" + line_col(text, e.byte == 0 ? 0 : e.byte - 1) +
+                                                 ": JSON syntax error: " + why);
+  }
+  auto fail = [&](const Failure& f) {
+    return make_error(ErrorCode::kMalformed, src + ":" + (f.where.empty() ? "/" : f.where) + ": " + f.what);
+  };
+  if (!root.is_object()) return fail({"", "a world file is a JSON object"});
+  auto ver = root.find("quiver_world");
+  if (ver == root.end()) return fail({"", "missing \"quiver_world\": 1 (the format version)"});
+  if (!ver->is_number_integer() || ver->get<std::int64_t>() != 1)
+    return fail({"/quiver_world", "unsupported world format version (this build reads 1)"});
+  for (auto it = root.begin(); it != root.end(); ++it)
+    if (it.key() != "quiver_world" && it.key() != "nodes" && it.key() != "edges" && it.key() != "rt")
+      return fail({"/" + it.key(), "unknown top-level key"});
+
+  std::vector<PlannedNode> nodes;
+  std::vector<PlannedEdge> edges;
+  std::vector<PlannedRt> rts;
+  std::unordered_set<std::string> names;
+  Failure f;
+  if (auto jn = root.find("nodes"); jn != root.end()) {
+    if (!jn->is_array()) return fail({"/nodes", "expected an array"});
+    for (std::size_t i = 0; i < jn->size(); ++i) {
+      const json& o = (*jn)[i];
+      std::string where = "/nodes/" + std::to_string(i);
+      if (!o.is_object()) return fail({where, "expected an object"});
+      PlannedNode n;
+      if (!parse_string_field(o, "name", where, n.name, f) || !parse_string_field(o, "type", where, n.type, f))
+        return fail(f);
+      for (auto it = o.begin(); it != o.end(); ++it)
+        if (it.key() != "name" && it.key() != "type" && it.key() != "attrs")
+          return fail({where + "/" + it.key(), "unknown key"});
+      if (n.name.find('~') != std::string::npos) return fail({where + "/name", "'~' is reserved in names"});
+      if (!names.insert(n.name).second) return fail({where + "/name", "duplicate node name '" + n.name + "'"});
+      if (g.find_node(n.name)) return fail({where + "/name", "the graph already has a node named '" + n.name + "'"});
+      if (auto a = o.find("attrs"); a != o.end() && !parse_attrs(*a, where + "/attrs", n.attrs, f)) return fail(f);
+      nodes.push_back(std::move(n));
+    }
+  }
+  auto known = [&](const std::string& name) { return names.count(name) || g.find_node(name).has_value(); };
+  if (auto je = root.find("edges"); je != root.end()) {
+    if (!je->is_array()) return fail({"/edges", "expected an array"});
+    for (std::size_t i = 0; i < je->size(); ++i) {
+      const json& o = (*je)[i];
+      std::string where = "/edges/" + std::to_string(i);
+      if (!o.is_object()) return fail({where, "expected an object"});
+      PlannedEdge e;
+      if (!parse_string_field(o, "from", where, e.from, f) || !parse_string_field(o, "to", where, e.to, f) ||
+          !parse_string_field(o, "type", where, e.type, f))
+        return fail(f);
+      for (auto it = o.begin(); it != o.end(); ++it)
+        if (it.key() != "from" && it.key() != "to" && it.key() != "type" && it.key() != "attrs")
+          return fail({where + "/" + it.key(), "unknown key"});
+      if (!known(e.from)) return fail({where + "/from", "no node named '" + e.from + "'"});
+      if (!known(e.to)) return fail({where + "/to", "no node named '" + e.to + "'"});
+      if (e.from == e.to) return fail({where, "self-loops are not allowed"});
+      if (e.type == "RT") return fail({where + "/type", "RT edges go in the \"rt\" list"});
+      if (auto a = o.find("attrs"); a != o.end() && !parse_attrs(*a, where + "/attrs", e.attrs, f)) return fail(f);
+      edges.push_back(std::move(e));
+    }
+  }
+  if (auto jr = root.find("rt"); jr != root.end()) {
+    if (!jr->is_array()) return fail({"/rt", "expected an array"});
+    std::unordered_map<std::string, std::string> parent_of;
+    for (std::size_t i = 0; i < jr->size(); ++i) {
+      const json& o = (*jr)[i];
+      std::string where = "/rt/" + std::to_string(i);
+      if (!o.is_object()) return fail({where, "expected an object"});
+      PlannedRt r;
+      if (!parse_string_field(o, "parent", where, r.parent, f) || !parse_string_field(o, "child", where, r.child, f))
+        return fail(f);
+      for (auto it = o.begin(); it != o.end(); ++it)
+        if (it.key() != "parent" && it.key() != "child" && it.key() != "translation" && it.key() != "rotation" &&
+            it.key() != "rpy" && it.key() != "stamp")
+          return fail({where + "/" + it.key(), "unknown key"});
+      if (!known(r.parent)) return fail({where + "/parent", "no node named '" + r.parent + "'"});
+      if (!known(r.child)) return fail({where + "/child", "no node named '" + r.child + "'"});
+      if (r.parent == r.child) return fail({where, "a node cannot be its own RT parent"});
+      if (!parse_pose(o, where, r.pose, f)) return fail(f);
+      if (auto s = o.find("stamp"); s != o.end()) r.stamp = s->get<std::int64_t>();
+      if (!parent_of.emplace(r.child, r.parent).second)
+        return fail({where + "/child", "'" + r.child + "' already has an RT parent in this file"});
+      rts.push_back(std::move(r));
+    }
+  }
+
+  auto tx = g.begin();
+  std::unordered_map<std::string, NodeId> ids;
+  auto id_of = [&](const std::string& name) -> NodeId {
+    auto it = ids.find(name);
+    return it != ids.end() ? it->second : *g.find_node(name);
+  };
+  for (auto& n : nodes) {
+    auto id = tx.create_node(n.type, n.name, std::move(n.attrs));
+    if (!id.ok()) return make_error(id.error().code, src + ": " + id.error().message);
+    ids.emplace(n.name, *id);
+  }
+  for (std::size_t i = 0; i < edges.size(); ++i) {
+    auto& e = edges[i];
+    Status s = tx.insert_edge(id_of(e.from), id_of(e.to), Symbol(e.type), std::move(e.attrs));
+    if (!s.ok()) return make_error(s.error().code, src + ":/edges/" + std::to_string(i) + ": " + s.error().message);
+  }
+  for (std::size_t i = 0; i < rts.size(); ++i) {
+    const auto& r = rts[i];
+    Status s = tx.set_rt(id_of(r.parent), id_of(r.child), r.pose, r.stamp);
+    if (!s.ok()) return make_error(s.error().code, src + ":/rt/" + std::to_string(i) + ": " + s.error().message);
+  }
+  auto committed = tx.commit();
+  if (!committed.ok()) return make_error(committed.error().code, src + ": " + committed.error().message);
+  return WorldLoadInfo{nodes.size(), edges.size(), rts.size()};
+}
+
+Result<WorldLoadInfo> load_world_file(Graph& g, const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) return make_error(ErrorCode::kIo, "load_world_file(): cannot open '" + path + "'");
+  std::ostringstream ss;
+  ss << in.rdbuf();
+  return load_world(g, ss.str(), path);
+}
+
+std::string save_world(const Graph& g) {
+  json root = json::object();
+  root["quiver_world"] = 1;
+  json nodes = json::array();
+  for (NodeId id : g.nodes()) {
+    json n = json::object();
+    n["name"] = g.name_of(id);
+    n["type"] = g.type_of(id).str();
+    json attrs = json::object();
+    for (Symbol a : g.attr_names(id)) attrs[a.str()] = value_to_json(*g.attr(id, a));
+    if (!attrs.empty()) n["attrs"] = std::move(attrs);
+    nodes.push_back(std::move(n));
+  }
+  root["nodes"] = std::move(nodes);
+  json edges = json::array();
+  json rts = json::array();
+  for (NodeId id : g.nodes()) {
+    for (const EdgeKey& k : g.edges_from(id)) {
+      if (k.type == symbols::rt()) {
+        auto rt = g.rt_edge(k.to);
+        json r = json::object();
+        r["parent"] = g.name_of(k.from);
+        r["child"] = g.name_of(k.to);
+        r["translation"] = rt->pose.translation;
+        r["rotation"] = rt->pose.rotation;
+        r["stamp"] = rt->stamp;
+        rts.push_back(std::move(r));
+        continue;
+      }
+      json e = json::object();
+      e["from"] = g.name_of(k.from);
+      e["to"] = g.name_of(k.to);
+      e["type"] = k.type.str();
+      json attrs = json::object();
+      for (Symbol a : g.edge_attr_names(k)) attrs[a.str()] = value_to_json(*g.edge_attr(k, a));
+      if (!attrs.empty()) e["attrs"] = std::move(attrs);
+      edges.push_back(std::move(e));
+    }
+  }
+  root["edges"] = std::move(edges);
+  root["rt"] = std::move(rts);
+  return root.dump(2) + "\n";
+}
+
+Status save_world_file(const Graph& g, const std::string& path) {
+  std::ofstream out(path, std::ios::binary | std::ios::trunc);
+  if (!out) return make_error(ErrorCode::kIo, "save_world_file(): cannot write '" + path + "'");
+  out << save_world(g);
+  out.close();
+  if (!out) return make_error(ErrorCode::kIo, "save_world_file(): writing '" + path + "' failed");
+  return {};
+}
+
+}  // namespace quiver::graph

@@ -1,0 +1,35 @@
+#!/usr/bin/env bash
+# Builds the libFuzzer targets with clang (ASan + UBSan) and runs each for a while, starting from
+# seed inputs made of real deltas, frames and world files. Exits non-zero on any finding (crash,
+# sanitizer report, leak, out-of-memory, invariant violation); the failing input is kept under
+# build-fuzz/findings/.
+#   scripts/fuzz.sh [seconds-per-target]   (default 30; or QUIVER_FUZZ_SECONDS)
+set -euo pipefail
+cd "$(dirname "$0")/.."
+seconds="${1:-${QUIVER_FUZZ_SECONDS:-30}}"
+if ! command -v clang++ >/dev/null; then
+  echo "fuzz.sh: clang++ is missing (scripts/install-deps.sh installs it)" >&2
+  exit 1
+fi
+CC=clang CXX=clang++ cmake -S . -B build-fuzz -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo \
+  -DQUIVER_BUILD_FUZZERS=ON -DQUIVER_SANITIZE=ON >/dev/null
+cmake --build build-fuzz --target graph_delta_fuzzer replication_frame_fuzzer world_file_fuzzer fuzz_smoke_test
+corpus=build-fuzz/corpus
+mkdir -p "$corpus"/{delta,frame,world} build-fuzz/findings
+# Seed inputs: the smoke test writes the real inputs it mutates.
+QUIVER_FUZZ_CORPUS="$corpus" build-fuzz/tests/fuzz_smoke_test --gtest_filter='*' >/dev/null
+status=0
+for t in delta:graph_delta frame:replication_frame world:world_file; do
+  dir="${t%%:*}"
+  bin="build-fuzz/tests/${t#*:}_fuzzer"
+  echo "fuzz.sh: ${t#*:} for ${seconds}s"
+  if ! (cd build-fuzz/findings && "../../$bin" "../../$corpus/$dir" -max_total_time="$seconds" \
+        -rss_limit_mb=2048 -malloc_limit_mb=2048 -print_final_stats=1 2>"${t#*:}.log"); then
+    echo "fuzz.sh: FINDING in ${t#*:}: see build-fuzz/findings/${t#*:}.log" >&2
+    tail -40 "build-fuzz/findings/${t#*:}.log" >&2
+    status=1
+  else
+    grep -E "stat::number_of_executed_units" "build-fuzz/findings/${t#*:}.log" | sed "s/^/  /"
+  fi
+done
+exit $status

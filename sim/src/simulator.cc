@@ -1,0 +1,353 @@
+#include "quiver/sim/simulator.h"
+
+#include <algorithm>
+#include <map>
+#include <memory>
+#include <nlohmann/json.hpp>
+#include <queue>
+
+#include "quiver/rng.h"
+
+namespace quiver::sim {
+namespace {
+
+using agents::PeerId;
+
+class Simulation;
+
+class Endpoint : public agents::Transport {
+ public:
+  Endpoint(Simulation* sim, int index) : sim_(sim), index_(index) {}
+  void broadcast(std::span<const std::uint8_t> frame) override;
+  void send(const PeerId& to, std::span<const std::uint8_t> frame) override;
+
+ private:
+  Simulation* sim_;
+  int index_;
+};
+
+struct Agent {
+  std::uint64_t agent_id = 0;
+  std::uint64_t incarnation = 0;
+  bool up = false;
+  int group = 0;
+  std::unique_ptr<graph::Graph> graph;
+  std::unique_ptr<Endpoint> endpoint;
+  std::unique_ptr<agents::Replicator> replicator;
+};
+
+struct Event {
+  std::int64_t t;
+  std::uint64_t seq;
+  enum Kind { kDeliver, kTick, kStep, kCrash, kRestart, kPartition, kHeal } kind;
+  int node;
+  std::shared_ptr<const std::vector<std::uint8_t>> frame;
+  std::vector<int> groups;  // kPartition: the group of every agent
+  int group = 0;            // kDeliver: the sender's group when it sent
+  bool operator>(const Event& o) const { return t != o.t ? t > o.t : seq > o.seq; }
+};
+
+class Simulation {
+ public:
+  explicit Simulation(const SimConfig& cfg) : cfg_(cfg), rng_(cfg.seed), net_rng_(rng_.fork()) {
+    result_.seed = cfg.seed;
+    result_.agents = cfg.agents;
+    result_.steps = cfg.steps;
+    faults_ = cfg.faults;
+    agents_.resize(cfg.agents);
+    last_delivery_.assign(cfg.agents * cfg.agents, 0);
+  }
+
+  SimResult run() {
+    for (int i = 0; i < cfg_.agents; ++i) {
+      agents_[i].agent_id = 0x5100 + static_cast<std::uint64_t>(i);
+      boot(i);
+      schedule(Event{static_cast<std::int64_t>(rng_.below(cfg_.tick_interval_ns)), 0, Event::kTick, i, nullptr, {}});
+    }
+    const std::int64_t work_end = cfg_.steps * cfg_.step_interval_ns;
+    for (int s = 0; s < cfg_.steps; ++s) schedule(Event{(s + 1) * cfg_.step_interval_ns, 0, Event::kStep, -1, nullptr, {}});
+    plan_faults(work_end);
+    // Workload and faults.
+    run_until(work_end + cfg_.step_interval_ns);
+    // Heal: faults off, everyone up and connected; then wait for convergence.
+    note("workload done (" + std::to_string(result_.ops) + " changes); faults off, partitions healed, crashed agents restart");
+    faults_.loss = 0;
+    faults_.dup = 0;
+    for (int i = 0; i < cfg_.agents; ++i) {
+      agents_[i].group = 0;
+      if (!agents_[i].up) boot(i);
+    }
+    const std::int64_t heal_at = now_;
+    const std::int64_t deadline = now_ + cfg_.settle_limit_ns;
+    while (now_ < deadline) {
+      run_until(now_ + 50'000'000);
+      if (converged()) {
+        result_.converged = true;
+        note("converged: " + std::to_string(cfg_.agents) + " replicas hold digest " +
+             agents_[0].graph->digest().hex() + " (" + std::to_string(agents_[0].graph->node_count()) + " nodes)");
+        break;
+      }
+    }
+    result_.settle_ms = (now_ - heal_at) / 1'000'000;
+    result_.virtual_ms = now_ / 1'000'000;
+    check_invariants_all();
+    result_.digest = agents_[0].graph->digest().hex();
+    result_.final_nodes = agents_[0].graph->node_count();
+    result_.final_edges = agents_[0].graph->edge_count();
+    for (const auto& a : agents_) add_stats(a.replicator->stats());
+    return result_;
+  }
+
+  void transmit(int from, int to, std::span<const std::uint8_t> frame) {
+    auto shared = std::make_shared<const std::vector<std::uint8_t>>(frame.begin(), frame.end());
+    auto one = [&](int d) {
+      ++result_.messages;
+      result_.bytes += frame.size();
+      if (!agents_[d].up || agents_[d].group != agents_[from].group || net_rng_.chance(faults_.loss)) {
+        ++result_.dropped;
+        return;
+      }
+      int copies = net_rng_.chance(faults_.dup) ? 2 : 1;
+      result_.duplicated += copies - 1;
+      for (int c = 0; c < copies; ++c) {
+        std::int64_t delay = faults_.delay_min_ns +
+                             static_cast<std::int64_t>(net_rng_.below(faults_.delay_max_ns - faults_.delay_min_ns + 1));
+        if (faults_.reorder) delay += static_cast<std::int64_t>(net_rng_.below(faults_.reorder_jitter_ns));
+        std::int64_t t = now_ + delay;
+        std::int64_t& last = last_delivery_[from * cfg_.agents + d];
+        if (!faults_.reorder) t = std::max(t, last + 1);  // FIFO link
+        last = std::max(last, t);
+        schedule(Event{t, 0, Event::kDeliver, d, shared, {}, agents_[from].group});
+      }
+    };
+    if (to >= 0) one(to);
+    else
+      for (int d = 0; d < cfg_.agents; ++d)
+        if (d != from) one(d);
+  }
+  int index_of(const PeerId& id) const {
+    for (int i = 0; i < cfg_.agents; ++i)
+      if (agents_[i].up && agents_[i].agent_id == id.agent && agents_[i].incarnation == id.incarnation) return i;
+    return -1;
+  }
+
+ private:
+  void schedule(Event e) {
+    e.seq = next_seq_++;
+    queue_.push(std::move(e));
+  }
+
+  void note(const std::string& line) {
+    if (cfg_.log) cfg_.log(now_, line);
+  }
+
+  void boot(int i) {
+    Agent& a = agents_[i];
+    if (a.incarnation > 0) note("agent" + std::to_string(i) + " restarts as incarnation " + std::to_string(a.incarnation + 1) + " with an empty replica");
+    ++a.incarnation;
+    a.up = true;
+    a.graph = std::make_unique<graph::Graph>(graph::ReplicaId{a.agent_id, a.incarnation});
+    a.endpoint = std::make_unique<Endpoint>(this, i);
+    agents::ReplicatorOptions opt = cfg_.replicator;
+    opt.name = "agent" + std::to_string(i);
+    a.replicator = std::make_unique<agents::Replicator>(*a.graph, *a.endpoint, opt);
+    a.replicator->start(now_);
+  }
+
+  void crash(int i) {
+    Agent& a = agents_[i];
+    if (!a.up) return;
+    // The process dies: its memory (graph, buffers) is gone, nothing is said to anyone.
+    a.up = false;
+    add_stats(a.replicator->stats());
+    a.replicator.reset();
+    a.graph.reset();
+    ++result_.crashes;
+    note("agent" + std::to_string(i) + " crashes (kill -9: its replica is lost)");
+  }
+
+  void plan_faults(std::int64_t work_end) {
+    if (faults_.partitions && cfg_.agents >= 2) {
+      int episodes = 1 + static_cast<int>(rng_.below(3));
+      std::vector<std::int64_t> starts;
+      for (int e = 0; e < episodes; ++e) starts.push_back(static_cast<std::int64_t>(rng_.below(work_end)));
+      std::sort(starts.begin(), starts.end());
+      for (int e = 0; e < episodes; ++e) {
+        std::int64_t next = e + 1 < episodes ? starts[e + 1] : work_end;
+        std::int64_t len = 50'000'000 + static_cast<std::int64_t>(rng_.below(1'500'000'000));
+        std::int64_t end = std::min(starts[e] + len, next);
+        int ngroups = 2 + static_cast<int>(rng_.below(std::min(cfg_.agents - 1, 3)));
+        std::vector<int> groups(cfg_.agents);
+        for (int i = 0; i < cfg_.agents; ++i) groups[i] = i < ngroups ? i : static_cast<int>(rng_.below(ngroups));
+        rng_.shuffle(groups);
+        schedule(Event{starts[e], 0, Event::kPartition, -1, nullptr, groups});
+        schedule(Event{end, 0, Event::kHeal, -1, nullptr, {}});
+      }
+    }
+    if (faults_.crashes) {
+      int n = 1 + static_cast<int>(rng_.below(std::max(1, cfg_.agents / 3)));
+      for (int k = 0; k < n; ++k) {
+        int who = static_cast<int>(rng_.below(cfg_.agents));
+        std::int64_t at = static_cast<std::int64_t>(rng_.below(work_end));
+        std::int64_t back = at + 20'000'000 + static_cast<std::int64_t>(rng_.below(1'500'000'000));
+        schedule(Event{at, 0, Event::kCrash, who, nullptr, {}});
+        if (back < work_end) schedule(Event{back, 0, Event::kRestart, who, nullptr, {}});
+      }
+    }
+  }
+
+  void run_until(std::int64_t t_end) {
+    while (!queue_.empty() && queue_.top().t <= t_end) {
+      Event e = queue_.top();
+      queue_.pop();
+      now_ = std::max(now_, e.t);
+      switch (e.kind) {
+        case Event::kDeliver: {
+          Agent& a = agents_[e.node];
+          // A frame sent across a partition that formed meanwhile is lost too.
+          if (a.up && a.group == e.group) a.replicator->on_frame(*e.frame, now_);
+          else ++result_.dropped;
+          break;
+        }
+        case Event::kTick:
+          if (agents_[e.node].up) agents_[e.node].replicator->tick(now_);
+          schedule(Event{now_ + cfg_.tick_interval_ns, 0, Event::kTick, e.node, nullptr, {}});
+          break;
+        case Event::kStep: step(); break;
+        case Event::kCrash: crash(e.node); break;
+        case Event::kRestart:
+          if (!agents_[e.node].up) boot(e.node);
+          break;
+        case Event::kPartition: {
+          ++result_.partitions;
+          std::string split;
+          for (int i = 0; i < cfg_.agents; ++i) {
+            agents_[i].group = e.groups[i];
+            split += (i ? " " : "") + std::to_string(e.groups[i]);
+          }
+          note("partition: groups by agent [" + split + "]");
+          break;
+        }
+        case Event::kHeal:
+          for (auto& a : agents_) a.group = 0;
+          note("partition healed");
+          break;
+      }
+    }
+    now_ = std::max(now_, t_end);
+  }
+
+  void step() {
+    std::vector<int> up;
+    for (int i = 0; i < cfg_.agents; ++i)
+      if (agents_[i].up) up.push_back(i);
+    if (up.empty()) return;
+    int who = rng_.pick(up);
+    result_.ops += churn_.step(*agents_[who].graph, rng_, now_);
+    if (cfg_.check_every_step) check_invariants_all();
+  }
+
+  void add_stats(const agents::ReplicatorStats& st) {
+    result_.deltas_applied += st.deltas_applied;
+    result_.states_applied += st.states_applied;
+    result_.rejected_frames += st.rejected_frames;
+  }
+
+  void check_invariants_all() {
+    for (auto& a : agents_) {
+      if (!a.up) continue;
+      auto v = a.graph->check_invariants();
+      if (!v.empty() && result_.first_violation.empty())
+        result_.first_violation = "t=" + std::to_string(now_) + "ns agent " + a.graph->replica().to_string() + ": " + v[0];
+      result_.invariant_violations += v.size();
+    }
+  }
+
+  bool converged() {
+    const Agent& first = agents_[0];
+    Digest128 d = first.graph->digest();
+    for (const auto& a : agents_) {
+      if (!a.up) return false;
+      if (!(a.replicator->applied() == first.replicator->applied())) return false;
+      if (!(a.graph->digest() == d)) return false;
+    }
+    return true;
+  }
+
+  SimConfig cfg_;
+  FaultConfig faults_;
+  Rng rng_;
+  Rng net_rng_;
+  std::vector<Agent> agents_;
+  std::priority_queue<Event, std::vector<Event>, std::greater<Event>> queue_;
+  std::uint64_t next_seq_ = 0;
+  std::int64_t now_ = 0;
+  std::vector<std::int64_t> last_delivery_;
+  Churn churn_{ChurnMix{}};
+  SimResult result_;
+};
+
+void Endpoint::broadcast(std::span<const std::uint8_t> frame) { sim_->transmit(index_, -1, frame); }
+
+void Endpoint::send(const PeerId& to, std::span<const std::uint8_t> frame) {
+  int d = sim_->index_of(to);
+  if (d >= 0) sim_->transmit(index_, d, frame);
+}
+
+}  // namespace
+
+agents::ReplicatorOptions SimConfig::default_replicator() {
+  agents::ReplicatorOptions o;
+  o.heartbeat_ns = 50'000'000;
+  o.lease_ns = 400'000'000;
+  o.pull_timeout_ns = 200'000'000;
+  o.gap_grace_ns = 40'000'000;
+  o.buffer_bytes = 24u << 10;
+  o.chunk_bytes = 2u << 10;
+  return o;
+}
+
+std::string SimResult::to_json() const {
+  nlohmann::json j;
+  j["seed"] = seed;
+  j["agents"] = agents;
+  j["steps"] = steps;
+  j["converged"] = converged;
+  j["invariant_violations"] = invariant_violations;
+  if (!first_violation.empty()) j["first_violation"] = first_violation;
+  j["digest"] = digest;
+  j["messages"] = messages;
+  j["bytes"] = bytes;
+  j["dropped"] = dropped;
+  j["duplicated"] = duplicated;
+  j["ops"] = ops;
+  j["crashes"] = crashes;
+  j["partitions"] = partitions;
+  j["deltas_applied"] = deltas_applied;
+  j["states_applied"] = states_applied;
+  j["rejected_frames"] = rejected_frames;
+  j["final_nodes"] = final_nodes;
+  j["final_edges"] = final_edges;
+  j["virtual_ms"] = virtual_ms;
+  j["settle_ms"] = settle_ms;
+  return j.dump();
+}
+
+SimResult run_simulation(const SimConfig& config) { return Simulation(config).run(); }
+
+SimConfig mixed_config(std::uint64_t seed, int steps) {
+  Rng r(seed ^ 0x6d69786564ULL);
+  SimConfig c;
+  c.seed = seed;
+  c.steps = steps;
+  c.agents = 3 + static_cast<int>(r.below(14));
+  const double losses[] = {0.0, 0.05, 0.2, 0.5};
+  c.faults.loss = losses[r.below(4)];
+  c.faults.dup = r.chance(0.5) ? 0.1 : 0.0;
+  c.faults.reorder = r.chance(0.5);
+  c.faults.partitions = r.chance(0.5);
+  c.faults.crashes = r.chance(0.5);
+  return c;
+}
+
+}  // namespace quiver::sim

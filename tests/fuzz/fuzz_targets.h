@@ -1,0 +1,19 @@
+#pragma once
+// Fuzz entry points (each returns whether the input was accepted) shared by the libFuzzer binaries (clang) and the seeded smoke test (any
+// compiler). Each feeds untrusted bytes to a decoder and, when the input is accepted, applies it
+// to a live replica and checks that the replica's invariants still hold. A crash, sanitizer
+// report or abort() is a finding.
+
+#include <cstddef>
+#include <cstdint>
+
+namespace quiver::fuzz {
+
+/// Graph delta / state decoder, then merge into a populated replica.
+bool graph_delta(const std::uint8_t* data, std::size_t size);
+/// Replication frames fed to a Replicator.
+bool replication_frame(const std::uint8_t* data, std::size_t size);
+/// JSON world files loaded into a replica.
+bool world_file(const std::uint8_t* data, std::size_t size);
+
+}  // namespace quiver::fuzz

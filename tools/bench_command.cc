@@ -1,0 +1,125 @@
+// quiver bench ...: benchmarks that print one JSON line per result.
+
+#include <chrono>
+#include <cstdio>
+#include <iostream>
+#include <nlohmann/json.hpp>
+
+#include "commands.h"
+#include "quiver/graph/codec.h"
+#include "quiver/graph/graph.h"
+#include "quiver/rng.h"
+
+namespace quiver::tools {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double seconds_since(Clock::time_point t0) {
+  return std::chrono::duration<double>(Clock::now() - t0).count();
+}
+
+struct CrdtBench {
+  int nodes = 1000;
+  int attrs = 10;
+  long updates = 1'000'000;
+  int batch = 100;
+  std::uint64_t seed = 1;
+  bool events = false;
+};
+
+// The workload we also run against Yjs and Automerge: replica A holds nodes × attrs doubles and
+// performs random writes in transactions of `batch`; every transaction's delta is encoded. Replica
+// B then decodes and applies every delta.
+void run_crdt_bench(const CrdtBench& b) {
+  using namespace graph;
+  Graph a(ReplicaId{0xA, 1});
+  Graph r(ReplicaId{0xB, 1});
+  std::vector<std::vector<std::uint8_t>> deltas;
+  std::size_t total_bytes = 0;
+  bool measuring = false;
+  a.set_delta_sink([&](const GraphDelta& d) {
+    std::vector<std::uint8_t> bytes;
+    encode(d, bytes);
+    if (measuring) total_bytes += bytes.size();
+    deltas.push_back(std::move(bytes));
+  });
+  std::vector<Symbol> names;
+  for (int k = 0; k < b.attrs; ++k) names.emplace_back("a" + std::to_string(k));
+  std::vector<NodeId> ids;
+  {
+    auto tx = a.begin();
+    for (int i = 0; i < b.nodes; ++i) {
+      std::vector<std::pair<Symbol, Value>> init;
+      for (int k = 0; k < b.attrs; ++k) init.emplace_back(names[k], Value(0.0));
+      ids.push_back(*tx.create_node("object", "n" + std::to_string(i), std::move(init)));
+    }
+    (void)tx.commit();
+  }
+  std::size_t setup_msgs = deltas.size();
+  Rng rng(b.seed);
+  measuring = true;
+  long done = 0;
+  auto t0 = Clock::now();
+  while (done < b.updates) {
+    auto tx = a.begin();
+    long n = std::min<long>(b.batch, b.updates - done);
+    for (long i = 0; i < n; ++i) {
+      (void)tx.set(ids[rng.below(ids.size())], names[rng.below(names.size())], Value(rng.uniform()));
+    }
+    (void)tx.commit();
+    done += n;
+  }
+  double local_s = seconds_since(t0);
+  if (b.events) r.subscribe([](const ChangeBatch&) {});
+  GraphDelta scratch;
+  for (std::size_t i = 0; i < setup_msgs; ++i) {
+    (void)decode(deltas[i], scratch);
+    r.merge(scratch);
+  }
+  auto t1 = Clock::now();
+  for (std::size_t i = setup_msgs; i < deltas.size(); ++i) {
+    Status s = decode(deltas[i], scratch);
+    if (!s.ok()) {
+      std::fprintf(stderr, "decode failed: %s\n", s.error().to_string().c_str());
+      set_exit_code(2);
+      return;
+    }
+    r.merge(scratch);
+  }
+  double remote_s = seconds_since(t1);
+  std::vector<std::uint8_t> state = encode(r.state());
+  bool same = a.digest() == r.digest();
+  nlohmann::json j;
+  j["bench"] = "crdt";
+  j["nodes"] = b.nodes;
+  j["attrs"] = b.attrs;
+  j["updates"] = b.updates;
+  j["batch"] = b.batch;
+  j["local_ops_per_s"] = static_cast<long>(b.updates / local_s);
+  j["remote_apply_ops_per_s"] = static_cast<long>(b.updates / remote_s);
+  j["bytes_per_update"] = std::round(100.0 * total_bytes / b.updates) / 100.0;
+  j["state_bytes"] = state.size();
+  j["replicas_equal"] = same;
+  if (b.events) j["events"] = true;
+  std::cout << j.dump() << std::endl;
+  if (!same) set_exit_code(1);
+}
+
+}  // namespace
+
+void add_bench_commands(CLI::App& app) {
+  auto* bench = app.add_subcommand("bench", "Benchmarks (one JSON line per result)");
+  bench->require_subcommand(1);
+  auto b = std::make_shared<CrdtBench>();
+  auto* crdt = bench->add_subcommand("crdt", "CRDT core: random attribute writes, encode, decode and apply");
+  crdt->add_option("--nodes", b->nodes)->check(CLI::Range(1, 10'000'000))->capture_default_str();
+  crdt->add_option("--attrs", b->attrs)->check(CLI::Range(1, 1000))->capture_default_str();
+  crdt->add_option("--updates", b->updates)->check(CLI::Range(1L, 1'000'000'000L))->capture_default_str();
+  crdt->add_option("--batch", b->batch)->check(CLI::Range(1, 1'000'000))->capture_default_str();
+  crdt->add_option("--seed", b->seed)->capture_default_str();
+  crdt->add_flag("--events", b->events, "subscribe to change events on the receiving replica");
+  crdt->callback([b] { run_crdt_bench(*b); });
+}
+
+}  // namespace quiver::tools

@@ -1,0 +1,13 @@
+#pragma once
+
+#include <CLI/CLI.hpp>
+
+namespace quiver::tools {
+
+void add_sim_command(CLI::App& app);
+void add_bench_commands(CLI::App& app);
+/// The process exit status the command that ran has chosen.
+int exit_code();
+void set_exit_code(int code);
+
+}  // namespace quiver::tools

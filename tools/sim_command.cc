@@ -1,0 +1,42 @@
+#include <cstdio>
+#include <iostream>
+
+#include "commands.h"
+#include "quiver/sim/simulator.h"
+
+namespace quiver::tools {
+namespace {
+int g_exit = 0;
+}
+
+int exit_code() { return g_exit; }
+void set_exit_code(int code) { g_exit = code; }
+
+void add_sim_command(CLI::App& app) {
+  auto cfg = std::make_shared<sim::SimConfig>();
+  auto* cmd = app.add_subcommand("sim", "Run many replicas in one process on a seeded virtual network with faults");
+  cmd->add_option("--agents", cfg->agents, "number of agents (replicas)")->check(CLI::Range(1, 256))->capture_default_str();
+  cmd->add_option("--steps", cfg->steps, "workload transactions")->check(CLI::Range(0, 10'000'000))->capture_default_str();
+  cmd->add_option("--seed", cfg->seed, "seed: a seed replays exactly")->capture_default_str();
+  cmd->add_option("--loss", cfg->faults.loss, "probability a frame is lost")->check(CLI::Range(0.0, 0.95));
+  cmd->add_option("--dup", cfg->faults.dup, "probability a frame is duplicated")->check(CLI::Range(0.0, 1.0));
+  cmd->add_flag("--reorder", cfg->faults.reorder, "let frames overtake each other");
+  cmd->add_flag("--partitions", cfg->faults.partitions, "split the agents into groups for a while, then heal");
+  cmd->add_flag("--crashes", cfg->faults.crashes, "kill agents (state lost) and restart them");
+  auto verbose = std::make_shared<bool>(false);
+  cmd->add_flag("-v,--verbose", *verbose, "narrate faults and phases on stderr");
+  cmd->callback([cfg, verbose] {
+    if (*verbose)
+      cfg->log = [](std::int64_t t, const std::string& line) {
+        std::fprintf(stderr, "  [%8.3f s] %s\n", static_cast<double>(t) / 1e9, line.c_str());
+      };
+    std::fprintf(stderr, "quiver sim: seed %llu, %d agents, %d steps (replay with --seed %llu)\n",
+                 static_cast<unsigned long long>(cfg->seed), cfg->agents, cfg->steps,
+                 static_cast<unsigned long long>(cfg->seed));
+    sim::SimResult r = sim::run_simulation(*cfg);
+    std::cout << r.to_json() << std::endl;
+    set_exit_code(r.ok() ? 0 : 1);
+  });
+}
+
+}  // namespace quiver::tools
