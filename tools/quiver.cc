@@ -11,6 +11,8 @@ int main(int argc, char** argv) {
   app.require_subcommand(1);
   quiver::tools::add_sim_command(app);
   quiver::tools::add_bench_commands(app);
+  quiver::tools::add_agent_commands(app);
+  quiver::tools::add_dds_bench_commands(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

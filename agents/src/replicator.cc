@@ -2,34 +2,10 @@
 
 #include <algorithm>
 
-#include "quiver/crdt/context_codec.h"
+#include "quiver/agents/frame_codec.h"
 #include "quiver/graph/codec.h"
-#include "quiver/wire.h"
 
 namespace quiver::agents {
-namespace {
-
-constexpr std::uint8_t kMagic0 = 'Q';
-constexpr std::uint8_t kMagic1 = 'R';
-constexpr std::uint8_t kVersion = 1;
-enum MsgType : std::uint8_t { kSummary = 1, kDelta = 2, kPull = 3, kState = 4, kBye = 5 };
-constexpr std::uint64_t kMaxMessageBytes = 1ull << 30;
-constexpr std::uint64_t kMaxChunks = 1u << 20;
-
-std::vector<std::uint8_t> delta_message(const PeerId& origin, std::uint64_t lo, std::uint64_t hi,
-                                        const std::vector<std::uint8_t>& bytes) {
-  std::vector<std::uint8_t> msg;
-  msg.reserve(bytes.size() + 32);
-  wire::Writer w(msg);
-  w.u8(kDelta);
-  crdt::encode_replica(origin, w);
-  w.varint(lo);
-  w.varint(hi - lo);
-  w.bytes(bytes);
-  return msg;
-}
-
-}  // namespace
 
 Replicator::Replicator(graph::Graph& g, Transport& t, ReplicatorOptions options)
     : g_(g), t_(t), opt_(std::move(options)), self_(g.replica()) {
@@ -44,7 +20,7 @@ void Replicator::on_local_delta(const graph::GraphDelta& d) {
   ++seq_;
   applied_.add(crdt::Dot{self_, seq_});
   if (opt_.coalesce) {
-    if (pending_.empty() && pending_lo_ == 0) {
+    if (pending_lo_ == 0) {
       pending_ = d;
       pending_lo_ = seq_;
     } else {
@@ -68,49 +44,32 @@ void Replicator::publish(std::vector<std::uint8_t> bytes, std::uint64_t lo, std:
   applied_.add_range(self_, lo, hi);
   remember(self_, lo, hi, shared);
   ++stats_.deltas_published;
-  queue(PeerId{}, delta_message(self_, lo, hi, *shared));
+  queue(PeerId{}, DeltaMsg{self_, lo, hi, std::move(shared)});
   send_queued();
 }
 
-// ------------------------------------------------------------------ frames
+// ------------------------------------------------------------------ envelopes
 
-void Replicator::queue(const PeerId& to, std::vector<std::uint8_t> msg) {
-  outbox_.push_back(Outgoing{to, std::move(msg)});
-}
+void Replicator::queue(const PeerId& to, Message msg) { outbox_.push_back(Outgoing{to, std::move(msg)}); }
 
 void Replicator::send_queued() {
   std::size_t i = 0;
-  std::vector<std::uint8_t> frame;
   while (i < outbox_.size()) {
-    const PeerId to = outbox_[i].to;
-    frame.clear();
-    wire::Writer w(frame);
-    w.u8(kMagic0);
-    w.u8(kMagic1);
-    w.u8(kVersion);
-    crdt::encode_replica(self_, w);
-    w.u8(to.is_null() ? 0 : 1);
-    if (!to.is_null()) crdt::encode_replica(to, w);
+    Envelope e;
+    e.from = self_;
+    e.to = outbox_[i].to;
     // Batch consecutive messages to the same destination up to the frame limit.
-    std::size_t j = i, bytes = 0;
-    while (j < outbox_.size() && outbox_[j].to == to &&
-           (j == i || bytes + outbox_[j].msg.size() <= opt_.max_frame_bytes)) {
-      bytes += outbox_[j].msg.size();
-      ++j;
+    std::size_t bytes = 0;
+    while (i < outbox_.size() && outbox_[i].to == e.to) {
+      std::size_t sz = approx_size(outbox_[i].msg);
+      if (!e.messages.empty() && bytes + sz > opt_.max_frame_bytes) break;
+      bytes += sz;
+      e.messages.push_back(std::move(outbox_[i].msg));
+      ++i;
     }
-    w.varint(j - i);
-    for (std::size_t k = i; k < j; ++k) {
-      // A message is its type byte followed by its body; the length covers the body.
-      const auto& m = outbox_[k].msg;
-      w.u8(m[0]);
-      w.varint(m.size() - 1);
-      w.raw(m.data() + 1, m.size() - 1);
-    }
-    ++stats_.frames_sent;
-    stats_.bytes_sent += frame.size();
-    if (to.is_null()) t_.broadcast(frame);
-    else t_.send(to, frame);
-    i = j;
+    ++stats_.envelopes_sent;
+    stats_.bytes_sent_estimate += bytes;
+    t_.send(e);
   }
   outbox_.clear();
 }
@@ -121,47 +80,21 @@ void Replicator::reject(const Error& e) {
 }
 
 void Replicator::on_frame(std::span<const std::uint8_t> frame, std::int64_t now_ns) {
+  auto e = decode_frame(frame);
+  if (!e.ok()) {
+    now_ = std::max(now_, now_ns);
+    return reject(e.error());
+  }
+  on_envelope(*e, now_ns);
+}
+
+void Replicator::on_envelope(const Envelope& e, std::int64_t now_ns) {
   now_ = std::max(now_, now_ns);
-  wire::Reader r(frame, "replication frame");
-  std::uint8_t m0 = r.u8("magic"), m1 = r.u8("magic"), version = r.u8("version");
-  if (!r.ok()) return reject(r.error());
-  if (m0 != kMagic0 || m1 != kMagic1) {
-    r.fail(ErrorCode::kMalformed, "magic", "not a Quiver replication frame");
-    return reject(r.error());
-  }
-  if (version != kVersion) {
-    r.fail(ErrorCode::kUnsupportedVersion, "version",
-           "protocol version " + std::to_string(version) + " (this build speaks " + std::to_string(kVersion) + ")");
-    return reject(r.error());
-  }
-  PeerId from = crdt::decode_replica(r, "sender");
-  std::uint8_t unicast = r.u8("destination flag");
-  PeerId to;
-  if (unicast == 1) to = crdt::decode_replica(r, "destination");
-  else if (unicast != 0 && r.ok()) r.fail(ErrorCode::kMalformed, "destination flag", "must be 0 or 1");
-  if (!r.ok()) return reject(r.error());
-  if (from == self_ || from.is_null()) return;
-  if (unicast == 1 && !(to == self_)) return;
-  ++stats_.frames_received;
-  stats_.bytes_received += frame.size();
-  std::uint64_t n = r.count("message count", kMaxChunks, 2);
-  if (!r.ok()) return reject(r.error());
-  heard_from(from);
-  for (std::uint64_t i = 0; i < n; ++i) {
-    std::uint8_t type = r.u8("message type");
-    auto body = r.bytes("message body", kMaxMessageBytes);
-    if (!r.ok()) return reject(r.error());
-    switch (type) {
-      case kSummary: handle_summary(from, body); break;
-      case kDelta: handle_delta(from, body); break;
-      case kPull: handle_pull(from, body); break;
-      case kState: handle_state(from, body); break;
-      case kBye: mark_left(peers_[from]); break;
-      default:
-        reject(make_error(ErrorCode::kMalformed, "replication frame from " + from.to_string() +
-                                                     ": unknown message type " + std::to_string(type)));
-    }
-  }
+  if (e.from == self_ || e.from.is_null()) return;
+  if (!e.to.is_null() && !(e.to == self_)) return;
+  ++stats_.envelopes_received;
+  heard_from(e.from);
+  for (const Message& m : e.messages) std::visit([&](const auto& msg) { handle(e.from, msg); }, m);
   send_queued();
 }
 
@@ -191,6 +124,11 @@ void Replicator::mark_left(Peer& p) {
   if (membership_cb_) membership_cb_(Membership::kLeft, p.info);
 }
 
+void Replicator::on_peer_lost(const PeerId& peer) {
+  auto it = peers_.find(peer);
+  if (it != peers_.end()) mark_left(it->second);
+}
+
 std::vector<PeerInfo> Replicator::peers() const {
   std::vector<PeerInfo> out;
   for (const auto& [id, p] : peers_) out.push_back(p.info);
@@ -201,6 +139,12 @@ std::size_t Replicator::live_peer_count() const {
   std::size_t n = 0;
   for (const auto& [id, p] : peers_) n += p.info.alive ? 1 : 0;
   return n;
+}
+
+bool Replicator::all_peers_hold(const PeerId& origin, std::uint64_t seq) const {
+  for (const auto& [id, p] : peers_)
+    if (p.info.alive && !p.applied.contains(origin, seq)) return false;
+  return true;
 }
 
 bool Replicator::synced() const {
@@ -215,62 +159,40 @@ bool Replicator::synced() const {
 
 // ------------------------------------------------------------------ messages
 
-void Replicator::send_summary() {
-  std::vector<std::uint8_t> msg;
-  wire::Writer w(msg);
-  w.u8(kSummary);
-  w.string(opt_.name);
-  w.varint(opt_.observer ? 1 : 0);
-  crdt::encode_context(applied_, w);
-  queue(PeerId{}, std::move(msg));
-}
+void Replicator::send_summary() { queue(PeerId{}, SummaryMsg{opt_.name, opt_.observer, applied_}); }
 
-void Replicator::handle_summary(const PeerId& from, std::span<const std::uint8_t> body) {
-  wire::Reader r(body, "summary");
-  std::string name(r.string("agent name", 1024));
-  std::uint64_t flags = r.varint("flags");
-  crdt::CausalContext their;
-  crdt::decode_context(r, their);
-  if (!r.ok()) return reject(r.error());
+void Replicator::handle(const PeerId& from, const SummaryMsg& m) {
   Peer& p = peers_[from];
   bool first = p.info.name.empty() && p.applied.empty();
-  p.info.name = std::move(name);
-  p.info.observer = flags & 1;
-  p.applied = std::move(their);
+  p.info.name = m.name;
+  p.info.observer = m.observer;
+  p.applied = m.applied;
   if (first) send_summary();  // let a newcomer learn about us without waiting a heartbeat
   if (pulling_ && pull_target_ == from && !behind(p)) pulling_ = false;  // nothing more there
   if (!pulling_ && behind(p)) pull_from(from);
 }
 
-void Replicator::handle_delta(const PeerId& from, std::span<const std::uint8_t> body) {
-  wire::Reader r(body, "delta message");
-  PeerId origin = crdt::decode_replica(r, "origin");
-  std::uint64_t lo = r.varint("first sequence number");
-  std::uint64_t len = r.varint("sequence count");
-  auto bytes = r.bytes("delta", kMaxMessageBytes);
-  if (r.ok() && (lo == 0 || lo + len < lo)) r.fail(ErrorCode::kMalformed, "sequence numbers", "invalid range");
-  if (!r.ok()) return reject(r.error());
-  const std::uint64_t hi = lo + len;
-  if (origin == self_) return;
+void Replicator::handle(const PeerId& from, const DeltaMsg& m) {
+  if (m.origin == self_ || m.lo == 0 || m.hi < m.lo || !m.payload) return;
   crdt::CausalContext range;
-  range.add_range(origin, lo, hi);
+  range.add_range(m.origin, m.lo, m.hi);
   if (applied_.includes(range)) {
     ++stats_.deltas_duplicate;
     return;
   }
-  Status s = graph::decode(bytes, scratch_);
+  Status s = graph::decode(*m.payload, scratch_);
   if (!s.ok()) {
-    return reject(make_error(s.error().code, "delta " + origin.to_string() + "#" + std::to_string(lo) +
+    return reject(make_error(s.error().code, "delta " + m.origin.to_string() + "#" + std::to_string(m.lo) +
                                                  " relayed by " + from.to_string() + ": " + s.error().message));
   }
-  if (!(scratch_.origin == origin) || scratch_.kind != graph::GraphDelta::Kind::kDelta)
-    return reject(make_error(ErrorCode::kMalformed, "delta " + origin.to_string() + "#" + std::to_string(lo) +
+  if (!(scratch_.origin == m.origin) || scratch_.kind != graph::GraphDelta::Kind::kDelta)
+    return reject(make_error(ErrorCode::kMalformed, "delta " + m.origin.to_string() + "#" + std::to_string(m.lo) +
                                                         ": the payload's origin or kind does not match"));
   g_.merge(scratch_);
-  applied_.add_range(origin, lo, hi);
+  applied_.add_range(m.origin, m.lo, m.hi);
   ++stats_.deltas_applied;
-  remember(origin, lo, hi, std::make_shared<const std::vector<std::uint8_t>>(bytes.begin(), bytes.end()));
-  if (applied_.contiguous(origin) + 1 < lo && !gap_pending_) {
+  remember(m.origin, m.lo, m.hi, m.payload);
+  if (applied_.contiguous(m.origin) + 1 < m.lo && !gap_pending_) {
     gap_pending_ = true;
     gap_since_ns_ = now_;
     gap_peer_ = from;
@@ -283,23 +205,11 @@ void Replicator::pull_from(const PeerId& target) {
   pull_sent_ns_ = now_;
   ++pull_request_;
   ++stats_.pulls_sent;
-  std::vector<std::uint8_t> msg;
-  wire::Writer w(msg);
-  w.u8(kPull);
-  w.varint(pull_request_);
-  crdt::encode_context(applied_, w);
-  crdt::encode_context(g_.context(), w);
-  queue(target, std::move(msg));
+  queue(target, PullMsg{pull_request_, applied_, g_.context()});
 }
 
-void Replicator::handle_pull(const PeerId& from, std::span<const std::uint8_t> body) {
-  wire::Reader r(body, "pull");
-  std::uint64_t request = r.varint("request id");
-  crdt::CausalContext their_applied, their_ctx;
-  crdt::decode_context(r, their_applied);
-  crdt::decode_context(r, their_ctx);
-  if (!r.ok()) return reject(r.error());
-  crdt::CausalContext missing = applied_.minus(their_applied);
+void Replicator::handle(const PeerId& from, const PullMsg& m) {
+  crdt::CausalContext missing = applied_.minus(m.applied);
   if (missing.empty()) {
     // Nothing to give: a summary tells the puller so, and it moves on.
     send_summary();
@@ -329,62 +239,53 @@ void Replicator::handle_pull(const PeerId& from, std::span<const std::uint8_t> b
         return;
       }
       if (entries.empty() || entries.back() != &e) entries.push_back(&e);
+      if (e.hi >= b) break;
       cur = e.hi + 1;
     }
   });
   if (covered) {
     ++stats_.pulls_answered_with_deltas;
     for (const Buffered* e : entries) {
-      queue(from, delta_message(e->origin, e->lo, e->hi, *e->bytes));
+      queue(from, DeltaMsg{e->origin, e->lo, e->hi, e->bytes});
       ++stats_.deltas_relayed;
     }
     return;
   }
   ++stats_.pulls_answered_with_state;
-  std::vector<std::uint8_t> state = graph::encode(g_.state_diff(their_ctx));
+  std::vector<std::uint8_t> state = graph::encode(g_.state_diff(m.context));
   const std::size_t chunk = std::max<std::size_t>(opt_.chunk_bytes, 1024);
   const std::uint64_t count = std::max<std::uint64_t>(1, (state.size() + chunk - 1) / chunk);
   for (std::uint64_t i = 0; i < count; ++i) {
-    std::vector<std::uint8_t> msg;
-    wire::Writer w(msg);
-    w.u8(kState);
-    w.varint(request);
-    w.varint(i);
-    w.varint(count);
-    if (i == 0) crdt::encode_context(applied_, w);
+    StateMsg s;
+    s.request = m.request;
+    s.index = static_cast<std::uint32_t>(i);
+    s.count = static_cast<std::uint32_t>(count);
+    if (i == 0) s.applied = applied_;
     std::size_t begin = i * chunk, end = std::min(state.size(), begin + chunk);
-    w.bytes(std::span<const std::uint8_t>(state.data() + begin, end - begin));
-    queue(from, std::move(msg));
+    s.chunk = std::make_shared<const std::vector<std::uint8_t>>(state.begin() + begin, state.begin() + end);
+    queue(from, std::move(s));
   }
 }
 
-void Replicator::handle_state(const PeerId& from, std::span<const std::uint8_t> body) {
-  wire::Reader r(body, "state chunk");
-  std::uint64_t request = r.varint("request id");
-  std::uint64_t index = r.varint("chunk index");
-  std::uint64_t count = r.bounded("chunk count", kMaxChunks);
-  if (r.ok() && (count == 0 || index >= count)) r.fail(ErrorCode::kMalformed, "chunk index", "out of range");
-  crdt::CausalContext their_applied;
-  if (index == 0) crdt::decode_context(r, their_applied);
-  auto bytes = r.bytes("chunk", kMaxMessageBytes);
-  if (!r.ok()) return reject(r.error());
+void Replicator::handle(const PeerId& from, const StateMsg& m) {
+  if (m.count == 0 || m.index >= m.count || !m.chunk) return;
   Reassembly& ra = reassembly_[from];
-  if (ra.request != request || ra.count != count) {
+  if (ra.request != m.request || ra.count != m.count) {
     ra = Reassembly{};
-    ra.request = request;
-    ra.count = count;
+    ra.request = m.request;
+    ra.count = m.count;
     ra.started_ns = now_;
-    ra.chunks.resize(count);
+    ra.chunks.resize(m.count);
   }
-  if (!ra.chunks[index].empty() || (bytes.empty() && count > 1)) return;  // duplicate
-  ra.chunks[index].assign(bytes.begin(), bytes.end());
+  if (ra.chunks[m.index]) return;  // duplicate
+  ra.chunks[m.index] = m.chunk;
   ++ra.received;
-  ra.bytes += bytes.size();
-  if (index == 0) ra.applied = std::move(their_applied);
-  if (ra.received < count) return;
+  ra.bytes += m.chunk->size();
+  if (m.index == 0) ra.applied = m.applied;
+  if (ra.received < ra.count) return;
   std::vector<std::uint8_t> all;
   all.reserve(ra.bytes);
-  for (const auto& c : ra.chunks) all.insert(all.end(), c.begin(), c.end());
+  for (const auto& c : ra.chunks) all.insert(all.end(), c->begin(), c->end());
   crdt::CausalContext applied = std::move(ra.applied);
   reassembly_.erase(from);
   Status s = graph::decode(all, scratch_);
@@ -399,10 +300,11 @@ void Replicator::handle_state(const PeerId& from, std::span<const std::uint8_t> 
   gap_pending_ = false;
 }
 
+void Replicator::handle(const PeerId& from, const ByeMsg&) { mark_left(peers_[from]); }
+
 // ------------------------------------------------------------------ buffer
 
-void Replicator::remember(const PeerId& origin, std::uint64_t lo, std::uint64_t hi,
-                          std::shared_ptr<const std::vector<std::uint8_t>> bytes) {
+void Replicator::remember(const PeerId& origin, std::uint64_t lo, std::uint64_t hi, Bytes bytes) {
   auto& idx = buffer_index_[origin];
   if (idx.count(lo)) return;
   buffer_bytes_ += bytes->size();
@@ -456,9 +358,14 @@ void Replicator::start(std::int64_t now_ns) {
   send_queued();
 }
 
+void Replicator::announce() {
+  send_summary();
+  send_queued();
+}
+
 void Replicator::leave() {
   flush();
-  queue(PeerId{}, std::vector<std::uint8_t>{kBye});
+  queue(PeerId{}, ByeMsg{});
   send_queued();
 }
 

@@ -383,7 +383,8 @@ Result<Value> value_from_json_text(std::string_view text, std::string_view where
 
 std::string value_to_json_text(const Value& v) { return value_to_json(v).dump(); }
 
-Result<WorldLoadInfo> load_world(Graph& g, std::string_view text, std::string_view source) {
+Result<WorldLoadInfo> load_world(Graph& g, std::string_view text, std::string_view source,
+                                 const WorldLoadOptions& options) {
   const std::string src(source);
   json root;
   try {
@@ -394,6 +395,19 @@ Result<WorldLoadInfo> load_world(Graph& g, std::string_view text, std::string_vi
     std::string why = pos == std::string::npos ? msg : msg.substr(pos + 2);
     return make_error(ErrorCode::kMalformed, src + ":" + line_col(text, e.byte == 0 ? 0 : e.byte - 1) +
                                                  ": JSON syntax error: " + why);
+  } catch (const json::exception& e) {
+    // E.g. "number overflow parsing '1E999'": locate the quoted token in the text.
+    std::string msg = e.what();
+    auto close = msg.rfind('\'');
+    auto open = close == std::string::npos ? std::string::npos : msg.rfind('\'', close - 1);
+    std::size_t at = 0;
+    if (open != std::string::npos) {
+      auto found = text.find(msg.substr(open + 1, close - open - 1));
+      if (found != std::string_view::npos) at = found;
+    }
+    auto pos = msg.find("] ");
+    return make_error(ErrorCode::kMalformed, src + ":" + line_col(text, at) + ": JSON error: " +
+                                                 (pos == std::string::npos ? msg : msg.substr(pos + 2)));
   }
   auto fail = [&](const Failure& f) {
     return make_error(ErrorCode::kMalformed, src + ":" + (f.where.empty() ? "/" : f.where) + ": " + f.what);
@@ -411,6 +425,7 @@ Result<WorldLoadInfo> load_world(Graph& g, std::string_view text, std::string_vi
   std::vector<PlannedEdge> edges;
   std::vector<PlannedRt> rts;
   std::unordered_set<std::string> names;
+  std::unordered_set<std::string> existing;  // skipped in seed mode
   Failure f;
   if (auto jn = root.find("nodes"); jn != root.end()) {
     if (!jn->is_array()) return fail({"/nodes", "expected an array"});
@@ -426,7 +441,13 @@ Result<WorldLoadInfo> load_world(Graph& g, std::string_view text, std::string_vi
           return fail({where + "/" + it.key(), "unknown key"});
       if (n.name.find('~') != std::string::npos) return fail({where + "/name", "'~' is reserved in names"});
       if (!names.insert(n.name).second) return fail({where + "/name", "duplicate node name '" + n.name + "'"});
-      if (g.find_node(n.name)) return fail({where + "/name", "the graph already has a node named '" + n.name + "'"});
+      if (g.find_node(n.name)) {
+        if (options.skip_existing) {
+          existing.insert(n.name);
+          continue;
+        }
+        return fail({where + "/name", "the graph already has a node named '" + n.name + "'"});
+      }
       if (auto a = o.find("attrs"); a != o.end() && !parse_attrs(*a, where + "/attrs", n.attrs, f)) return fail(f);
       nodes.push_back(std::move(n));
     }
@@ -450,6 +471,7 @@ Result<WorldLoadInfo> load_world(Graph& g, std::string_view text, std::string_vi
       if (e.from == e.to) return fail({where, "self-loops are not allowed"});
       if (e.type == "RT") return fail({where + "/type", "RT edges go in the \"rt\" list"});
       if (auto a = o.find("attrs"); a != o.end() && !parse_attrs(*a, where + "/attrs", e.attrs, f)) return fail(f);
+      if (existing.count(e.from) && existing.count(e.to)) continue;
       edges.push_back(std::move(e));
     }
   }
@@ -474,6 +496,7 @@ Result<WorldLoadInfo> load_world(Graph& g, std::string_view text, std::string_vi
       if (auto s = o.find("stamp"); s != o.end()) r.stamp = s->get<std::int64_t>();
       if (!parent_of.emplace(r.child, r.parent).second)
         return fail({where + "/child", "'" + r.child + "' already has an RT parent in this file"});
+      if (existing.count(r.child)) continue;
       rts.push_back(std::move(r));
     }
   }
@@ -504,12 +527,12 @@ Result<WorldLoadInfo> load_world(Graph& g, std::string_view text, std::string_vi
   return WorldLoadInfo{nodes.size(), edges.size(), rts.size()};
 }
 
-Result<WorldLoadInfo> load_world_file(Graph& g, const std::string& path) {
+Result<WorldLoadInfo> load_world_file(Graph& g, const std::string& path, const WorldLoadOptions& options) {
   std::ifstream in(path, std::ios::binary);
   if (!in) return make_error(ErrorCode::kIo, "load_world_file(): cannot open '" + path + "'");
   std::ostringstream ss;
   ss << in.rdbuf();
-  return load_world(g, ss.str(), path);
+  return load_world(g, ss.str(), path, options);
 }
 
 std::string save_world(const Graph& g) {

@@ -6,6 +6,7 @@
 #include <nlohmann/json.hpp>
 #include <queue>
 
+#include "quiver/agents/frame_codec.h"
 #include "quiver/rng.h"
 
 namespace quiver::sim {
@@ -15,11 +16,12 @@ using agents::PeerId;
 
 class Simulation;
 
+// Encodes every envelope into a real byte frame: the simulated network carries (and counts)
+// exactly what a byte transport would, and receivers decode it.
 class Endpoint : public agents::Transport {
  public:
   Endpoint(Simulation* sim, int index) : sim_(sim), index_(index) {}
-  void broadcast(std::span<const std::uint8_t> frame) override;
-  void send(const PeerId& to, std::span<const std::uint8_t> frame) override;
+  void send(const agents::Envelope& e) override;
 
  private:
   Simulation* sim_;
@@ -54,6 +56,7 @@ class Simulation {
     result_.agents = cfg.agents;
     result_.steps = cfg.steps;
     faults_ = cfg.faults;
+    churn_ = Churn(cfg.mix);
     agents_.resize(cfg.agents);
     last_delivery_.assign(cfg.agents * cfg.agents, 0);
   }
@@ -95,6 +98,11 @@ class Simulation {
     result_.final_nodes = agents_[0].graph->node_count();
     result_.final_edges = agents_[0].graph->edge_count();
     for (const auto& a : agents_) add_stats(a.replicator->stats());
+    if (cfg_.inspect) {
+      std::vector<const graph::Graph*> graphs;
+      for (const auto& a : agents_) graphs.push_back(a.graph.get());
+      cfg_.inspect(graphs);
+    }
     return result_;
   }
 
@@ -287,10 +295,13 @@ class Simulation {
   SimResult result_;
 };
 
-void Endpoint::broadcast(std::span<const std::uint8_t> frame) { sim_->transmit(index_, -1, frame); }
-
-void Endpoint::send(const PeerId& to, std::span<const std::uint8_t> frame) {
-  int d = sim_->index_of(to);
+void Endpoint::send(const agents::Envelope& e) {
+  std::vector<std::uint8_t> frame = agents::encode_frame(e);
+  if (e.to.is_null()) {
+    sim_->transmit(index_, -1, frame);
+    return;
+  }
+  int d = sim_->index_of(e.to);
   if (d >= 0) sim_->transmit(index_, d, frame);
 }
 

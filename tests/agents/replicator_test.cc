@@ -5,6 +5,7 @@
 #include <deque>
 #include <map>
 
+#include "quiver/agents/frame_codec.h"
 #include "quiver/graph/codec.h"
 
 namespace quiver::agents {
@@ -20,8 +21,7 @@ struct Net;
 struct Port : Transport {
   Net* net;
   int index;
-  void broadcast(std::span<const std::uint8_t> f) override;
-  void send(const PeerId& to, std::span<const std::uint8_t> f) override;
+  void send(const Envelope& e) override;
 };
 struct Node {
   std::unique_ptr<Graph> g;
@@ -79,13 +79,15 @@ struct Net {
     }
   }
 };
-void Port::broadcast(std::span<const std::uint8_t> f) {
-  for (std::size_t i = 0; i < net->nodes.size(); ++i)
-    if (static_cast<int>(i) != index) net->inflight.push_back(Frame{index, static_cast<int>(i), {f.begin(), f.end()}});
-}
-void Port::send(const PeerId& to, std::span<const std::uint8_t> f) {
-  int d = net->index_of(to);
-  if (d >= 0) net->inflight.push_back(Frame{index, d, {f.begin(), f.end()}});
+void Port::send(const Envelope& e) {
+  std::vector<std::uint8_t> f = encode_frame(e);
+  if (e.to.is_null()) {
+    for (std::size_t i = 0; i < net->nodes.size(); ++i)
+      if (static_cast<int>(i) != index) net->inflight.push_back(Frame{index, static_cast<int>(i), f});
+    return;
+  }
+  int d = net->index_of(e.to);
+  if (d >= 0) net->inflight.push_back(Frame{index, d, f});
 }
 
 graph::NodeId add_node(Graph& g, const std::string& name) {

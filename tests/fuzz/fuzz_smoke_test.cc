@@ -11,6 +11,7 @@
 #include <iterator>
 
 #include "fuzz_targets.h"
+#include "quiver/agents/frame_codec.h"
 #include "quiver/agents/replicator.h"
 #include "quiver/graph/codec.h"
 #include "quiver/rng.h"
@@ -113,8 +114,7 @@ TEST(FuzzSmokeTest, ReplicationFrames) {
   // Real frames: capture what a replicator sends while its graph churns.
   struct Capture : agents::Transport {
     std::vector<std::vector<std::uint8_t>> frames;
-    void broadcast(std::span<const std::uint8_t> f) override { frames.emplace_back(f.begin(), f.end()); }
-    void send(const agents::PeerId&, std::span<const std::uint8_t> f) override { frames.emplace_back(f.begin(), f.end()); }
+    void send(const agents::Envelope& e) override { frames.push_back(agents::encode_frame(e)); }
   } cap;
   graph::Graph g(graph::ReplicaId{9, 1});
   agents::Replicator rep(g, cap);

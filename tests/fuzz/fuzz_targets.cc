@@ -34,8 +34,7 @@ void populate(Graph& g) {
 }
 
 struct NullTransport : agents::Transport {
-  void broadcast(std::span<const std::uint8_t>) override {}
-  void send(const agents::PeerId&, std::span<const std::uint8_t>) override {}
+  void send(const agents::Envelope&) override {}
 };
 
 }  // namespace

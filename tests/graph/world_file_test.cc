@@ -63,6 +63,15 @@ TEST(WorldFileTest, SyntaxErrorsGiveLineAndColumn) {
   EXPECT_NE(r.error().message.find("bad.json:3:"), std::string::npos) << r.error().message;
 }
 
+TEST(WorldFileTest, NumbersBeyondDoubleRangeAreAnErrorWithALocation) {
+  Graph g(ReplicaId{1, 1});
+  auto r = load_world(g, "{\"quiver_world\": 1,\n \"nodes\": [{\"name\": \"a\", \"type\": \"x\", \"attrs\": {\"v\": 1E999}}]}",
+                      "big.json");
+  ASSERT_FALSE(r.ok());
+  EXPECT_NE(r.error().message.find("big.json:2:"), std::string::npos) << r.error().message;
+  EXPECT_NE(r.error().message.find("overflow"), std::string::npos) << r.error().message;
+}
+
 TEST(WorldFileTest, SemanticErrorsNameTheValueAndChangeNothing) {
   Graph g(ReplicaId{1, 1});
   ASSERT_TRUE(load_world(g, R"({"quiver_world": 1, "nodes": [{"name": "old", "type": "x"}]})").ok());

@@ -25,6 +25,7 @@
 #include <unordered_map>
 #include <vector>
 
+#include "quiver/agents/messages.h"
 #include "quiver/agents/transport.h"
 #include "quiver/crdt/causal_context.h"
 #include "quiver/graph/graph.h"
@@ -57,7 +58,7 @@ struct PeerInfo {
 enum class Membership : std::uint8_t { kJoined, kLeft };
 
 struct ReplicatorStats {
-  std::uint64_t frames_sent = 0, bytes_sent = 0, frames_received = 0, bytes_received = 0;
+  std::uint64_t envelopes_sent = 0, envelopes_received = 0, bytes_sent_estimate = 0;
   std::uint64_t deltas_published = 0, deltas_applied = 0, deltas_duplicate = 0, deltas_relayed = 0;
   std::uint64_t pulls_sent = 0, pulls_timed_out = 0, pulls_answered_with_deltas = 0, pulls_answered_with_state = 0;
   std::uint64_t states_applied = 0, state_bytes_received = 0;
@@ -74,15 +75,21 @@ class Replicator {
 
   /// Announces this replica (a summary) and starts the heartbeat clock.
   void start(std::int64_t now_ns);
-  /// Handles one received frame. Malformed frames are counted, reported and dropped; the replica
-  /// is unchanged by them.
+  /// Handles one received envelope. Messages that do not validate (e.g. a delta whose payload
+  /// does not decode) are counted, reported and dropped; the replica is unchanged by them.
+  void on_envelope(const Envelope& e, std::int64_t now_ns);
+  /// Decodes a byte frame (frame_codec.h) and handles it; a malformed frame is rejected whole.
   void on_frame(std::span<const std::uint8_t> frame, std::int64_t now_ns);
+  /// A transport that detects departures itself (e.g. DDS liveliness) reports them here.
+  void on_peer_lost(const PeerId& peer);
   /// Timers: heartbeats, pull timeouts, gaps, liveness, buffer trimming; flushes coalesced deltas.
   void tick(std::int64_t now_ns);
   /// Sends coalesced local deltas now.
   void flush();
   /// Says goodbye so that peers drop this replica at once instead of after the lease.
   void leave();
+  /// Sends a summary now (e.g. when the transport saw a newcomer appear).
+  void announce();
 
   /// True when this replica holds every change any live peer has told it about, and at least
   /// one peer is known.
@@ -92,6 +99,10 @@ class Replicator {
   void on_membership(std::function<void(Membership, const PeerInfo&)> cb) { membership_cb_ = std::move(cb); }
   /// Called with a description of every rejected frame (malformed, oversized, ...).
   void on_error(std::function<void(const Error&)> cb) { error_cb_ = std::move(cb); }
+  /// True if every live peer has told us (in its last summary) that it holds (origin, seq).
+  bool all_peers_hold(const PeerId& origin, std::uint64_t seq) const;
+  /// The last sequence number this replica published.
+  std::uint64_t last_seq() const { return seq_; }
   /// The (origin, seq) pairs whose effects this replica holds.
   const crdt::CausalContext& applied() const { return applied_; }
   const ReplicatorStats& stats() const { return stats_; }
@@ -104,6 +115,7 @@ class Replicator {
     std::uint64_t lo, hi;
     std::shared_ptr<const std::vector<std::uint8_t>> bytes;
   };
+  using Bytes = std::shared_ptr<const std::vector<std::uint8_t>>;
   struct Peer {
     PeerInfo info;
     crdt::CausalContext applied;
@@ -112,31 +124,31 @@ class Replicator {
     std::uint64_t request = 0;
     std::uint64_t count = 0;
     std::int64_t started_ns = 0;
-    std::vector<std::vector<std::uint8_t>> chunks;
+    std::vector<Bytes> chunks;
     std::size_t received = 0, bytes = 0;
     crdt::CausalContext applied;
   };
   struct Outgoing {
     PeerId to;  // null = broadcast
-    std::vector<std::uint8_t> msg;
+    Message msg;
   };
 
   void on_local_delta(const graph::GraphDelta& d);
   void publish(std::vector<std::uint8_t> bytes, std::uint64_t lo, std::uint64_t hi);
-  void handle_summary(const PeerId& from, std::span<const std::uint8_t> body);
-  void handle_delta(const PeerId& from, std::span<const std::uint8_t> body);
-  void handle_pull(const PeerId& from, std::span<const std::uint8_t> body);
-  void handle_state(const PeerId& from, std::span<const std::uint8_t> body);
+  void handle(const PeerId& from, const SummaryMsg& m);
+  void handle(const PeerId& from, const DeltaMsg& m);
+  void handle(const PeerId& from, const PullMsg& m);
+  void handle(const PeerId& from, const StateMsg& m);
+  void handle(const PeerId& from, const ByeMsg& m);
   Peer& heard_from(const PeerId& from);
   void mark_left(Peer& p);
   void send_summary();
   void pull_from(const PeerId& target);
   bool behind(const Peer& p) const { return !applied_.includes(p.applied); }
-  void remember(const PeerId& origin, std::uint64_t lo, std::uint64_t hi,
-                std::shared_ptr<const std::vector<std::uint8_t>> bytes);
+  void remember(const PeerId& origin, std::uint64_t lo, std::uint64_t hi, Bytes bytes);
   void evict_front();
   void trim_buffer();
-  void queue(const PeerId& to, std::vector<std::uint8_t> msg);
+  void queue(const PeerId& to, Message msg);
   void send_queued();
   void reject(const Error& e);
 

@@ -13,17 +13,16 @@ namespace quiver::agents {
 /// A peer is one replica (agent incarnation).
 using PeerId = crdt::ReplicaId;
 
-/// Best-effort datagram delivery of whole frames: a frame may be lost, duplicated, delayed or
-/// reordered, but never corrupted into another valid frame undetected (the protocol validates).
-/// Implementations must not call back into the replicator from inside send/broadcast.
+struct Envelope;
+
+/// Best-effort delivery of envelopes: one may be lost, duplicated, delayed or reordered; the
+/// protocol recovers. Implementations must not call back into the replicator from send().
 class Transport {
  public:
   virtual ~Transport() = default;
-  /// Sends `frame` to every other replica.
-  virtual void broadcast(std::span<const std::uint8_t> frame) = 0;
-  /// Sends `frame` to one replica (a transport may deliver it to others too: frames carry
-  /// their destination and receivers drop what is not theirs).
-  virtual void send(const PeerId& to, std::span<const std::uint8_t> frame) = 0;
+  /// Sends `e` to `e.to`, or to every other replica when `e.to` is null. A transport may deliver
+  /// a unicast envelope to others too: receivers drop what is not addressed to them.
+  virtual void send(const Envelope& e) = 0;
 };
 
 }  // namespace quiver::agents

@@ -21,10 +21,17 @@ struct WorldLoadInfo {
   std::size_t rt_edges = 0;
 };
 
+struct WorldLoadOptions {
+  /// Seed mode: nodes whose names the graph already has are left alone (not an error), and so
+  /// are edges and RT edges between such nodes. For an agent that restarts and re-seeds.
+  bool skip_existing = false;
+};
+
 /// Parses `text` (named `source` in errors) and adds its nodes, edges and RT edges to `g` in one
 /// transaction.
-Result<WorldLoadInfo> load_world(Graph& g, std::string_view text, std::string_view source = "world");
-Result<WorldLoadInfo> load_world_file(Graph& g, const std::string& path);
+Result<WorldLoadInfo> load_world(Graph& g, std::string_view text, std::string_view source = "world",
+                                 const WorldLoadOptions& options = {});
+Result<WorldLoadInfo> load_world_file(Graph& g, const std::string& path, const WorldLoadOptions& options = {});
 
 /// The visible graph as a world file (winning values only; RT edges with their current pose).
 std::string save_world(const Graph& g);

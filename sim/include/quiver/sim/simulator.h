@@ -42,6 +42,9 @@ struct SimConfig {
   std::int64_t settle_limit_ns = 120'000'000'000;
   bool check_every_step = true;
   agents::ReplicatorOptions replicator = default_replicator();
+  /// Called once at the end of the run with every replica (all up, converged or not), so a test
+  /// can compare what the replicas answer (e.g. transform lookups).
+  std::function<void(const std::vector<const graph::Graph*>&)> inspect;
   /// Receives a human-readable line for every fault and phase change (virtual time in ns).
   std::function<void(std::int64_t, const std::string&)> log;
 

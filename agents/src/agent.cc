@@ -1,0 +1,102 @@
+#include "quiver/agents/agent.h"
+
+#include <chrono>
+#include <random>
+
+#include "quiver/hash.h"
+
+namespace quiver::agents {
+
+std::uint64_t fresh_incarnation() {
+  auto us = std::chrono::duration_cast<std::chrono::microseconds>(
+                std::chrono::system_clock::now().time_since_epoch())
+                .count();
+  std::random_device rd;
+  return (static_cast<std::uint64_t>(us) << 12) | (rd() & 0xfff);
+}
+
+std::int64_t monotonic_ns() {
+  return std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::steady_clock::now().time_since_epoch())
+      .count();
+}
+
+Result<std::unique_ptr<Agent>> Agent::create(AgentOptions options) {
+  if (options.name.empty()) return make_error(ErrorCode::kInvalidArgument, "Agent::create(): the name is empty");
+  std::unique_ptr<Agent> a(new Agent());
+  a->opt_ = std::move(options);
+  PeerId id{fnv1a64(a->opt_.name), a->opt_.incarnation ? a->opt_.incarnation : fresh_incarnation()};
+  a->graph_ = std::make_unique<graph::Graph>(id);
+  auto t = DdsTransport::create(id, a->opt_.dds);
+  if (!t.ok()) return t.error();
+  a->transport_ = std::move(*t);
+  ReplicatorOptions ro = a->opt_.replicator;
+  ro.name = a->opt_.name;
+  ro.observer = a->opt_.observer;
+  a->replicator_ = std::make_unique<Replicator>(*a->graph_, *a->transport_, ro);
+  const std::int64_t now = monotonic_ns();
+  a->replicator_->start(now);
+  a->next_tick_ = now + a->opt_.tick_ns;
+  return a;
+}
+
+Agent::~Agent() {
+  if (replicator_) replicator_->leave();
+  if (transport_) transport_->dispose_self();
+  replicator_.reset();
+  transport_.reset();
+}
+
+void Agent::spin_once(std::int64_t max_wait_ns) {
+  std::int64_t now = monotonic_ns();
+  std::int64_t wait = std::min(max_wait_ns, next_tick_ - now);
+  if (wait > 0) transport_->wait(wait);
+  transport_->drain([&](const Envelope& e) { replicator_->on_envelope(e, monotonic_ns()); },
+                    [&](const PeerId& p) { replicator_->on_peer_lost(p); });
+  // A newcomer matched: announce ourselves now so it does not wait for a heartbeat.
+  if (transport_->take_new_match()) replicator_->announce();
+  std::deque<std::function<void()>> tasks;
+  {
+    std::lock_guard<std::mutex> lock(mu_);
+    tasks.swap(posted_);
+  }
+  for (auto& f : tasks) f();
+  now = monotonic_ns();
+  if (now >= next_tick_) {
+    replicator_->tick(now);
+    next_tick_ = now + opt_.tick_ns;
+  }
+}
+
+bool Agent::spin_until(const std::function<bool()>& done, std::int64_t timeout_ns) {
+  const std::int64_t end = monotonic_ns() + timeout_ns;
+  while (!done()) {
+    std::int64_t left = end - monotonic_ns();
+    if (left <= 0) return false;
+    spin_once(std::min<std::int64_t>(left, 5'000'000));
+  }
+  return true;
+}
+
+void Agent::spin_for(std::int64_t duration_ns) {
+  const std::int64_t end = monotonic_ns() + duration_ns;
+  while (monotonic_ns() < end && !stop_.load()) spin_once(std::min<std::int64_t>(end - monotonic_ns(), 5'000'000));
+}
+
+void Agent::spin() {
+  while (!stop_.load()) spin_once(50'000'000);
+}
+
+void Agent::post(std::function<void()> fn) {
+  {
+    std::lock_guard<std::mutex> lock(mu_);
+    posted_.push_back(std::move(fn));
+  }
+  transport_->wake();
+}
+
+void Agent::stop() {
+  stop_.store(true);
+  transport_->wake();
+}
+
+}  // namespace quiver::agents

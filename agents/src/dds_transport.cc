@@ -1,0 +1,476 @@
+#include "quiver/agents/dds_transport.h"
+
+#include <dds/dds.h>
+
+#include <cstdlib>
+#include <map>
+#include <mutex>
+#include <vector>
+
+#include "quiver_wire.h"
+
+namespace quiver::agents {
+namespace {
+
+// ------------------------------------------------------------------ the C API, wrapped once
+
+/// The one place DDS return codes become quiver errors.
+Error dds_error(const std::string& what, dds_return_t rc) {
+  return make_error(rc == DDS_RETCODE_TIMEOUT ? ErrorCode::kTimeout : ErrorCode::kTransport,
+                    what + ": " + dds_strretcode(rc));
+}
+
+/// Owns one DDS entity; deleting it deletes its children.
+class Entity {
+ public:
+  Entity() = default;
+  explicit Entity(dds_entity_t h) : h_(h) {}
+  Entity(Entity&& o) noexcept : h_(o.h_) { o.h_ = 0; }
+  Entity& operator=(Entity&& o) noexcept {
+    reset();
+    h_ = o.h_;
+    o.h_ = 0;
+    return *this;
+  }
+  ~Entity() { reset(); }
+  dds_entity_t get() const { return h_; }
+  void reset() {
+    if (h_ > 0) dds_delete(h_);
+    h_ = 0;
+  }
+
+ private:
+  dds_entity_t h_ = 0;
+};
+
+/// Owns a dds_qos_t.
+struct Qos {
+  dds_qos_t* q = dds_create_qos();
+  ~Qos() { dds_delete_qos(q); }
+  Qos() = default;
+  Qos(const Qos&) = delete;
+  Qos& operator=(const Qos&) = delete;
+};
+
+// Domains shared by several transports of one process (unless each asks for its own instance).
+struct SharedDomain {
+  dds_entity_t handle = 0;
+  int users = 0;
+};
+std::mutex g_domains_mu;
+std::map<dds_domainid_t, SharedDomain> g_domains;
+std::atomic<dds_domainid_t> g_next_private{0x4000};
+
+// ------------------------------------------------------------------ IDL <-> protocol
+
+quiver_wire_Replica to_wire(const PeerId& p) { return quiver_wire_Replica{p.agent, p.incarnation}; }
+PeerId from_wire(const quiver_wire_Replica& r) { return PeerId{r.agent, r.incarnation}; }
+
+/// Holds the arrays a context points into while a sample is written.
+struct RangesOut {
+  std::vector<quiver_wire_ReplicaRanges> replicas;
+  std::vector<std::vector<quiver_wire_SeqRange>> ranges;
+
+  dds_sequence_quiver_wire_ReplicaRanges build(const crdt::CausalContext& c) {
+    replicas.clear();
+    ranges.clear();
+    PeerId cur{};
+    bool first = true;
+    c.for_each_range([&](const PeerId& r, std::uint64_t lo, std::uint64_t hi) {
+      if (first || !(r == cur)) {
+        replicas.push_back(quiver_wire_ReplicaRanges{to_wire(r), {}});
+        ranges.emplace_back();
+        cur = r;
+        first = false;
+      }
+      ranges.back().push_back(quiver_wire_SeqRange{lo, hi});
+    });
+    for (std::size_t i = 0; i < replicas.size(); ++i) {
+      auto& s = replicas[i].ranges;
+      s._length = s._maximum = static_cast<std::uint32_t>(ranges[i].size());
+      s._buffer = ranges[i].data();
+      s._release = false;
+    }
+    dds_sequence_quiver_wire_ReplicaRanges out{};
+    out._length = out._maximum = static_cast<std::uint32_t>(replicas.size());
+    out._buffer = replicas.data();
+    out._release = false;
+    return out;
+  }
+};
+
+bool read_ranges(const dds_sequence_quiver_wire_ReplicaRanges& in, crdt::CausalContext& out) {
+  out.clear();
+  for (std::uint32_t i = 0; i < in._length; ++i) {
+    const auto& rr = in._buffer[i];
+    PeerId r = from_wire(rr.replica);
+    for (std::uint32_t j = 0; j < rr.ranges._length; ++j) {
+      const auto& g = rr.ranges._buffer[j];
+      if (g.lo == 0 || g.hi < g.lo) return false;
+      out.add_range(r, g.lo, g.hi);
+    }
+  }
+  return true;
+}
+
+dds_sequence_octet octets(const std::vector<std::uint8_t>& v) {
+  dds_sequence_octet s{};
+  s._length = s._maximum = static_cast<std::uint32_t>(v.size());
+  s._buffer = const_cast<std::uint8_t*>(v.data());
+  s._release = false;
+  return s;
+}
+
+std::shared_ptr<const std::vector<std::uint8_t>> copy_octets(const dds_sequence_octet& s) {
+  return std::make_shared<const std::vector<std::uint8_t>>(s._buffer, s._buffer + s._length);
+}
+
+}  // namespace
+
+std::string loopback_config_xml(const DdsConfig& cfg) {
+  auto ms = [](std::int64_t ns) { return std::to_string(std::max<std::int64_t>(1, ns / 1'000'000)) + "ms"; };
+  std::string xml =
+      "<CycloneDDS><Domain id=\"any\">"
+      "<General>"
+      "<Interfaces><NetworkInterface address=\"127.0.0.1\"/></Interfaces>"
+      "<AllowMulticast>false</AllowMulticast>"
+      "<DontRoute>true</DontRoute>"
+      "</General>"
+      "<Discovery>"
+      "<ParticipantIndex>auto</ParticipantIndex>"
+      "<MaxAutoParticipantIndex>120</MaxAutoParticipantIndex>"
+      "<Peers><Peer address=\"127.0.0.1\"/></Peers>"
+      "<LeaseDuration>" + ms(cfg.lease_ns) + "</LeaseDuration>";
+  if (cfg.own_domain_instance) xml += "<ExternalDomainId>" + std::to_string(cfg.domain) + "</ExternalDomainId>";
+  xml += "</Discovery>";
+  if (cfg.xmit_loss_permille > 0)
+    xml += "<Internal><Test><XmitLossiness>" + std::to_string(cfg.xmit_loss_permille) + "</XmitLossiness></Test></Internal>";
+  xml += "</Domain></CycloneDDS>";
+  return xml;
+}
+
+// ------------------------------------------------------------------ transport
+
+struct DdsTransport::Impl {
+  dds_domainid_t domain_id = 0;
+  bool shared_domain = false;
+  Entity private_domain;
+  Entity participant;
+  Entity topics[5];
+  Entity w_summary, w_delta, w_pull, w_state, w_bye;
+  Entity r_summary, r_delta, r_pull, r_state, r_bye;
+  Entity waitset;
+  Entity guard;
+  std::uint32_t matched_seen = 0;
+  RangesOut ranges_a, ranges_b;
+  quiver_wire_Replica self{};
+
+  ~Impl() {
+    // Children first, then the participant; a shared domain is released when its last user goes.
+    waitset.reset();
+    guard.reset();
+    participant.reset();
+    private_domain.reset();
+    if (shared_domain) {
+      std::lock_guard<std::mutex> lock(g_domains_mu);
+      auto it = g_domains.find(domain_id);
+      if (it != g_domains.end() && --it->second.users == 0) {
+        if (it->second.handle > 0) dds_delete(it->second.handle);
+        g_domains.erase(it);
+      }
+    }
+  }
+};
+
+Result<std::unique_ptr<DdsTransport>> DdsTransport::create(const PeerId& self, const DdsConfig& cfg) {
+  std::unique_ptr<DdsTransport> t(new DdsTransport());
+  t->self_ = self;
+  t->impl_ = std::make_unique<Impl>();
+  Impl& d = *t->impl_;
+  d.self = to_wire(self);
+
+  std::string xml;
+  switch (cfg.source) {
+    case DdsConfig::Source::kLoopback: xml = loopback_config_xml(cfg); break;
+    case DdsConfig::Source::kXml: xml = cfg.xml; break;
+    case DdsConfig::Source::kEnvironment: {
+      const char* env = std::getenv("CYCLONEDDS_URI");
+      xml = env ? env : "";
+      break;
+    }
+  }
+  if (cfg.own_domain_instance) {
+    d.domain_id = g_next_private++;
+    dds_entity_t dom = dds_create_domain(d.domain_id, xml.c_str());
+    if (dom < 0) return dds_error("DdsTransport: dds_create_domain(private instance)", dom);
+    d.private_domain = Entity(dom);
+  } else {
+    d.domain_id = cfg.domain;
+    std::lock_guard<std::mutex> lock(g_domains_mu);
+    auto& shared = g_domains[d.domain_id];
+    if (shared.users == 0) {
+      dds_entity_t dom = dds_create_domain(d.domain_id, xml.c_str());
+      if (dom < 0 && dom != DDS_RETCODE_PRECONDITION_NOT_MET) {
+        g_domains.erase(d.domain_id);
+        return dds_error("DdsTransport: dds_create_domain(" + std::to_string(cfg.domain) + ")", dom);
+      }
+      shared.handle = dom > 0 ? dom : 0;
+    }
+    ++shared.users;
+    d.shared_domain = true;
+  }
+
+  Qos pqos;
+  dds_qset_userdata(pqos.q, &self, sizeof self);
+  dds_entity_t pp = dds_create_participant(d.domain_id, pqos.q, nullptr);
+  if (pp < 0) return dds_error("DdsTransport: dds_create_participant", pp);
+  d.participant = Entity(pp);
+
+  const dds_topic_descriptor_t* descs[5] = {&quiver_wire_Summary_desc, &quiver_wire_Delta_desc, &quiver_wire_Pull_desc,
+                                            &quiver_wire_StateChunk_desc, &quiver_wire_Bye_desc};
+  const char* names[5] = {"quiver_summary", "quiver_delta", "quiver_pull", "quiver_state", "quiver_bye"};
+  for (int i = 0; i < 5; ++i) {
+    dds_entity_t tp = dds_create_topic(pp, descs[i], names[i], nullptr, nullptr);
+    if (tp < 0) return dds_error(std::string("DdsTransport: dds_create_topic(") + names[i] + ")", tp);
+    d.topics[i] = Entity(tp);
+  }
+
+  // Heartbeats: the latest per sender is all that matters.
+  Qos summary;
+  dds_qset_reliability(summary.q, DDS_RELIABILITY_RELIABLE, DDS_MSECS(10));
+  dds_qset_history(summary.q, DDS_HISTORY_KEEP_LAST, 1);
+  dds_qset_ignorelocal(summary.q, DDS_IGNORELOCAL_PARTICIPANT);
+  // Everything else must arrive or be recovered by the protocol.
+  Qos reliable;
+  dds_qset_reliability(reliable.q, DDS_RELIABILITY_RELIABLE, cfg.max_blocking_ns);
+  dds_qset_history(reliable.q, DDS_HISTORY_KEEP_ALL, 0);
+  dds_qset_resource_limits(reliable.q, 100000, DDS_LENGTH_UNLIMITED, DDS_LENGTH_UNLIMITED);
+  dds_qset_ignorelocal(reliable.q, DDS_IGNORELOCAL_PARTICIPANT);
+
+  auto writer = [&](int i, const Qos& q, Entity& out) -> Status {
+    dds_entity_t w = dds_create_writer(pp, d.topics[i].get(), q.q, nullptr);
+    if (w < 0) return dds_error(std::string("DdsTransport: dds_create_writer(") + names[i] + ")", w);
+    out = Entity(w);
+    return {};
+  };
+  auto reader = [&](int i, const Qos& q, Entity& out) -> Status {
+    dds_entity_t r = dds_create_reader(pp, d.topics[i].get(), q.q, nullptr);
+    if (r < 0) return dds_error(std::string("DdsTransport: dds_create_reader(") + names[i] + ")", r);
+    out = Entity(r);
+    return {};
+  };
+  for (Status s : {writer(0, summary, d.w_summary), writer(1, reliable, d.w_delta), writer(2, reliable, d.w_pull),
+                   writer(3, reliable, d.w_state), writer(4, reliable, d.w_bye), reader(0, summary, d.r_summary),
+                   reader(1, reliable, d.r_delta), reader(2, reliable, d.r_pull), reader(3, reliable, d.r_state),
+                   reader(4, reliable, d.r_bye)})
+    if (!s.ok()) return s.error();
+
+  dds_entity_t ws = dds_create_waitset(pp);
+  if (ws < 0) return dds_error("DdsTransport: dds_create_waitset", ws);
+  d.waitset = Entity(ws);
+  dds_entity_t gc = dds_create_guardcondition(pp);
+  if (gc < 0) return dds_error("DdsTransport: dds_create_guardcondition", gc);
+  d.guard = Entity(gc);
+  dds_return_t rc = dds_waitset_attach(ws, gc, 0);
+  if (rc < 0) return dds_error("DdsTransport: dds_waitset_attach(guard)", rc);
+  for (Entity* r : {&d.r_summary, &d.r_delta, &d.r_pull, &d.r_state, &d.r_bye}) {
+    // Data available, or (for summaries) an instance state change.
+    rc = dds_set_status_mask(r->get(), DDS_DATA_AVAILABLE_STATUS);
+    if (rc < 0) return dds_error("DdsTransport: dds_set_status_mask", rc);
+    rc = dds_waitset_attach(ws, r->get(), r->get());
+    if (rc < 0) return dds_error("DdsTransport: dds_waitset_attach(reader)", rc);
+  }
+  rc = dds_set_status_mask(d.w_summary.get(), DDS_PUBLICATION_MATCHED_STATUS);
+  if (rc < 0) return dds_error("DdsTransport: dds_set_status_mask(writer)", rc);
+  rc = dds_waitset_attach(ws, d.w_summary.get(), d.w_summary.get());
+  if (rc < 0) return dds_error("DdsTransport: dds_waitset_attach(writer)", rc);
+  return t;
+}
+
+DdsTransport::~DdsTransport() = default;
+
+void DdsTransport::send(const Envelope& e) {
+  Impl& d = *impl_;
+  const quiver_wire_Replica to = to_wire(e.to);
+  auto write = [&](const Entity& w, const void* sample) {
+    dds_return_t rc = dds_write(w.get(), sample);
+    if (rc == DDS_RETCODE_OK) ++stats_.samples_written;
+    else if (rc == DDS_RETCODE_TIMEOUT) ++stats_.write_timeouts;  // the protocol recovers it
+    else ++stats_.write_errors;
+  };
+  for (const Message& m : e.messages) {
+    std::visit(
+        [&](const auto& msg) {
+          using T = std::decay_t<decltype(msg)>;
+          if constexpr (std::is_same_v<T, SummaryMsg>) {
+            quiver_wire_Summary s{};
+            s.sender_agent = d.self.agent;
+            s.sender_incarnation = d.self.incarnation;
+            s.name = const_cast<char*>(msg.name.c_str());
+            s.observer = msg.observer;
+            s.applied = d.ranges_a.build(msg.applied);
+            write(d.w_summary, &s);
+          } else if constexpr (std::is_same_v<T, DeltaMsg>) {
+            quiver_wire_Delta s{};
+            s.sender = d.self;
+            s.destination = to;
+            s.origin = to_wire(msg.origin);
+            s.lo = msg.lo;
+            s.hi = msg.hi;
+            s.payload = octets(*msg.payload);
+            write(d.w_delta, &s);
+          } else if constexpr (std::is_same_v<T, PullMsg>) {
+            quiver_wire_Pull s{};
+            s.sender = d.self;
+            s.destination = to;
+            s.request = msg.request;
+            s.applied = d.ranges_a.build(msg.applied);
+            s.context = d.ranges_b.build(msg.context);
+            write(d.w_pull, &s);
+          } else if constexpr (std::is_same_v<T, StateMsg>) {
+            quiver_wire_StateChunk s{};
+            s.sender = d.self;
+            s.destination = to;
+            s.request = msg.request;
+            s.index = msg.index;
+            s.count = msg.count;
+            s.applied = d.ranges_a.build(msg.applied);
+            s.payload = octets(*msg.chunk);
+            write(d.w_state, &s);
+          } else {
+            quiver_wire_Bye s{};
+            s.sender = d.self;
+            write(d.w_bye, &s);
+          }
+        },
+        m);
+  }
+}
+
+void DdsTransport::wait(std::int64_t timeout_ns) {
+  dds_waitset_wait(impl_->waitset.get(), nullptr, 0, timeout_ns < 0 ? 0 : timeout_ns);
+}
+
+void DdsTransport::wake() { dds_set_guardcondition(impl_->guard.get(), true); }
+
+bool DdsTransport::take_new_match() {
+  dds_publication_matched_status_t st;
+  if (dds_get_publication_matched_status(impl_->w_summary.get(), &st) < 0) return false;
+  bool fresh = st.total_count != impl_->matched_seen;
+  impl_->matched_seen = st.total_count;
+  return fresh;
+}
+
+Status DdsTransport::set_deafmute(bool deaf, bool mute, std::int64_t reset_after_ns) {
+  dds_return_t rc = dds_domain_set_deafmute(impl_->participant.get(), deaf, mute,
+                                            reset_after_ns < 0 ? DDS_INFINITY : reset_after_ns);
+  if (rc < 0) return dds_error("DdsTransport::set_deafmute", rc);
+  return {};
+}
+
+void DdsTransport::dispose_self() {
+  quiver_wire_Summary key{};
+  key.sender_agent = impl_->self.agent;
+  key.sender_incarnation = impl_->self.incarnation;
+  dds_dispose(impl_->w_summary.get(), &key);
+}
+
+void DdsTransport::drain(const std::function<void(const Envelope&)>& on_envelope,
+                         const std::function<void(const PeerId&)>& on_lost) {
+  Impl& d = *impl_;
+  bool triggered = false;
+  dds_read_guardcondition(d.guard.get(), &triggered);
+  if (triggered) dds_set_guardcondition(d.guard.get(), false);
+  constexpr int kMax = 64;
+  void* samples[kMax];
+  dds_sample_info_t infos[kMax];
+  const PeerId self = self_;
+  auto for_us = [&](const quiver_wire_Replica& to) { return (to.agent == 0 && to.incarnation == 0) || from_wire(to) == self; };
+
+  auto take_all = [&](const Entity& r, auto&& handle) {
+    for (;;) {
+      for (auto& s : samples) s = nullptr;
+      dds_return_t n = dds_take(r.get(), samples, infos, kMax, kMax);
+      if (n <= 0) return;
+      stats_.samples_taken += static_cast<std::uint64_t>(n);
+      for (int i = 0; i < n; ++i) handle(samples[i], infos[i]);
+      dds_return_loan(r.get(), samples, n);
+      if (n < kMax) return;
+    }
+  };
+
+  take_all(d.r_summary, [&](void* p, const dds_sample_info_t& info) {
+    const auto* s = static_cast<const quiver_wire_Summary*>(p);
+    if (!info.valid_data) {
+      if (info.instance_state != DDS_IST_ALIVE) {
+        quiver_wire_Summary key{};
+        if (dds_instance_get_key(d.r_summary.get(), info.instance_handle, &key) == DDS_RETCODE_OK) {
+          PeerId lost{key.sender_agent, key.sender_incarnation};
+          dds_sample_free(&key, &quiver_wire_Summary_desc, DDS_FREE_CONTENTS);
+          if (!(lost == self)) {
+            ++stats_.peers_lost;
+            on_lost(lost);
+          }
+        }
+      }
+      return;
+    }
+    Envelope e;
+    e.from = PeerId{s->sender_agent, s->sender_incarnation};
+    SummaryMsg m;
+    m.name = s->name ? s->name : "";
+    m.observer = s->observer;
+    if (!read_ranges(s->applied, m.applied)) return;
+    e.messages.emplace_back(std::move(m));
+    on_envelope(e);
+  });
+  take_all(d.r_delta, [&](void* p, const dds_sample_info_t& info) {
+    if (!info.valid_data) return;
+    const auto* s = static_cast<const quiver_wire_Delta*>(p);
+    if (!for_us(s->destination)) return;
+    Envelope e;
+    e.from = from_wire(s->sender);
+    e.to = from_wire(s->destination);
+    e.messages.emplace_back(DeltaMsg{from_wire(s->origin), s->lo, s->hi, copy_octets(s->payload)});
+    on_envelope(e);
+  });
+  take_all(d.r_pull, [&](void* p, const dds_sample_info_t& info) {
+    if (!info.valid_data) return;
+    const auto* s = static_cast<const quiver_wire_Pull*>(p);
+    if (!for_us(s->destination)) return;
+    Envelope e;
+    e.from = from_wire(s->sender);
+    e.to = from_wire(s->destination);
+    PullMsg m;
+    m.request = s->request;
+    if (!read_ranges(s->applied, m.applied) || !read_ranges(s->context, m.context)) return;
+    e.messages.emplace_back(std::move(m));
+    on_envelope(e);
+  });
+  take_all(d.r_state, [&](void* p, const dds_sample_info_t& info) {
+    if (!info.valid_data) return;
+    const auto* s = static_cast<const quiver_wire_StateChunk*>(p);
+    if (!for_us(s->destination)) return;
+    Envelope e;
+    e.from = from_wire(s->sender);
+    e.to = from_wire(s->destination);
+    StateMsg m;
+    m.request = s->request;
+    m.index = s->index;
+    m.count = s->count;
+    if (!read_ranges(s->applied, m.applied)) return;
+    m.chunk = copy_octets(s->payload);
+    e.messages.emplace_back(std::move(m));
+    on_envelope(e);
+  });
+  take_all(d.r_bye, [&](void* p, const dds_sample_info_t& info) {
+    if (!info.valid_data) return;
+    const auto* s = static_cast<const quiver_wire_Bye*>(p);
+    Envelope e;
+    e.from = from_wire(s->sender);
+    e.messages.emplace_back(ByeMsg{});
+    on_envelope(e);
+  });
+}
+
+}  // namespace quiver::agents

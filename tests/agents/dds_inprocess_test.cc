@@ -1,0 +1,141 @@
+// Several agents in one process, each with its own Cyclone DDS domain instance (threads,
+// sockets) on the loopback default configuration, each spinning on its own thread.
+
+#include <gtest/gtest.h>
+
+#include <future>
+#include <thread>
+
+#include "quiver/agents/agent.h"
+#include "quiver/rng.h"
+#include "quiver/sim/workload.h"
+#include "test_seed.h"
+
+namespace quiver::agents {
+namespace {
+
+constexpr std::int64_t kMs = 1'000'000;
+
+// Domain ids distinct per test so that nothing else on this machine meets these agents.
+std::uint32_t test_domain(int index) { return 150 + static_cast<std::uint32_t>(index); }
+
+struct Running {
+  std::unique_ptr<Agent> agent;
+  std::thread thread;
+  ~Running() {
+    if (thread.joinable()) {
+      agent->stop();
+      thread.join();
+    }
+  }
+  // Runs fn on the agent's thread and waits for its result.
+  template <class F>
+  auto call(F fn) -> decltype(fn(*agent)) {
+    std::promise<decltype(fn(*agent))> done;
+    auto fut = done.get_future();
+    agent->post([&] {
+      if constexpr (std::is_void_v<decltype(fn(*agent))>) {
+        fn(*agent);
+        done.set_value();
+      } else {
+        done.set_value(fn(*agent));
+      }
+    });
+    return fut.get();
+  }
+};
+
+std::vector<std::unique_ptr<Running>> start(int n, std::uint32_t domain, int loss_permille = 0) {
+  std::vector<std::unique_ptr<Running>> out;
+  for (int i = 0; i < n; ++i) {
+    AgentOptions o;
+    o.name = "agent" + std::to_string(i);
+    o.dds.domain = domain;
+    o.dds.own_domain_instance = true;
+    o.dds.xmit_loss_permille = loss_permille;
+    o.replicator.heartbeat_ns = 50 * kMs;
+    auto a = Agent::create(o);
+    EXPECT_TRUE(a.ok()) << a.error().to_string();
+    if (!a.ok()) return {};
+    auto r = std::make_unique<Running>();
+    r->agent = std::move(*a);
+    Agent* raw = r->agent.get();
+    r->thread = std::thread([raw] { raw->spin(); });
+    out.push_back(std::move(r));
+  }
+  return out;
+}
+
+// Polls until every agent reports the same digest (and at least `min_nodes` nodes), or times out.
+bool converge(std::vector<std::unique_ptr<Running>>& agents, std::int64_t timeout_ms, std::size_t min_nodes = 0) {
+  const std::int64_t end = monotonic_ns() + timeout_ms * kMs;
+  while (monotonic_ns() < end) {
+    std::vector<Digest128> d;
+    bool enough = true;
+    for (auto& r : agents) {
+      d.push_back(r->call([](Agent& a) { return a.graph().digest(); }));
+      enough = enough && r->call([](Agent& a) { return a.graph().node_count(); }) >= min_nodes;
+    }
+    bool same = enough;
+    for (const auto& x : d) same = same && x == d[0];
+    if (same) return true;
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  }
+  return false;
+}
+
+void churn(Running& r, Rng& rng, int txns, std::int64_t t0) {
+  sim::Churn work;
+  r.call([&](Agent& a) {
+    for (int i = 0; i < txns; ++i) work.step(a.graph(), rng, t0 + i);
+  });
+}
+
+TEST(DdsInProcessTest, TwoAgentsReplicate) {
+  auto agents = start(2, test_domain(0));
+  ASSERT_EQ(agents.size(), 2u);
+  agents[0]->call([](Agent& a) {
+    auto tx = a.graph().begin();
+    ASSERT_TRUE(tx.create_node("robot", "robot", {{graph::Symbol("battery"), graph::Value(0.5)}}).ok());
+    ASSERT_TRUE(tx.commit().ok());
+  });
+  ASSERT_TRUE(converge(agents, 5000, 1));
+  double b = agents[1]->call([](Agent& a) {
+    auto id = a.graph().find_node("robot");
+    return id ? a.graph().get<double>(*id, "battery").value_or(-1) : -2.0;
+  });
+  EXPECT_EQ(b, 0.5);
+}
+
+TEST(DdsInProcessTest, AgentCutOffByDeafMuteCatchesUpAfterHeal) {
+  const auto seed = quiver::testing::base_seed("DdsInProcessTest.AgentCutOffByDeafMuteCatchesUpAfterHeal", 5);
+  Rng rng(seed);
+  auto agents = start(4, test_domain(1));
+  ASSERT_EQ(agents.size(), 4u);
+  churn(*agents[0], rng, 5, 0);
+  ASSERT_TRUE(converge(agents, 5000));
+  // Cut agent 3 off entirely; the others keep writing.
+  agents[3]->call([](Agent& a) { ASSERT_TRUE(a.transport().set_deafmute(true, true, -1).ok()); });
+  for (int round = 0; round < 5; ++round)
+    for (int i = 0; i < 3; ++i) churn(*agents[i], rng, 4, 1000 * round);
+  std::this_thread::sleep_for(std::chrono::milliseconds(200));
+  auto d_cut = agents[3]->call([](Agent& a) { return a.graph().digest(); });
+  auto d_main = agents[0]->call([](Agent& a) { return a.graph().digest(); });
+  EXPECT_NE(d_cut, d_main) << "the cut-off agent saw nothing";
+  churn(*agents[3], rng, 4, 99999);  // and it changes things on its own side
+  agents[3]->call([](Agent& a) { ASSERT_TRUE(a.transport().set_deafmute(false, false, -1).ok()); });
+  EXPECT_TRUE(converge(agents, 15000)) << "seed " << seed;
+}
+
+TEST(DdsInProcessTest, ConvergesDespiteTwentyPercentPacketLoss) {
+  const auto seed = quiver::testing::base_seed("DdsInProcessTest.ConvergesDespiteTwentyPercentPacketLoss", 6);
+  Rng rng(seed);
+  auto agents = start(3, test_domain(2), /*loss_permille=*/200);
+  ASSERT_EQ(agents.size(), 3u);
+  for (int round = 0; round < 10; ++round)
+    for (auto& a : agents) churn(*a, rng, 3, 100 * round);
+  EXPECT_TRUE(converge(agents, 20000)) << "seed " << seed;
+}
+
+}  // namespace
+}  // namespace quiver::agents
