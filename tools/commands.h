@@ -8,6 +8,7 @@ void add_sim_command(CLI::App& app);
 void add_bench_commands(CLI::App& app);
 void add_agent_commands(CLI::App& app);
 void add_dds_bench_commands(CLI::App& app);
+void add_agents_bench_commands(CLI::App& app);
 /// The process exit status the command that ran has chosen.
 int exit_code();
 void set_exit_code(int code);

@@ -13,6 +13,7 @@ int main(int argc, char** argv) {
   quiver::tools::add_bench_commands(app);
   quiver::tools::add_agent_commands(app);
   quiver::tools::add_dds_bench_commands(app);
+  quiver::tools::add_agents_bench_commands(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

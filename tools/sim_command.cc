@@ -23,6 +23,8 @@ void add_sim_command(CLI::App& app) {
   cmd->add_flag("--reorder", cfg->faults.reorder, "let frames overtake each other");
   cmd->add_flag("--partitions", cfg->faults.partitions, "split the agents into groups for a while, then heal");
   cmd->add_flag("--crashes", cfg->faults.crashes, "kill agents (state lost) and restart them");
+  cmd->add_flag("--locks", cfg->locks.enabled, "agents also compete for priority locks on a few scopes");
+  cmd->add_flag("--rooms", cfg->rooms.enabled, "agents move a robot between rooms under a grammar (violations repaired)");
   auto verbose = std::make_shared<bool>(false);
   cmd->add_flag("-v,--verbose", *verbose, "narrate faults and phases on stderr");
   cmd->callback([cfg, verbose] {

@@ -95,6 +95,10 @@ void Replicator::on_envelope(const Envelope& e, std::int64_t now_ns) {
   ++stats_.envelopes_received;
   heard_from(e.from);
   for (const Message& m : e.messages) std::visit([&](const auto& msg) { handle(e.from, msg); }, m);
+  if (announce_soon_) {
+    announce_soon_ = false;
+    send_summary();
+  }
   send_queued();
 }
 
@@ -139,6 +143,11 @@ std::size_t Replicator::live_peer_count() const {
   std::size_t n = 0;
   for (const auto& [id, p] : peers_) n += p.info.alive ? 1 : 0;
   return n;
+}
+
+bool Replicator::peer_alive(const PeerId& peer) const {
+  auto it = peers_.find(peer);
+  return it != peers_.end() && it->second.info.alive;
 }
 
 bool Replicator::all_peers_hold(const PeerId& origin, std::uint64_t seq) const {

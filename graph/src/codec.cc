@@ -27,7 +27,7 @@ namespace {
 constexpr std::uint8_t kMagic0 = 'Q';
 constexpr std::uint8_t kMagic1 = 'G';
 // Message flags.
-constexpr std::uint64_t kImplicitDots = 1, kSortedNodes = 2;
+constexpr std::uint64_t kImplicitDots = 1, kSortedNodes = 2, kFenced = 4;
 // Node op flags.
 constexpr std::uint64_t kHdr = 1, kRemoved = 2, kClaims = 4, kSamples = 8, kReplicaSwitch = 16;
 // Edge op flags.
@@ -50,7 +50,8 @@ class Encoder {
     w_.u8(kCodecVersion);
     w_.u8(static_cast<std::uint8_t>(d_.kind));
     plan_dots();
-    std::uint64_t flags = (implicit_ ? kImplicitDots : 0) | (sorted_ ? kSortedNodes : 0);
+    for (const auto& e : d_.values) fenced_ = fenced_ || e.fence != 0;
+    std::uint64_t flags = (implicit_ ? kImplicitDots : 0) | (sorted_ ? kSortedNodes : 0) | (fenced_ ? kFenced : 0);
     w_.varint(flags);
     w_.varint(replicas_.size());
     for (const ReplicaId& r : replicas_) {
@@ -217,6 +218,11 @@ class Encoder {
     for (double v : p.rotation) w_.f64(v);
   }
 
+  void value(const crdt::Entry<Value>& e) {
+    e.value.encode(w_);
+    if (fenced_) w_.varint(e.fence);
+  }
+
   void attr(const GraphDelta::AttrOp& a) {
     std::uint64_t sym = sindex(a.name);
     const std::uint32_t nrem = a.removed.size(), nadd = a.added.size();
@@ -225,7 +231,7 @@ class Encoder {
       if (nrem == 0) {
         w_.varint(sym << 2 | kFresh);
         origin_dot(e.dot);
-        e.value.encode(w_);
+        value(e);
         return;
       }
       const Dot& old = d_.removed[a.removed.begin];
@@ -233,7 +239,7 @@ class Encoder {
         w_.varint(sym << 2 | kOverwrite);
         origin_dot(e.dot);
         w_.varint(e.dot.counter - old.counter);
-        e.value.encode(w_);
+        value(e);
         return;
       }
     }
@@ -250,7 +256,7 @@ class Encoder {
     for (std::uint32_t i = a.added.begin; i < a.added.end; ++i) {
       // Under implicit dots the dot is known; otherwise it is written in full.
       if (!implicit_) dot(d_.values[i].dot);
-      d_.values[i].value.encode(w_);
+      value(d_.values[i]);
     }
   }
 
@@ -355,6 +361,7 @@ class Encoder {
   std::size_t slast_ = 0;
   bool implicit_ = false;
   bool sorted_ = true;
+  bool fenced_ = false;
   std::uint64_t next_implicit_ = 0;
   std::uint64_t base_ = 0;
 };
@@ -379,9 +386,10 @@ class Decoder {
     if (r_.ok() && kind != 1 && kind != 2) return fail(ErrorCode::kMalformed, "kind", "unknown message kind " + std::to_string(kind));
     d_.kind = static_cast<GraphDelta::Kind>(kind);
     std::uint64_t flags = r_.varint("flags");
-    if (flags & ~std::uint64_t{3}) return fail(ErrorCode::kMalformed, "flags", "unknown flag bits");
+    if (flags & ~std::uint64_t{7}) return fail(ErrorCode::kMalformed, "flags", "unknown flag bits");
     implicit_ = flags & kImplicitDots;
     sorted_ = flags & kSortedNodes;
+    fenced_ = flags & kFenced;
 
     std::uint64_t nrep = r_.count("replica count", lim_.max_table, 2);
     if (r_.ok() && nrep == 0) return fail(ErrorCode::kMalformed, "replica count", "the replica table is empty");
@@ -482,7 +490,12 @@ class Decoder {
     for (double& v : p.rotation) v = r_.f64("pose rotation");
     return p;
   }
-  Value value() { return Value::decode(r_, lim_.max_value_bytes); }
+  // A value and, in fenced messages, its fencing epoch.
+  crdt::Entry<Value> entry(const Dot& d) {
+    crdt::Entry<Value> e{d, Value::decode(r_, lim_.max_value_bytes), 0};
+    if (fenced_) e.fence = r_.varint("value fence");
+    return e;
+  }
 
   void attr() {
     GraphDelta::AttrOp a;
@@ -507,8 +520,7 @@ class Decoder {
           }
           d_.removed.push_back(Dot{x.replica, x.counter - gap});
         }
-        Value v = value();
-        d_.values.push_back(crdt::Entry<Value>{x, std::move(v)});
+        d_.values.push_back(entry(x));
         break;
       }
       case kRemoveOnly:
@@ -519,8 +531,7 @@ class Decoder {
           std::uint64_t nadd = r_.count("value count", UINT32_MAX, 1);
           for (std::uint64_t i = 0; i < nadd && r_.ok(); ++i) {
             Dot x = entry_dot("value dot");
-            Value v = value();
-            d_.values.push_back(crdt::Entry<Value>{x, std::move(v)});
+            d_.values.push_back(entry(x));
           }
         }
         break;
@@ -709,6 +720,7 @@ class Decoder {
   std::vector<Symbol> symbols_;
   bool implicit_ = false;
   bool sorted_ = false;
+  bool fenced_ = false;
   std::uint64_t next_implicit_ = 0;
   std::uint64_t base_ = 0;
 };

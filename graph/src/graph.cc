@@ -47,9 +47,11 @@ void swap_remove(std::vector<T>& v, const T& x) {
 }
 std::vector<AttrValue> register_values(const crdt::DotFun<Value>& reg) {
   std::vector<AttrValue> out;
-  for (const auto& e : reg) out.push_back(AttrValue{e.value, e.dot});
-  std::sort(out.begin(), out.end(),
-            [](const AttrValue& a, const AttrValue& b) { return crdt::lamport_less(b.dot, a.dot); });
+  for (const auto& e : reg) out.push_back(AttrValue{e.value, e.dot, e.fence});
+  std::sort(out.begin(), out.end(), [](const AttrValue& a, const AttrValue& b) {
+    if (a.fence != b.fence) return a.fence > b.fence;
+    return crdt::lamport_less(b.dot, a.dot);
+  });
   return out;
 }
 }  // namespace
@@ -422,6 +424,20 @@ std::size_t Graph::edge_count() const {
   return n;
 }
 
+std::optional<Dot> Graph::edge_version(const EdgeKey& key) const {
+  if (key.type == symbols::rt()) {
+    const NodeRec* c = impl_->visible_node(key.to);
+    if (c == nullptr || c->rt_parent == nullptr || !(c->rt_parent->id == key.from)) return std::nullopt;
+    return c->rt_epoch;
+  }
+  const EdgeRec* e = impl_->find_edge(key);
+  if (e == nullptr || !impl_->edge_visible(*e)) return std::nullopt;
+  Dot best;
+  for (const Dot& d : e->exists)
+    if (best.is_null() || crdt::lamport_less(best, d)) best = d;
+  return best;
+}
+
 const Value* Graph::edge_attr(const EdgeKey& key, Symbol name) const {
   const EdgeRec* e = impl_->find_edge(key);
   if (e == nullptr || !impl_->edge_visible(*e)) return nullptr;
@@ -487,6 +503,7 @@ const crdt::CausalContext& Graph::context() const { return impl_->ctx; }
 
 void Graph::set_delta_sink(std::function<void(const GraphDelta&)> sink) { impl_->sink = std::move(sink); }
 void Graph::set_commit_validator(CommitValidator v) { impl_->validator = std::move(v); }
+void Graph::set_fence_provider(FenceProvider f) { impl_->fence_of = std::move(f); }
 
 Graph::SubscriptionId Graph::subscribe(ChangeCallback cb) {
   SubscriptionId id = impl_->next_subscription++;

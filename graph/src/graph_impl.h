@@ -21,12 +21,12 @@ using AttrList = std::vector<AttrSlot>;
 
 AttrSlot* find_slot(AttrList& attrs, Symbol name);
 const AttrSlot* find_slot(const AttrList& attrs, Symbol name);
-/// The winning entry of a register: greatest Lamport dot.
+/// The winning entry of a register: greatest (fence, Lamport dot).
 template <class V>
 const crdt::Entry<V>* winner(const crdt::DotFun<V>& reg) {
   const crdt::Entry<V>* best = nullptr;
   for (const auto& e : reg)
-    if (best == nullptr || crdt::lamport_less(best->dot, e.dot)) best = &e;
+    if (best == nullptr || crdt::entry_less(*best, e)) best = &e;
   return best;
 }
 
@@ -147,6 +147,8 @@ struct Graph::Impl {
   GraphDelta out;
   std::function<void(const GraphDelta&)> sink;
   CommitValidator validator;
+  FenceProvider fence_of;
+  std::uint64_t fence(NodeId n) const { return fence_of ? fence_of(n) : 0; }
 
   // Events.
   std::vector<std::pair<SubscriptionId, ChangeCallback>> subscribers;

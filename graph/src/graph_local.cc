@@ -68,8 +68,10 @@ GraphDelta::EdgeOp& Graph::Impl::out_edge(const EdgeKey& key) {
 }
 
 namespace {
-// Appends an AttrOp that removes every dot of `slot` and (if v) adds (d, *v). Updates the slot.
-GraphDelta::AttrOp record_write(GraphDelta& out, AttrSlot& slot, const Dot* d, const Value* v) {
+// Appends an AttrOp that removes every dot of `slot` and (if v) adds (d, *v, fence). Updates the
+// slot.
+GraphDelta::AttrOp record_write(GraphDelta& out, AttrSlot& slot, const Dot* d, const Value* v,
+                                std::uint64_t fence = 0) {
   GraphDelta::AttrOp a;
   a.name = slot.name;
   a.removed = open_span(out.removed.size());
@@ -78,8 +80,8 @@ GraphDelta::AttrOp record_write(GraphDelta& out, AttrSlot& slot, const Dot* d, c
   slot.reg.clear();
   a.added = open_span(out.values.size());
   if (v) {
-    slot.reg.insert(*d, *v);
-    out.values.push_back(crdt::Entry<Value>{*d, *v});
+    slot.reg.insert(*d, *v, fence);
+    out.values.push_back(crdt::Entry<Value>{*d, *v, fence});
   }
   a.added.end = u32(out.values.size());
   return a;
@@ -95,7 +97,7 @@ void Graph::Impl::local_write_attr(NodeRec* r, Symbol name, Value v) {
     slot = &r->attrs.back();
   }
   auto& op = out_node(r->id, kAttrs);
-  out.attrs.push_back(record_write(out, *slot, &d, &v));
+  out.attrs.push_back(record_write(out, *slot, &d, &v, fence(r->id)));
   op.attrs.end = u32(out.attrs.size());
 }
 
@@ -211,7 +213,7 @@ void Graph::Impl::local_insert_edge(const EdgeKey& key, const std::vector<std::p
     }
     Dot ad = mint();
     touch_edge_attr(e, name);
-    out.attrs.push_back(record_write(out, *slot, &ad, &v));
+    out.attrs.push_back(record_write(out, *slot, &ad, &v, std::max(fence(key.from), fence(key.to))));
   }
   op.attrs.end = u32(out.attrs.size());
   out.edges.push_back(op);
@@ -242,7 +244,7 @@ void Graph::Impl::local_write_edge_attr(EdgeRec* e, Symbol name, const Value* v)
   touch_edge_attr(*e, name);
   Dot d = v ? mint() : Dot{};
   auto& op = out_edge(e->key);
-  out.attrs.push_back(record_write(out, *slot, &d, v));
+  out.attrs.push_back(record_write(out, *slot, &d, v, v ? std::max(fence(e->key.from), fence(e->key.to)) : 0));
   op.attrs.end = u32(out.attrs.size());
   if (v == nullptr) e->attrs.erase(e->attrs.begin() + (slot - e->attrs.data()));
 }

@@ -25,7 +25,7 @@ bool Graph::Impl::merge_register(AttrList& attrs, const GraphDelta& d, const Gra
       slot = &attrs.back();
     }
     if (slot->reg.find(e.dot) == nullptr) {
-      slot->reg.insert(e.dot, e.value);
+      slot->reg.insert(e.dot, e.value, e.fence);
       changed = true;
     }
   }

@@ -109,6 +109,7 @@ Digest128 Graph::digest() const {
         hash_node_id(h, id);
         h.str(slot.name.str());
         hash_dot(h, e.dot);
+        h.u64(e.fence);
         e.value.hash_into(h);
         total += h.digest();
       }
@@ -147,6 +148,7 @@ Digest128 Graph::digest() const {
         hash_edge_key(h, key);
         h.str(slot.name.str());
         hash_dot(h, en.dot);
+        h.u64(en.fence);
         en.value.hash_into(h);
         total += h.digest();
       }

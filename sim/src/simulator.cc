@@ -7,6 +7,8 @@
 #include <queue>
 
 #include "quiver/agents/frame_codec.h"
+#include "quiver/agents/grammar_guard.h"
+#include "quiver/agents/locks.h"
 #include "quiver/rng.h"
 
 namespace quiver::sim {
@@ -36,7 +38,24 @@ struct Agent {
   std::unique_ptr<graph::Graph> graph;
   std::unique_ptr<Endpoint> endpoint;
   std::unique_ptr<agents::Replicator> replicator;
+  std::unique_ptr<agents::LockManager> locks;
+  std::unique_ptr<agents::GrammarGuard> guard;
 };
+
+std::string rooms_grammar(bool repair) {
+  return std::string(
+             "grammar rooms\n"
+             "types { robot room }\n"
+             "allow attributes\n"
+             "rule changeRoom : active {\n"
+             "  { r:robot a:room b:room  r->a(in)  a->b(transitable) }\n"
+             "  =>\n"
+             "  { r:robot a:room b:room  r->b(in)  a->b(transitable) }\n"
+             "}\n"
+             "constraint robotInOneRoom {\n"
+             "  forbid { r:robot a:room b:room  r->a(in)  r->b(in) }\n") +
+         (repair ? "  repair by agent0: delete oldest\n" : "") + "}\n";
+}
 
 struct Event {
   std::int64_t t;
@@ -56,7 +75,9 @@ class Simulation {
     result_.agents = cfg.agents;
     result_.steps = cfg.steps;
     faults_ = cfg.faults;
-    churn_ = Churn(cfg.mix);
+    ChurnMix mix = cfg.mix;
+    if (cfg.locks.enabled) mix.delete_node = 0;  // keep the scope roots alive
+    churn_ = Churn(mix);
     agents_.resize(cfg.agents);
     last_delivery_.assign(cfg.agents * cfg.agents, 0);
   }
@@ -68,6 +89,8 @@ class Simulation {
       schedule(Event{static_cast<std::int64_t>(rng_.below(cfg_.tick_interval_ns)), 0, Event::kTick, i, nullptr, {}});
     }
     const std::int64_t work_end = cfg_.steps * cfg_.step_interval_ns;
+    if (cfg_.locks.enabled) create_scopes();
+    if (cfg_.rooms.enabled) create_rooms();
     for (int s = 0; s < cfg_.steps; ++s) schedule(Event{(s + 1) * cfg_.step_interval_ns, 0, Event::kStep, -1, nullptr, {}});
     plan_faults(work_end);
     // Workload and faults.
@@ -91,6 +114,7 @@ class Simulation {
         break;
       }
     }
+    account_overlap();
     result_.settle_ms = (now_ - heal_at) / 1'000'000;
     result_.virtual_ms = now_ / 1'000'000;
     check_invariants_all();
@@ -98,6 +122,12 @@ class Simulation {
     result_.final_nodes = agents_[0].graph->node_count();
     result_.final_edges = agents_[0].graph->edge_count();
     for (const auto& a : agents_) add_stats(a.replicator->stats());
+    for (const auto& a : agents_)
+      if (a.guard) {
+        result_.violations_seen += a.guard->violations_seen();
+        result_.repairs += a.guard->repairs_made();
+      }
+    if (agents_[0].guard) result_.final_violations = agents_[0].guard->checker().all_violations(*agents_[0].graph).size();
     if (cfg_.inspect) {
       std::vector<const graph::Graph*> graphs;
       for (const auto& a : agents_) graphs.push_back(a.graph.get());
@@ -160,6 +190,131 @@ class Simulation {
     opt.name = "agent" + std::to_string(i);
     a.replicator = std::make_unique<agents::Replicator>(*a.graph, *a.endpoint, opt);
     a.replicator->start(now_);
+    graph::Graph::CommitValidator grammar_check;
+    if (cfg_.rooms.enabled) {
+      auto g = agents::parse_grammar(rooms_grammar(cfg_.rooms.repair), "rooms");
+      a.guard = std::make_unique<agents::GrammarGuard>(*a.graph, agents::GrammarChecker(std::move(*g)), opt.name);
+      a.guard->install();
+      grammar_check = a.guard->validator();
+    }
+    if (cfg_.locks.enabled) {
+      agents::LockOptions lo;
+      lo.lease_ns = cfg_.locks.lease_ns;
+      a.locks = std::make_unique<agents::LockManager>(*a.graph, a.replicator.get(), [this] { return now_; }, lo);
+      a.locks->install(grammar_check);
+      a.locks->on_event([this](const agents::LockEvent& e) {
+        if (e.kind == agents::LockEventKind::kAcquired) {
+          ++result_.lock_acquired;
+          result_.lock_acquire_latency_ns.push_back(e.latency_ns);
+        }
+        if (e.kind == agents::LockEventKind::kLost) ++result_.lock_lost;
+        if (e.kind == agents::LockEventKind::kExpired) ++result_.lock_expired;
+      });
+    }
+  }
+
+  // Scope roots, each with two RT children, created by agent 0 before the workload starts.
+  void create_scopes() {
+    auto tx = agents_[0].graph->begin();
+    for (int s = 0; s < cfg_.locks.scopes; ++s) {
+      auto root = tx.create_node("scope", "scope" + std::to_string(s));
+      for (int c = 0; c < 2; ++c) {
+        auto child = tx.create_node("part", "scope" + std::to_string(s) + "_part" + std::to_string(c));
+        (void)tx.set_rt(*root, *child, graph::Pose{}, 0);
+      }
+    }
+    (void)tx.commit();
+  }
+
+  void create_rooms() {
+    graph::Graph& g = *agents_[0].graph;
+    auto tx = g.begin();
+    auto robot = tx.create_node("robot", "robot");
+    std::vector<graph::NodeId> rooms;
+    for (int i = 0; i < cfg_.rooms.rooms; ++i) rooms.push_back(*tx.create_node("room", "room" + std::to_string(i)));
+    for (auto a : rooms)
+      for (auto b : rooms)
+        if (!(a == b)) (void)tx.insert_edge(a, b, graph::Symbol("transitable"));
+    (void)tx.insert_edge(*robot, rooms[0], graph::Symbol("in"));
+    // The world is set up before any rule applies.
+    g.set_commit_validator(nullptr);
+    (void)tx.commit();
+    if (agents_[0].locks) agents_[0].locks->install(agents_[0].guard->validator());
+    else agents_[0].guard->install();
+  }
+
+  // One changeRoom attempt by agent `who`, checked by its grammar.
+  void rooms_step(int who) {
+    graph::Graph& g = *agents_[who].graph;
+    auto robot = g.find_node("robot");
+    if (!robot) return;
+    auto in = g.edges_from(*robot, graph::Symbol("in"));
+    if (in.empty()) return;
+    graph::NodeId from = rng_.pick(in).to;
+    auto next = g.edges_from(from, graph::Symbol("transitable"));
+    if (next.empty()) return;
+    graph::NodeId to = rng_.pick(next).to;
+    auto tx = g.begin();
+    (void)tx.delete_edge(*robot, from, graph::Symbol("in"));
+    (void)tx.insert_edge(*robot, to, graph::Symbol("in"));
+    if (tx.commit().ok()) ++result_.moves;
+    else ++result_.moves_refused;
+  }
+
+  // One lock action by agent `who`: release, write inside a held scope, or acquire.
+  void lock_step(int who) {
+    Agent& a = agents_[who];
+    std::vector<graph::NodeId> roots;
+    for (int s = 0; s < cfg_.locks.scopes; ++s)
+      if (auto id = a.graph->find_node("scope" + std::to_string(s))) roots.push_back(*id);
+    if (roots.empty()) return;
+    graph::NodeId root = rng_.pick(roots);
+    if (a.locks->holds(root) || a.locks->pending(root)) {
+      if (rng_.chance(0.3)) {
+        (void)a.locks->release(root);
+      } else {
+        auto tx = a.graph->begin();
+        (void)tx.set(root, graph::Symbol("work"), graph::Value(static_cast<std::int64_t>(now_)));
+        (void)tx.commit();
+      }
+      return;
+    }
+    std::int64_t prio = 1 + static_cast<std::int64_t>(rng_.below(cfg_.locks.max_priority));
+    if (rng_.chance(0.15)) {
+      // Two scopes at once, in canonical order (no deadlock).
+      if (!a.locks->acquire_all({root, rng_.pick(roots)}, prio).ok()) ++result_.lock_refused;
+    } else if (!a.locks->acquire(root, prio).ok()) {
+      ++result_.lock_refused;
+    }
+  }
+
+  // Time two agents both hold one scope, split by whether they can hear each other.
+  void account_overlap() {
+    if (!cfg_.locks.enabled) return;
+    bool connected = false, partitioned = false;
+    for (int s = 0; s < cfg_.locks.scopes && !connected; ++s) {
+      std::vector<int> holders;
+      for (int i = 0; i < cfg_.agents; ++i) {
+        Agent& a = agents_[i];
+        if (!a.up) continue;
+        auto root = a.graph->find_node("scope" + std::to_string(s));
+        if (root && a.locks->holds(*root)) holders.push_back(i);
+      }
+      for (std::size_t x = 0; x < holders.size(); ++x)
+        for (std::size_t y = x + 1; y < holders.size(); ++y) {
+          Agent& a = agents_[holders[x]];
+          Agent& b = agents_[holders[y]];
+          bool hear = a.group == b.group && a.replicator->peer_alive(b.graph->replica()) &&
+                      b.replicator->peer_alive(a.graph->replica());
+          (hear ? connected : partitioned) = true;
+        }
+    }
+    if (overlap_since_connected_ >= 0) result_.lock_overlap_connected_ns += now_ - overlap_since_connected_;
+    if (overlap_since_partitioned_ >= 0) result_.lock_overlap_partitioned_ns += now_ - overlap_since_partitioned_;
+    overlap_since_connected_ = connected ? now_ : -1;
+    overlap_since_partitioned_ = partitioned ? now_ : -1;
+    if (connected && result_.first_violation.empty())
+      result_.first_violation = "t=" + std::to_string(now_) + "ns: two connected agents both hold a scope";
   }
 
   void crash(int i) {
@@ -168,6 +323,12 @@ class Simulation {
     // The process dies: its memory (graph, buffers) is gone, nothing is said to anyone.
     a.up = false;
     add_stats(a.replicator->stats());
+    if (a.guard) {
+      result_.violations_seen += a.guard->violations_seen();
+      result_.repairs += a.guard->repairs_made();
+    }
+    a.guard.reset();
+    a.locks.reset();
     a.replicator.reset();
     a.graph.reset();
     ++result_.crashes;
@@ -218,7 +379,11 @@ class Simulation {
           break;
         }
         case Event::kTick:
-          if (agents_[e.node].up) agents_[e.node].replicator->tick(now_);
+          if (agents_[e.node].up) {
+            agents_[e.node].replicator->tick(now_);
+            if (agents_[e.node].locks) agents_[e.node].locks->tick();
+            if (agents_[e.node].guard) agents_[e.node].guard->tick();
+          }
           schedule(Event{now_ + cfg_.tick_interval_ns, 0, Event::kTick, e.node, nullptr, {}});
           break;
         case Event::kStep: step(); break;
@@ -241,6 +406,7 @@ class Simulation {
           note("partition healed");
           break;
       }
+      account_overlap();
     }
     now_ = std::max(now_, t_end);
   }
@@ -251,7 +417,9 @@ class Simulation {
       if (agents_[i].up) up.push_back(i);
     if (up.empty()) return;
     int who = rng_.pick(up);
-    result_.ops += churn_.step(*agents_[who].graph, rng_, now_);
+    if (cfg_.rooms.enabled) rooms_step(who);
+    else if (cfg_.locks.enabled && rng_.chance(0.5)) lock_step(who);
+    else result_.ops += churn_.step(*agents_[who].graph, rng_, now_);
     if (cfg_.check_every_step) check_invariants_all();
   }
 
@@ -279,6 +447,9 @@ class Simulation {
       if (!(a.replicator->applied() == first.replicator->applied())) return false;
       if (!(a.graph->digest() == d)) return false;
     }
+    // With a repairing agent, quiescence also means the repairs are done.
+    if (cfg_.rooms.enabled && cfg_.rooms.repair && !first.guard->checker().all_violations(*first.graph).empty())
+      return false;
     return true;
   }
 
@@ -293,6 +464,8 @@ class Simulation {
   std::vector<std::int64_t> last_delivery_;
   Churn churn_{ChurnMix{}};
   SimResult result_;
+  std::int64_t overlap_since_connected_ = -1;
+  std::int64_t overlap_since_partitioned_ = -1;
 };
 
 void Endpoint::send(const agents::Envelope& e) {
@@ -339,6 +512,21 @@ std::string SimResult::to_json() const {
   j["rejected_frames"] = rejected_frames;
   j["final_nodes"] = final_nodes;
   j["final_edges"] = final_edges;
+  if (moves + moves_refused > 0) {
+    j["moves"] = moves;
+    j["moves_refused"] = moves_refused;
+    j["violations_seen"] = violations_seen;
+    j["repairs"] = repairs;
+    j["final_violations"] = final_violations;
+  }
+  if (lock_acquired + lock_lost + lock_expired + lock_refused > 0) {
+    j["lock_acquired"] = lock_acquired;
+    j["lock_lost"] = lock_lost;
+    j["lock_expired"] = lock_expired;
+    j["lock_refused"] = lock_refused;
+    j["lock_overlap_connected_ms"] = lock_overlap_connected_ns / 1e6;
+    j["lock_overlap_partitioned_ms"] = lock_overlap_partitioned_ns / 1e6;
+  }
   j["virtual_ms"] = virtual_ms;
   j["settle_ms"] = settle_ms;
   return j.dump();

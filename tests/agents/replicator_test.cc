@@ -5,8 +5,8 @@
 #include <deque>
 #include <map>
 
-#include "quiver/agents/frame_codec.h"
 #include "quiver/graph/codec.h"
+#include "test_net.h"
 
 namespace quiver::agents {
 namespace {
@@ -15,80 +15,6 @@ using graph::Graph;
 using graph::ReplicaId;
 using graph::Symbol;
 using graph::Value;
-
-// A hand-driven network: frames wait in a queue until the test delivers (or drops) them.
-struct Net;
-struct Port : Transport {
-  Net* net;
-  int index;
-  void send(const Envelope& e) override;
-};
-struct Node {
-  std::unique_ptr<Graph> g;
-  std::unique_ptr<Port> port;
-  std::unique_ptr<Replicator> rep;
-  std::vector<std::pair<Membership, PeerInfo>> membership;
-  std::vector<Error> errors;
-};
-struct Frame {
-  int from, to;
-  std::vector<std::uint8_t> bytes;
-};
-struct Net {
-  std::vector<Node> nodes;
-  std::deque<Frame> inflight;
-  std::int64_t now = 0;
-  std::function<bool(const Frame&)> drop;  // return true to lose a frame
-
-  int add(std::uint64_t agent, ReplicatorOptions opt = {}) {
-    Node n;
-    n.g = std::make_unique<Graph>(ReplicaId{agent, 1});
-    n.port = std::make_unique<Port>();
-    n.port->net = this;
-    n.port->index = static_cast<int>(nodes.size());
-    opt.name = "agent" + std::to_string(agent);
-    n.rep = std::make_unique<Replicator>(*n.g, *n.port, opt);
-    nodes.push_back(std::move(n));
-    Node& ref = nodes.back();
-    int i = static_cast<int>(nodes.size()) - 1;
-    ref.rep->on_membership([this, i](Membership m, const PeerInfo& p) { nodes[i].membership.emplace_back(m, p); });
-    ref.rep->on_error([this, i](const Error& e) { nodes[i].errors.push_back(e); });
-    ref.rep->start(now);
-    return i;
-  }
-  int index_of(const PeerId& id) {
-    for (std::size_t i = 0; i < nodes.size(); ++i)
-      if (nodes[i].g && nodes[i].g->replica() == id) return static_cast<int>(i);
-    return -1;
-  }
-  // Delivers everything in flight (and whatever that triggers), in order.
-  void pump(int max = 100000) {
-    while (!inflight.empty() && max-- > 0) {
-      Frame f = std::move(inflight.front());
-      inflight.pop_front();
-      if (drop && drop(f)) continue;
-      if (nodes[f.to].rep) nodes[f.to].rep->on_frame(f.bytes, now);
-    }
-  }
-  void advance(std::int64_t ns, int ticks = 10) {
-    for (int k = 0; k < ticks; ++k) {
-      now += ns / ticks;
-      for (auto& n : nodes)
-        if (n.rep) n.rep->tick(now);
-      pump();
-    }
-  }
-};
-void Port::send(const Envelope& e) {
-  std::vector<std::uint8_t> f = encode_frame(e);
-  if (e.to.is_null()) {
-    for (std::size_t i = 0; i < net->nodes.size(); ++i)
-      if (static_cast<int>(i) != index) net->inflight.push_back(Frame{index, static_cast<int>(i), f});
-    return;
-  }
-  int d = net->index_of(e.to);
-  if (d >= 0) net->inflight.push_back(Frame{index, d, f});
-}
 
 graph::NodeId add_node(Graph& g, const std::string& name) {
   auto tx = g.begin();

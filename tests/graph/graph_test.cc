@@ -199,6 +199,44 @@ TEST(GraphTest, ConcurrentWritesKeepAllValuesWithTheSameWinner) {
   EXPECT_EQ(b.g.attr_values(r, Symbol("goal")).size(), 1u);
 }
 
+TEST(GraphTest, AFencedWriteBeatsAConcurrentStaleOneWhateverTheLamportOrder) {
+  // A lock holder at epoch 5 (a) and its successor at epoch 6 (b) write the same attribute
+  // concurrently; a's write is later in Lamport order, yet b's must win on every replica.
+  Peer a(1), b(2);
+  NodeId r = a.add("robot", "robot");
+  b.receive_all(a);
+  a.outbox.clear();
+  b.g.set_fence_provider([](NodeId) { return 6; });
+  a.g.set_fence_provider([](NodeId) { return 5; });
+  {
+    auto tx = b.g.begin();
+    ASSERT_TRUE(tx.set(r, "say", Value("stop")).ok());
+    ASSERT_TRUE(tx.commit().ok());
+  }
+  for (int i = 0; i < 5; ++i) {  // push a's Lamport clock well past b's
+    auto tx = a.g.begin();
+    ASSERT_TRUE(tx.set(r, "say", Value("go on " + std::to_string(i))).ok());
+    ASSERT_TRUE(tx.commit().ok());
+  }
+  auto from_b = b.outbox.back();
+  b.receive_all(a);
+  a.receive(from_b);
+  EXPECT_EQ(a.g.attr(r, "say")->as<std::string>().value(), "stop");
+  EXPECT_EQ(b.g.attr(r, "say")->as<std::string>().value(), "stop");
+  auto values = a.g.attr_values(r, Symbol("say"));
+  ASSERT_EQ(values.size(), 2u);
+  EXPECT_EQ(values[0].fence, 6u);
+  EXPECT_EQ(a.g.digest(), b.g.digest());
+  // An unfenced write that has seen both supersedes them (the lock is gone).
+  a.g.set_fence_provider(nullptr);
+  auto tx = a.g.begin();
+  ASSERT_TRUE(tx.set(r, "say", Value("idle")).ok());
+  ASSERT_TRUE(tx.commit().ok());
+  b.receive(a.outbox.back());
+  EXPECT_EQ(b.g.attr_values(r, Symbol("say")).size(), 1u);
+  EXPECT_EQ(b.g.attr(r, "say")->as<std::string>().value(), "idle");
+}
+
 TEST(GraphTest, ConcurrentDuplicateNamesResolveDeterministically) {
   Peer a(1), b(2);
   NodeId pa = a.add("person", "person");

@@ -90,6 +90,9 @@ class Replicator {
   void leave();
   /// Sends a summary now (e.g. when the transport saw a newcomer appear).
   void announce();
+  /// Sends a summary as soon as the message being handled is fully applied (e.g. to acknowledge
+  /// a lock claim promptly). Safe to call from change callbacks.
+  void announce_soon() { announce_soon_ = true; }
 
   /// True when this replica holds every change any live peer has told it about, and at least
   /// one peer is known.
@@ -99,6 +102,8 @@ class Replicator {
   void on_membership(std::function<void(Membership, const PeerInfo&)> cb) { membership_cb_ = std::move(cb); }
   /// Called with a description of every rejected frame (malformed, oversized, ...).
   void on_error(std::function<void(const Error&)> cb) { error_cb_ = std::move(cb); }
+  /// True if `peer` is currently heard from.
+  bool peer_alive(const PeerId& peer) const;
   /// True if every live peer has told us (in its last summary) that it holds (origin, seq).
   bool all_peers_hold(const PeerId& origin, std::uint64_t seq) const;
   /// The last sequence number this replica published.
@@ -183,6 +188,7 @@ class Replicator {
   PeerId gap_peer_;
 
   std::vector<Outgoing> outbox_;
+  bool announce_soon_ = false;
   graph::GraphDelta scratch_;
   ReplicatorStats stats_;
   std::function<void(Membership, const PeerInfo&)> membership_cb_;

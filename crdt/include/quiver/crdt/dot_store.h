@@ -18,13 +18,23 @@
 
 namespace quiver::crdt {
 
-/// A value tagged with the dot of the event that wrote it.
+/// A value tagged with the dot of the event that wrote it, and an optional fencing epoch: an
+/// application-level key consulted before the Lamport order when concurrent values compete
+/// (a lock holder's epoch, so that a stale holder's concurrent write never wins).
 template <class V>
 struct Entry {
   Dot dot;
   V value;
+  std::uint64_t fence = 0;
   friend bool operator==(const Entry&, const Entry&) = default;
 };
+
+/// Winner order among concurrent entries: fence first, then the dot's Lamport order.
+template <class V>
+bool entry_less(const Entry<V>& a, const Entry<V>& b) {
+  if (a.fence != b.fence) return a.fence < b.fence;
+  return lamport_less(a.dot, b.dot);
+}
 
 /// A set of dots. Usually one, so stored inline.
 class DotSet {
@@ -89,8 +99,8 @@ class DotFun {
       if (e.dot == d) return &e;
     return nullptr;
   }
-  void insert(const Dot& d, V v) {
-    if (find(d) == nullptr) entries_.emplace_back(EntryT{d, std::move(v)});
+  void insert(const Dot& d, V v, std::uint64_t fence = 0) {
+    if (find(d) == nullptr) entries_.emplace_back(EntryT{d, std::move(v), fence});
   }
   bool erase(const Dot& d) {
     for (EntryT* it = entries_.begin(); it != entries_.end(); ++it)
@@ -122,7 +132,7 @@ class DotFun {
     if (a.size() != b.size()) return false;
     for (const EntryT& e : a.entries_) {
       const EntryT* o = b.find(e.dot);
-      if (o == nullptr || !(o->value == e.value)) return false;
+      if (o == nullptr || !(o->value == e.value) || o->fence != e.fence) return false;
     }
     return true;
   }

@@ -37,11 +37,12 @@ struct MVReg {
     for (const auto& e : x.store) out.push_back(e.value);
     return out;
   }
-  /// The entry with the greatest (counter, replica): the same on every replica with this state.
+  /// The entry with the greatest (fence, counter, replica): the same on every replica with
+  /// this state.
   static const Entry<V>* winner(const State& x) {
     const Entry<V>* best = nullptr;
     for (const auto& e : x.store)
-      if (best == nullptr || lamport_less(best->dot, e.dot)) best = &e;
+      if (best == nullptr || entry_less(*best, e)) best = &e;
     return best;
   }
 };

@@ -40,10 +40,11 @@ namespace quiver::graph {
 
 class Graph;
 
-/// One value of a register with the dot of the write that made it.
+/// One value of a register with the dot of the write that made it and its fencing epoch.
 struct AttrValue {
   Value value;
   Dot dot;
+  std::uint64_t fence = 0;  ///< the writer's lock epoch for the node's scope (0: unlocked)
 };
 
 enum class ChangeKind : std::uint8_t { kCreated, kUpdated, kDeleted };
@@ -219,6 +220,9 @@ class Graph {
   std::vector<EdgeKey> edges_to(NodeId id, Symbol type = {}) const;
   std::vector<EdgeKey> edges_of_type(Symbol type) const;
   std::size_t edge_count() const;
+  /// The greatest existence dot of a visible edge (its latest insertion), in Lamport order; for
+  /// an RT edge, the epoch of the move. Nullopt if the edge is not visible.
+  std::optional<Dot> edge_version(const EdgeKey& key) const;
   const Value* edge_attr(const EdgeKey& key, Symbol name) const;
   std::vector<AttrValue> edge_attr_values(const EdgeKey& key, Symbol name) const;
   std::vector<Symbol> edge_attr_names(const EdgeKey& key) const;
@@ -253,6 +257,10 @@ class Graph {
   /// Observed just before a commit applies: return an error to refuse the transaction.
   using CommitValidator = std::function<Status(const Graph&, const std::vector<TxnOp>&)>;
   void set_commit_validator(CommitValidator v);
+  /// The fencing epoch local writes to a node's attributes carry (a lock module installs it;
+  /// edge attributes take the greater of their endpoints'). Without a provider, writes carry 0.
+  using FenceProvider = std::function<std::uint64_t(NodeId)>;
+  void set_fence_provider(FenceProvider f);
 
   // ---- Events ----
   using SubscriptionId = std::uint64_t;

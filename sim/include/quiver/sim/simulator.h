@@ -31,12 +31,31 @@ struct FaultConfig {
   std::int64_t reorder_jitter_ns = 30'000'000;
 };
 
+/// Agents competing for priority locks on a few scopes while the usual churn goes on.
+struct LockWorkload {
+  bool enabled = false;
+  int scopes = 3;                 ///< scope roots ("scope0", ...) with a small RT subtree each
+  int max_priority = 3;           ///< priorities drawn in [1, max_priority]
+  std::int64_t lease_ns = 300'000'000;
+};
+
+/// Agents move one robot between rooms under a grammar (changeRoom needs a transitable edge);
+/// concurrent valid moves can merge into "robot in two rooms", which every replica must flag alike
+/// and, with `repair`, the designated agent (agent0) must fix.
+struct RoomsWorkload {
+  bool enabled = false;
+  int rooms = 4;
+  bool repair = true;
+};
+
 struct SimConfig {
   std::uint64_t seed = 1;
   int agents = 5;
   int steps = 200;
   FaultConfig faults;
   ChurnMix mix;
+  LockWorkload locks;
+  RoomsWorkload rooms;
   std::int64_t step_interval_ns = 5'000'000;
   std::int64_t tick_interval_ns = 10'000'000;
   std::int64_t settle_limit_ns = 120'000'000'000;
@@ -75,8 +94,17 @@ struct SimResult {
   std::int64_t settle_ms = 0;  ///< from the end of faults to convergence
   std::size_t final_nodes = 0;
   std::size_t final_edges = 0;
+  // Lock workload (zero when disabled).
+  std::uint64_t lock_acquired = 0, lock_lost = 0, lock_expired = 0, lock_refused = 0;
+  std::int64_t lock_overlap_connected_ns = 0;    ///< two connected agents both held one scope: must be 0
+  std::int64_t lock_overlap_partitioned_ns = 0;  ///< both held while unable to hear each other (allowed)
+  std::vector<std::int64_t> lock_acquire_latency_ns;  ///< virtual time from acquire() to held
+  // Rooms workload.
+  std::uint64_t moves = 0, moves_refused = 0, violations_seen = 0, repairs = 0, final_violations = 0;
 
-  bool ok() const { return converged && invariant_violations == 0 && rejected_frames == 0; }
+  bool ok() const {
+    return converged && invariant_violations == 0 && rejected_frames == 0 && lock_overlap_connected_ns == 0;
+  }
   /// One line of JSON.
   std::string to_json() const;
 };

@@ -1,0 +1,55 @@
+#pragma once
+/// @file
+/// Runs a grammar on one agent: every local transaction is checked before it is published, and
+/// after every merge the constraints are checked around what changed. A violation raises an
+/// event (the same violation on every replica that holds the same state); the agent the grammar
+/// names for the constraint repairs it by its policy ("delete oldest": remove the oldest edge of
+/// the forbidden match, by Lamport order of its insertion - a deterministic choice).
+
+#include <functional>
+#include <set>
+#include <string>
+#include <vector>
+
+#include "quiver/agents/grammar.h"
+#include "quiver/graph/graph.h"
+
+namespace quiver::agents {
+
+class GrammarGuard {
+ public:
+  /// `agent_name` decides which constraints this agent repairs.
+  GrammarGuard(graph::Graph& g, GrammarChecker checker, std::string agent_name);
+  ~GrammarGuard();
+  GrammarGuard(const GrammarGuard&) = delete;
+  GrammarGuard& operator=(const GrammarGuard&) = delete;
+
+  /// The commit check, for Graph::set_commit_validator (or to chain with locks).
+  graph::Graph::CommitValidator validator();
+  /// Installs validator() on the graph.
+  void install();
+  /// Performs pending repairs (outside of merge callbacks). Call periodically.
+  void tick();
+
+  void on_violation(std::function<void(const Violation&)> cb) { cb_ = std::move(cb); }
+  /// Violations currently present around what changed since start (re-checked on every change).
+  const std::set<std::vector<std::pair<std::string, graph::NodeId>>>& open() const { return open_; }
+  std::uint64_t violations_seen() const { return seen_; }
+  std::uint64_t repairs_made() const { return repairs_; }
+  const GrammarChecker& checker() const { return checker_; }
+
+ private:
+  void on_changes(const graph::ChangeBatch& b);
+
+  graph::Graph& g_;
+  GrammarChecker checker_;
+  std::string name_;
+  graph::Graph::SubscriptionId sub_ = 0;
+  std::function<void(const Violation&)> cb_;
+  std::set<std::vector<std::pair<std::string, graph::NodeId>>> open_;
+  std::vector<Violation> to_repair_;
+  bool repairing_ = false;
+  std::uint64_t seen_ = 0, repairs_ = 0;
+};
+
+}  // namespace quiver::agents

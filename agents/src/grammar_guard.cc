@@ -1,0 +1,96 @@
+#include "quiver/agents/grammar_guard.h"
+
+#include <algorithm>
+
+namespace quiver::agents {
+
+using graph::NodeId;
+
+GrammarGuard::GrammarGuard(graph::Graph& g, GrammarChecker checker, std::string agent_name)
+    : g_(g), checker_(std::move(checker)), name_(std::move(agent_name)) {
+  sub_ = g_.subscribe([this](const graph::ChangeBatch& b) { on_changes(b); });
+}
+
+GrammarGuard::~GrammarGuard() { g_.unsubscribe(sub_); }
+
+graph::Graph::CommitValidator GrammarGuard::validator() {
+  return [this](const graph::Graph& g, const std::vector<graph::TxnOp>& ops) -> Status {
+    if (repairing_) return {};  // a repair by the designated agent is the documented exception
+    return checker_.check(g, ops);
+  };
+}
+
+void GrammarGuard::install() { g_.set_commit_validator(validator()); }
+
+void GrammarGuard::on_changes(const graph::ChangeBatch& b) {
+  if (checker_.grammar().constraints.empty()) return;
+  std::vector<NodeId> anchors;
+  for (const auto& n : b.nodes)
+    if (n.kind != graph::ChangeKind::kDeleted) anchors.push_back(n.id);
+  for (const auto& e : b.edges) {
+    anchors.push_back(e.key.from);
+    anchors.push_back(e.key.to);
+  }
+  std::sort(anchors.begin(), anchors.end());
+  anchors.erase(std::unique(anchors.begin(), anchors.end()), anchors.end());
+  // Violations that no longer hold are closed; new ones are reported.
+  for (auto it = open_.begin(); it != open_.end();) {
+    bool still = false;
+    for (const auto& [var, id] : *it) still = still || g_.has_node(id);
+    if (still) {
+      std::vector<NodeId> ids;
+      for (const auto& [var, id] : *it) ids.push_back(id);
+      still = false;
+      for (const Violation& v : checker_.violations_around(g_, ids))
+        if (v.binding == *it) still = true;
+    }
+    it = still ? std::next(it) : open_.erase(it);
+  }
+  for (const Violation& v : checker_.violations_around(g_, anchors)) {
+    if (!open_.insert(v.binding).second) continue;
+    ++seen_;
+    if (cb_) cb_(v);
+    for (const Constraint& c : checker_.grammar().constraints)
+      if (c.name == v.constraint && c.repair_agent == name_) to_repair_.push_back(v);
+  }
+}
+
+void GrammarGuard::tick() {
+  std::vector<Violation> work;
+  work.swap(to_repair_);
+  for (const Violation& v : work) {
+    const Constraint* con = nullptr;
+    for (const Constraint& c : checker_.grammar().constraints)
+      if (c.name == v.constraint) con = &c;
+    if (!con) continue;
+    // Still there? Then delete the oldest edge of the match.
+    std::vector<NodeId> ids;
+    for (const auto& [var, id] : v.binding) ids.push_back(id);
+    bool present = false;
+    for (const Violation& w : checker_.violations_around(g_, ids)) present = present || w == v;
+    if (!present) continue;
+    auto at = [&](const std::string& var) {
+      for (const auto& [x, id] : v.binding)
+        if (x == var) return id;
+      return NodeId{};
+    };
+    std::optional<graph::EdgeKey> oldest;
+    graph::Dot oldest_version;
+    for (const PatternEdge& e : con->forbid.edges) {
+      if (e.negated) continue;
+      graph::EdgeKey k{at(e.from), at(e.to), graph::Symbol(e.label)};
+      auto ver = g_.edge_version(k);
+      if (ver && (!oldest || crdt::lamport_less(*ver, oldest_version))) {
+        oldest = k;
+        oldest_version = *ver;
+      }
+    }
+    if (!oldest) continue;
+    repairing_ = true;
+    auto tx = g_.begin();
+    if (tx.delete_edge(oldest->from, oldest->to, oldest->type).ok() && tx.commit().ok()) ++repairs_;
+    repairing_ = false;
+  }
+}
+
+}  // namespace quiver::agents
