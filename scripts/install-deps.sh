@@ -8,7 +8,8 @@ packages=(
   clang libclang-rt-14-dev
   libgtest-dev libgmock-dev libbenchmark-dev
   cyclonedds-dev cyclonedds-tools
-  libeigen3-dev libfcl-dev liburdfdom-dev liburdfdom-headers-dev
+  libeigen3-dev libfcl-dev liburdfdom-dev liburdfdom-headers-dev libconsole-bridge-dev
+  libtf2-dev
   nlohmann-json3-dev libcli11-dev libspdlog-dev
   iproute2 procps
 )

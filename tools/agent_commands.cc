@@ -8,6 +8,7 @@
 #include "commands.h"
 #include "dds_options.h"
 #include "quiver/agents/agent.h"
+#include "quiver/agents/grammar_guard.h"
 #include "quiver/graph/world_file.h"
 #include "quiver/rng.h"
 #include "quiver/sim/workload.h"
@@ -49,6 +50,7 @@ nlohmann::json status(Agent& a, bool churning) {
 struct AgentFlags {
   std::string name;
   std::string world;
+  std::string grammar;
   DdsFlags dds;
   double churn_hz = 0;
   double churn_for_s = 0;
@@ -101,6 +103,24 @@ int run_agent(const AgentFlags& f) {
     std::fprintf(stderr, "quiver agent %s: seeded %zu nodes, %zu edges, %zu RT edges from %s\n", f.name.c_str(),
                  loaded->nodes, loaded->edges, loaded->rt_edges, f.world.c_str());
   }
+  // The grammar guards changes made from now on; the seed world is the initial state.
+  std::unique_ptr<agents::GrammarGuard> guard;
+  if (!f.grammar.empty()) {
+    auto g = agents::load_grammar_file(f.grammar);
+    if (!g.ok()) {
+      std::fprintf(stderr, "quiver agent: %s\n", g.error().to_string().c_str());
+      return 2;
+    }
+    guard = std::make_unique<agents::GrammarGuard>(a.graph(), agents::GrammarChecker(std::move(*g)), f.name);
+    guard->install();
+    guard->on_violation([&](const agents::Violation& v) {
+      std::fprintf(stderr, "quiver agent %s: violation %s\n", f.name.c_str(), v.to_string(a.graph()).c_str());
+    });
+    guard->on_unverified([&](const graph::ReplicaId& from, const Error& e) {
+      std::fprintf(stderr, "quiver agent %s: unverified change from %s: %s\n", f.name.c_str(), from.to_string().c_str(),
+                   e.message.c_str());
+    });
+  }
   Rng rng(f.seed ^ a.id().incarnation);
   sim::Churn churn;
   const std::int64_t start = monotonic_ns();
@@ -121,6 +141,7 @@ int run_agent(const AgentFlags& f) {
       next_status = now + f.status_ms * 1'000'000LL;
     }
     a.spin_once(churn_period > 0 ? std::min<std::int64_t>(churn_period, 20'000'000) : 20'000'000);
+    if (guard) guard->tick();
   }
   std::cout << status(a, false).dump() << std::endl;
   return 0;
@@ -200,6 +221,7 @@ void add_agent_commands(CLI::App& app) {
   auto* agent = app.add_subcommand("agent", "Run a replicating agent (one replica, Cyclone DDS, no executive)");
   agent->add_option("--name", af->name, "agent name (its id derives from it)")->required();
   agent->add_option("--world", af->world, "seed the graph from a JSON world file (names already present are kept)");
+  agent->add_option("--grammar", af->grammar, "check every local change against this grammar file (docs/grammar.md)");
   af->dds.add_to(agent);
   agent->add_option("--churn-hz", af->churn_hz, "testing: make random changes at this many transactions per second");
   agent->add_option("--churn-for", af->churn_for_s, "testing: stop the random changes after this many seconds");

@@ -127,6 +127,46 @@ Changes extract(const Grammar& gr, const Graph& g, const std::vector<TxnOp>& ops
   return c;
 }
 
+// The structural changes a delta makes to `g` (the receiver's state before merging it).
+Changes extract_delta(const Grammar& gr, const Graph& g, const graph::GraphDelta& d) {
+  Changes c;
+  auto need = [&](bool allowed, const std::string& what) {
+    if (!allowed && c.unruled.empty()) c.unruled = what;
+  };
+  for (const auto& n : d.nodes) {
+    if (n.has_header && !g.has_node(n.id) && !g.context().contains(n.id.dot)) c.created[n.id] = n.type.str();
+    if (n.removed && g.has_node(n.id)) c.deleted.insert(n.id);
+  }
+  for (const auto& n : d.nodes) {
+    const bool fresh = c.created.count(n.id) != 0;
+    for (std::uint32_t i = n.attrs.begin; i < n.attrs.end; ++i)
+      if (!fresh && !n.removed && d.attrs[i].name.str().rfind("__", 0) != 0)
+        need(gr.allow_attributes, "attribute '" + d.attrs[i].name.str() + "' changes but the grammar has no 'allow attributes'");
+    for (std::uint32_t i = n.claim_added.begin; i < n.claim_added.end; ++i) {
+      const graph::RtClaim& cl = d.claims[i].value;
+      auto old = g.rt_parent(n.id);
+      if (old && !cl.parent.is_null() && *old == cl.parent) continue;
+      if (gr.allow_rt_moves) continue;
+      if (old) c.removed.push_back(EdgeRef{*old, n.id, "RT"});
+      if (!cl.parent.is_null()) c.added.push_back(EdgeRef{cl.parent, n.id, "RT"});
+    }
+    if (!n.samples.empty() && !fresh) need(gr.allow_rt_poses, "an RT pose changes but the grammar has no 'allow rt-poses'");
+  }
+  for (const auto& e : d.edges) {
+    if (c.deleted.count(e.key.from) || c.deleted.count(e.key.to)) continue;
+    const bool pre = g.has_edge(e.key.from, e.key.to, e.key.type);
+    EdgeRef ref{e.key.from, e.key.to, e.key.type.str()};
+    if (!pre && !e.added.empty()) c.added.push_back(ref);
+    else if (pre && e.added.empty() && !e.removed.empty()) c.removed.push_back(ref);
+    else if (pre) {
+      for (std::uint32_t i = e.attrs.begin; i < e.attrs.end; ++i)
+        if (!d.attrs[i].added.empty())
+          need(gr.allow_attributes, "edge attributes change but the grammar has no 'allow attributes'");
+    }
+  }
+  return c;
+}
+
 std::string describe(const Graph& g, const EdgeRef& e, const std::map<NodeId, std::string>& created) {
   auto name = [&](NodeId n) {
     std::string s = g.name_of(n);
@@ -732,6 +772,43 @@ Status GrammarChecker::verify(const Graph& gr, const std::vector<TxnOp>& ops, co
     if (!seen[s]) return make_error(ErrorCode::kRefused, "the claim leaves variable '" + r->vars[s] + "' of rule '" + claim.rule + "' unbound");
   auto a = impl_->try_rule(gr, *r, c, &fixed);
   if (!a.ok) return make_error(ErrorCode::kRefused, "the change does not apply rule '" + claim.rule + "': " + a.why);
+  return {};
+}
+
+Status GrammarChecker::verify_delta(const Graph& before, const graph::GraphDelta& d) const {
+  const Grammar& g = impl_->g;
+  Changes c = extract_delta(g, before, d);
+  if (!c.unruled.empty()) return make_error(ErrorCode::kRefused, "grammar '" + g.name + "': " + c.unruled);
+  if (!c.structural()) return {};
+  if (d.rule.empty())
+    return make_error(ErrorCode::kRefused, "a structural change (" + describe(before, c) + ") claims no rule");
+  if (d.rule == "repair") {
+    // Repairs only delete edges, and only the agent a constraint names may make them (agent
+    // ids derive from names).
+    bool designated = false;
+    for (const Constraint& con : g.constraints)
+      designated = designated || (!con.repair_agent.empty() && fnv1a64(con.repair_agent) == d.origin.agent);
+    if (!designated) return make_error(ErrorCode::kRefused, "a repair from an agent no constraint designates");
+    if (!c.added.empty() || !c.created.empty() || !c.deleted.empty())
+      return make_error(ErrorCode::kRefused, "a repair that does more than delete edges (" + describe(before, c) + ")");
+    return {};
+  }
+  const Compiled* r = nullptr;
+  for (const auto& x : impl_->rules)
+    if (x.rule->name == d.rule) r = &x;
+  if (!r) return make_error(ErrorCode::kRefused, "grammar '" + g.name + "' has no rule '" + d.rule + "'");
+  std::vector<NodeId> fixed(r->vars.size());
+  std::vector<bool> seen(r->vars.size());
+  for (const auto& [var, id] : d.binding) {
+    auto it = r->slot.find(var);
+    if (it == r->slot.end()) return make_error(ErrorCode::kRefused, "rule '" + d.rule + "' has no variable '" + var + "'");
+    fixed[it->second] = id;
+    seen[it->second] = true;
+  }
+  for (std::size_t s = 0; s < seen.size(); ++s)
+    if (!seen[s]) return make_error(ErrorCode::kRefused, "the claim leaves variable '" + r->vars[s] + "' unbound");
+  auto a = impl_->try_rule(before, *r, c, &fixed);
+  if (!a.ok) return make_error(ErrorCode::kRefused, "the change does not apply rule '" + d.rule + "': " + a.why);
   return {};
 }
 

@@ -9,14 +9,33 @@ using graph::NodeId;
 GrammarGuard::GrammarGuard(graph::Graph& g, GrammarChecker checker, std::string agent_name)
     : g_(g), checker_(std::move(checker)), name_(std::move(agent_name)) {
   sub_ = g_.subscribe([this](const graph::ChangeBatch& b) { on_changes(b); });
+  g_.set_merge_observer([this](const graph::Graph& before, const graph::GraphDelta& d) {
+    if (d.kind != graph::GraphDelta::Kind::kDelta) return;  // states carry no single rule
+    Status s = checker_.verify_delta(before, d);
+    if (s.ok()) {
+      if (!d.rule.empty()) ++verified_;
+      return;
+    }
+    ++unverified_;
+    if (unverified_cb_) unverified_cb_(d.origin, s.error());
+  });
 }
 
-GrammarGuard::~GrammarGuard() { g_.unsubscribe(sub_); }
+GrammarGuard::~GrammarGuard() {
+  g_.unsubscribe(sub_);
+  g_.set_merge_observer(nullptr);
+}
 
 graph::Graph::CommitValidator GrammarGuard::validator() {
   return [this](const graph::Graph& g, const std::vector<graph::TxnOp>& ops) -> Status {
-    if (repairing_) return {};  // a repair by the designated agent is the documented exception
-    return checker_.check(g, ops);
+    if (repairing_) {
+      g_.annotate_commit("repair", {});  // the documented exception: receivers know it is one
+      return {};
+    }
+    RuleMatch m;
+    Status s = checker_.check(g, ops, &m);
+    if (s.ok() && !m.rule.empty()) g_.annotate_commit(m.rule, m.binding);
+    return s;
   };
 }
 

@@ -177,7 +177,10 @@ void Replicator::handle(const PeerId& from, const SummaryMsg& m) {
   p.info.observer = m.observer;
   p.applied = m.applied;
   if (first) send_summary();  // let a newcomer learn about us without waiting a heartbeat
-  if (pulling_ && pull_target_ == from && !behind(p)) pulling_ = false;  // nothing more there
+  if (pulling_ && pull_target_ == from && !behind(p)) {  // caught up with it: the pull is done
+    pulling_ = false;
+    pull_timeouts_in_a_row_ = 0;
+  }
   if (!pulling_ && behind(p)) pull_from(from);
 }
 
@@ -287,11 +290,13 @@ void Replicator::handle(const PeerId& from, const StateMsg& m) {
     ra.chunks.resize(m.count);
   }
   if (ra.chunks[m.index]) return;  // duplicate
+  if (pulling_ && pull_target_ == from) pull_sent_ns_ = now_;  // progress: the pull is alive
   ra.chunks[m.index] = m.chunk;
   ++ra.received;
   ra.bytes += m.chunk->size();
   if (m.index == 0) ra.applied = m.applied;
   if (ra.received < ra.count) return;
+  pull_timeouts_in_a_row_ = 0;
   std::vector<std::uint8_t> all;
   all.reserve(ra.bytes);
   for (const auto& c : ra.chunks) all.insert(all.end(), c->begin(), c->end());
@@ -306,6 +311,7 @@ void Replicator::handle(const PeerId& from, const StateMsg& m) {
   ++stats_.states_applied;
   stats_.state_bytes_received += all.size();
   if (pulling_ && pull_target_ == from) pulling_ = false;
+  pull_timeouts_in_a_row_ = 0;
   gap_pending_ = false;
 }
 
@@ -381,10 +387,16 @@ void Replicator::leave() {
 void Replicator::tick(std::int64_t now_ns) {
   now_ = std::max(now_, now_ns);
   if (opt_.coalesce) flush();
-  if (pulling_ && now_ - pull_sent_ns_ > opt_.pull_timeout_ns) {
+  // A pull answered by nothing for a while is retried, elsewhere if possible. The first tries
+  // are impatient (a transport may lose the first answers to a newcomer while it is still
+  // discovering it); patience doubles with every timeout in a row, up to pull_timeout_ns.
+  const std::int64_t patience =
+      std::min(opt_.pull_timeout_ns, opt_.pull_first_timeout_ns << std::min(pull_timeouts_in_a_row_, 20));
+  if (pulling_ && now_ - pull_sent_ns_ > patience) {
     pulling_ = false;
     last_failed_target_ = pull_target_;
     ++stats_.pulls_timed_out;
+    ++pull_timeouts_in_a_row_;
     reassembly_.erase(pull_target_);
   }
   for (auto& [id, p] : peers_)

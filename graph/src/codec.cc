@@ -27,7 +27,7 @@ namespace {
 constexpr std::uint8_t kMagic0 = 'Q';
 constexpr std::uint8_t kMagic1 = 'G';
 // Message flags.
-constexpr std::uint64_t kImplicitDots = 1, kSortedNodes = 2, kFenced = 4;
+constexpr std::uint64_t kImplicitDots = 1, kSortedNodes = 2, kFenced = 4, kClaim = 8;
 // Node op flags.
 constexpr std::uint64_t kHdr = 1, kRemoved = 2, kClaims = 4, kSamples = 8, kReplicaSwitch = 16;
 // Edge op flags.
@@ -51,7 +51,8 @@ class Encoder {
     w_.u8(static_cast<std::uint8_t>(d_.kind));
     plan_dots();
     for (const auto& e : d_.values) fenced_ = fenced_ || e.fence != 0;
-    std::uint64_t flags = (implicit_ ? kImplicitDots : 0) | (sorted_ ? kSortedNodes : 0) | (fenced_ ? kFenced : 0);
+    std::uint64_t flags = (implicit_ ? kImplicitDots : 0) | (sorted_ ? kSortedNodes : 0) | (fenced_ ? kFenced : 0) |
+                          (d_.rule.empty() ? 0 : kClaim);
     w_.varint(flags);
     w_.varint(replicas_.size());
     for (const ReplicaId& r : replicas_) {
@@ -77,6 +78,14 @@ class Encoder {
     }
     w_.varint(d_.edges.size());
     for (const auto& e : d_.edges) edge(e);
+    if (!d_.rule.empty()) {
+      w_.string(d_.rule);
+      w_.varint(d_.binding.size());
+      for (const auto& [var, id] : d_.binding) {
+        w_.string(var);
+        node_ref(id);
+      }
+    }
     if (d_.kind == GraphDelta::Kind::kState) keep();
   }
 
@@ -124,6 +133,7 @@ class Encoder {
     for (const Dot& x : d_.removed) add_replica(x.replica);
     for (const Dot& x : d_.added) add_replica(x.replica);
     for (const Dot& x : d_.keep) add_replica(x.replica);
+    for (const auto& [var, id] : d_.binding) add_replica(id.dot.replica);
     for (const auto& e : d_.values) add_replica(e.dot.replica);
     for (const auto& e : d_.claims) {
       add_replica(e.dot.replica);
@@ -386,7 +396,8 @@ class Decoder {
     if (r_.ok() && kind != 1 && kind != 2) return fail(ErrorCode::kMalformed, "kind", "unknown message kind " + std::to_string(kind));
     d_.kind = static_cast<GraphDelta::Kind>(kind);
     std::uint64_t flags = r_.varint("flags");
-    if (flags & ~std::uint64_t{7}) return fail(ErrorCode::kMalformed, "flags", "unknown flag bits");
+    if (flags & ~std::uint64_t{15}) return fail(ErrorCode::kMalformed, "flags", "unknown flag bits");
+    const bool claim = flags & kClaim;
     implicit_ = flags & kImplicitDots;
     sorted_ = flags & kSortedNodes;
     fenced_ = flags & kFenced;
@@ -430,6 +441,18 @@ class Decoder {
     }
     std::uint64_t nedges = r_.count("edge count", UINT32_MAX, 4);
     for (std::uint64_t i = 0; i < nedges && r_.ok(); ++i) edge();
+    if (claim && r_.ok()) {
+      d_.rule = std::string(r_.string("claimed rule", lim_.max_name_bytes));
+      if (r_.ok() && d_.rule.empty()) return fail(ErrorCode::kMalformed, "claimed rule", "empty rule name");
+      std::uint64_t nb = r_.count("claim binding count", lim_.max_table, 2);
+      for (std::uint64_t i = 0; i < nb && r_.ok(); ++i) {
+        std::string var(r_.string("claim variable", lim_.max_name_bytes));
+        NodeId id = node_ref("claim node");
+        if (r_.ok() && (var.empty() || id.is_null()))
+          return fail(ErrorCode::kMalformed, "claim binding", "empty variable or null node");
+        d_.binding.emplace_back(std::move(var), id);
+      }
+    }
     if (d_.kind == GraphDelta::Kind::kState) keep();
     if (!r_.ok()) return r_.error();
     if (!r_.at_end())

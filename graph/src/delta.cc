@@ -15,6 +15,8 @@ void GraphDelta::clear() {
   claims.clear();
   samples.clear();
   keep.clear();
+  rule.clear();
+  binding.clear();
 }
 
 std::size_t GraphDelta::change_count() const {
@@ -58,6 +60,9 @@ void GraphDelta::append(const GraphDelta& o) {
   }
   context.join(o.context);
   keep.insert(keep.end(), o.keep.begin(), o.keep.end());
+  // A joined interval applies several rules: a single claim no longer describes it.
+  rule.clear();
+  binding.clear();
 }
 
 }  // namespace quiver::graph

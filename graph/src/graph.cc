@@ -504,6 +504,11 @@ const crdt::CausalContext& Graph::context() const { return impl_->ctx; }
 void Graph::set_delta_sink(std::function<void(const GraphDelta&)> sink) { impl_->sink = std::move(sink); }
 void Graph::set_commit_validator(CommitValidator v) { impl_->validator = std::move(v); }
 void Graph::set_fence_provider(FenceProvider f) { impl_->fence_of = std::move(f); }
+void Graph::set_merge_observer(MergeObserver o) { impl_->merge_observer = std::move(o); }
+void Graph::annotate_commit(std::string rule, std::vector<std::pair<std::string, NodeId>> binding) {
+  impl_->out.rule = std::move(rule);
+  impl_->out.binding = std::move(binding);
+}
 
 Graph::SubscriptionId Graph::subscribe(ChangeCallback cb) {
   SubscriptionId id = impl_->next_subscription++;
@@ -517,6 +522,7 @@ void Graph::unsubscribe(SubscriptionId id) {
 }
 
 void Graph::merge(const GraphDelta& delta) {
+  if (impl_->merge_observer) impl_->merge_observer(*this, delta);
   if (delta.kind == GraphDelta::Kind::kState) impl_->merge_state(delta);
   else impl_->merge_delta(delta);
 }

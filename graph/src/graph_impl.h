@@ -148,6 +148,7 @@ struct Graph::Impl {
   std::function<void(const GraphDelta&)> sink;
   CommitValidator validator;
   FenceProvider fence_of;
+  MergeObserver merge_observer;
   std::uint64_t fence(NodeId n) const { return fence_of ? fence_of(n) : 0; }
 
   // Events.

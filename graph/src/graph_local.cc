@@ -519,8 +519,10 @@ Result<CommitInfo> Transaction::commit() {
   info.ops = ops_.size();
   if (ops_.empty()) return info;
   if (g.validator) {
-    Status s = g.validator(*graph_, ops_);
+    Status s = g.validator(*graph_, ops_);  // may annotate g.out with the rule it matched
     if (!s.ok()) {
+      g.out.rule.clear();
+      g.out.binding.clear();
       abort();
       return s.error();
     }

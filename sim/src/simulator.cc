@@ -485,6 +485,7 @@ agents::ReplicatorOptions SimConfig::default_replicator() {
   o.heartbeat_ns = 50'000'000;
   o.lease_ns = 400'000'000;
   o.pull_timeout_ns = 200'000'000;
+  o.pull_first_timeout_ns = 50'000'000;
   o.gap_grace_ns = 40'000'000;
   o.buffer_bytes = 24u << 10;
   o.chunk_bytes = 2u << 10;

@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include "quiver/agents/grammar_guard.h"
 #include "quiver/graph/codec.h"
 
 namespace quiver::agents {
@@ -261,6 +262,65 @@ TEST(GrammarTest, ParseErrorsNameFileLineColumnAndWhatWasExpected) {
     EXPECT_EQ(g.error().code, ErrorCode::kMalformed);
     EXPECT_NE(g.error().message.find(c.want), std::string::npos) << "got: " << g.error().message;
   }
+}
+
+}  // namespace
+}  // namespace quiver::agents
+
+namespace quiver::agents {
+namespace {
+
+TEST(GrammarGuardTest, DeltasCarryTheirRuleAndReceiversVerifyIt) {
+  // Agent a checks its commits with the guard; b verifies what arrives.
+  graph::Graph a(ReplicaId{fnv1a64("speech"), 1}), b(ReplicaId{fnv1a64("panel"), 1});
+  std::vector<std::vector<std::uint8_t>> wire;
+  a.set_delta_sink([&](const graph::GraphDelta& d) { wire.push_back(graph::encode(d)); });
+  barthel_world(a);
+  for (const auto& m : wire) b.merge(*graph::decode(m));
+  wire.clear();
+  GrammarGuard ga(a, GrammarChecker(load("speech.aggl")), "speech");
+  ga.install();
+  GrammarGuard gb(b, GrammarChecker(load("speech.aggl")), "panel");
+  std::vector<std::string> complaints;
+  gb.on_unverified([&](const ReplicaId&, const Error& e) { complaints.push_back(e.message); });
+  {
+    auto tx = a.begin();
+    ASSERT_TRUE(tx.delete_edge(*a.find_node("robot"), *a.find_node("speaking"), Symbol("is_not")).ok());
+    ASSERT_TRUE(tx.insert_edge(*a.find_node("robot"), *a.find_node("speaking"), Symbol("is")).ok());
+    ASSERT_TRUE(tx.commit().ok());
+  }
+  auto d = graph::decode(wire.back());
+  ASSERT_TRUE(d.ok());
+  EXPECT_EQ(d->rule, "startSpeaking") << "the claim travels with the delta";
+  EXPECT_EQ(d->binding.size(), 4u);
+  b.merge(*d);
+  EXPECT_EQ(gb.deltas_verified(), 1u);
+  EXPECT_TRUE(complaints.empty());
+
+  // A rogue agent (no grammar of its own) jumps straight to 'finish' and lies about the rule.
+  graph::Graph rogue(ReplicaId{fnv1a64("rogue"), 1});
+  std::vector<std::vector<std::uint8_t>> rw;
+  rogue.set_delta_sink([&](const graph::GraphDelta& x) { rw.push_back(graph::encode(x)); });
+  rogue.merge(b.state());
+  {
+    auto tx = rogue.begin();
+    ASSERT_TRUE(tx.delete_edge(*rogue.find_node("robot"), *rogue.find_node("speaking"), Symbol("is")).ok());
+    ASSERT_TRUE(tx.insert_edge(*rogue.find_node("person"), *rogue.find_node("answer"), Symbol("got")).ok());
+    rogue.annotate_commit("finishSpeaking", {{"r", *rogue.find_node("robot")}, {"s", *rogue.find_node("speaking")}});
+    ASSERT_TRUE(tx.commit().ok());
+  }
+  b.merge(*graph::decode(rw.back()));
+  ASSERT_EQ(complaints.size(), 1u);
+  EXPECT_NE(complaints[0].find("finishSpeaking"), std::string::npos) << complaints[0];
+  {  // and a structural change that claims nothing
+    auto tx = rogue.begin();
+    ASSERT_TRUE(tx.delete_edge(*rogue.find_node("person"), *rogue.find_node("answer"), Symbol("got")).ok());
+    ASSERT_TRUE(tx.commit().ok());
+  }
+  b.merge(*graph::decode(rw.back()));
+  ASSERT_EQ(complaints.size(), 2u);
+  EXPECT_NE(complaints[1].find("claims no rule"), std::string::npos) << complaints[1];
+  EXPECT_EQ(gb.deltas_unverified(), 2u);
 }
 
 }  // namespace

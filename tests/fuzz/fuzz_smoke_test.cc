@@ -67,6 +67,13 @@ std::vector<std::vector<std::uint8_t>> delta_corpus(Rng& rng) {
   g.set_delta_sink([&](const graph::GraphDelta& d) { corpus.push_back(graph::encode(d)); });
   sim::Churn churn;
   for (int i = 0; i < 40; ++i) churn.step(g, rng, i);
+  auto some = g.nodes();
+  if (!some.empty()) {  // a delta carrying a rule claim
+    g.annotate_commit("someRule", {{"x", some.front()}, {"y", some.back()}});
+    auto tx = g.begin();
+    (void)tx.set(some.front(), "claimed", graph::Value(true));
+    (void)tx.commit();
+  }
   corpus.push_back(graph::encode(g.state()));
   return corpus;
 }
@@ -89,6 +96,36 @@ TEST(FuzzSmokeTest, Regressions) {
   for (const auto& in : deltas) graph_delta(in.data(), in.size());
   for (const auto& in : regressions("replication_frame")) replication_frame(in.data(), in.size());
   for (const auto& in : regressions("world_file")) world_file(in.data(), in.size());
+  for (const auto& in : regressions("grammar_file")) grammar_file(in.data(), in.size());
+}
+
+TEST(FuzzSmokeTest, GrammarFiles) {
+  const auto base = quiver::testing::base_seed("FuzzSmokeTest.GrammarFiles", 80);
+  Rng rng(base);
+  const std::string text = R"(grammar g
+types { robot person room object mug : object }
+allow attributes
+rule meet : active {
+  { r:robot p:person  !r->p(is_with) } => { r:robot p:person  r->p(is_with) }
+  precondition { not exists o:object { r->o(carrying) } and r.battery > 0.2 or has p.name }
+}
+rule leave : passive {
+  { r:robot p:person  r->p(is_with) } => { r:robot p:person }
+  forall m:mug { { r->m(carrying) } => { } }
+}
+constraint alone { forbid { r:robot p:person q:person  r->p(is_with)  r->q(is_with) } repair by x: delete oldest }
+)";
+  std::vector<std::uint8_t> seed(text.begin(), text.end());
+  maybe_save("grammar", {seed});
+  ASSERT_TRUE(grammar_file(seed.data(), seed.size()));
+  int accepted = 0;
+  const int n = 20000;
+  for (int i = 0; i < n; ++i) {
+    auto m = mutate(seed, rng);
+    accepted += grammar_file(m.data(), m.size());
+  }
+  std::printf("[fuzz] %d of %d mutated grammar files parsed\n", accepted, n);
+  EXPECT_GT(accepted, 0);
 }
 
 TEST(FuzzSmokeTest, GraphDeltaDecoder) {

@@ -4,6 +4,7 @@
 #include <cstdlib>
 #include <string_view>
 
+#include "quiver/agents/grammar.h"
 #include "quiver/agents/replicator.h"
 #include "quiver/graph/codec.h"
 #include "quiver/graph/graph.h"
@@ -69,6 +70,26 @@ bool replication_frame(const std::uint8_t* data, std::size_t size) {
   rep.tick(2'000'000'000);
   check(g, "replication_frame");
   return rep.stats().rejected_frames == 0;
+}
+
+bool grammar_file(const std::uint8_t* data, std::size_t size) {
+  auto parsed = agents::parse_grammar(std::string_view(reinterpret_cast<const char*>(data), size), "fuzz.aggl");
+  if (!parsed.ok()) {
+    if (parsed.error().message.find("fuzz.aggl:") != 0) {
+      std::fprintf(stderr, "a grammar error without a location: %s\n", parsed.error().message.c_str());
+      std::abort();
+    }
+    return false;
+  }
+  agents::GrammarChecker checker(std::move(*parsed));
+  Graph g(ReplicaId{1, 1});
+  populate(g);
+  auto tx = g.begin();
+  (void)tx.delete_edge(*g.find_node("robot"), *g.find_node("person"), Symbol("is_with"));
+  (void)tx.insert_edge(*g.find_node("person"), *g.find_node("robot"), Symbol("is_with"));
+  (void)checker.check(g, tx.ops());
+  (void)checker.all_violations(g);
+  return true;
 }
 
 bool world_file(const std::uint8_t* data, std::size_t size) {

@@ -15,5 +15,7 @@ bool graph_delta(const std::uint8_t* data, std::size_t size);
 bool replication_frame(const std::uint8_t* data, std::size_t size);
 /// JSON world files loaded into a replica.
 bool world_file(const std::uint8_t* data, std::size_t size);
+/// Grammar files: parsed, then used to check a transaction and search for violations.
+bool grammar_file(const std::uint8_t* data, std::size_t size);
 
 }  // namespace quiver::fuzz

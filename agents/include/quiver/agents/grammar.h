@@ -161,6 +161,12 @@ class GrammarChecker {
   Status check(const graph::Graph& g, const std::vector<graph::TxnOp>& ops, RuleMatch* match = nullptr) const;
   /// Re-checks a transaction against one named rule and binding (cheap: no search).
   Status verify(const graph::Graph& g, const std::vector<graph::TxnOp>& ops, const RuleMatch& claim) const;
+  /// Verifies an incoming delta against the receiver's state before the merge: its structural
+  /// changes must be the application of the rule it claims (GraphDelta::rule, ::binding), and its
+  /// other changes allowed. Exact when the receiver's state around the match equals the sender's;
+  /// a concurrent change of that neighbourhood can make a valid delta fail here (the merged-state
+  /// check is what catches the outcome of such races).
+  Status verify_delta(const graph::Graph& before, const graph::GraphDelta& d) const;
   /// Violations of the constraints that involve any of `anchors` (e.g. nodes a merge touched).
   std::vector<Violation> violations_around(const graph::Graph& g, const std::vector<graph::NodeId>& anchors) const;
   /// Every violation in the graph (a full scan, for tests and start-up).

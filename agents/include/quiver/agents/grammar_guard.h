@@ -32,6 +32,12 @@ class GrammarGuard {
   void tick();
 
   void on_violation(std::function<void(const Violation&)> cb) { cb_ = std::move(cb); }
+  /// Called for every incoming delta whose claimed rule does not verify (or whose structural
+  /// change claims none): the origin and why. The delta is still merged (replicas converge);
+  /// what to do about its sender is the application's call.
+  void on_unverified(std::function<void(const graph::ReplicaId&, const Error&)> cb) { unverified_cb_ = std::move(cb); }
+  std::uint64_t deltas_verified() const { return verified_; }
+  std::uint64_t deltas_unverified() const { return unverified_; }
   /// Violations currently present around what changed since start (re-checked on every change).
   const std::set<std::vector<std::pair<std::string, graph::NodeId>>>& open() const { return open_; }
   std::uint64_t violations_seen() const { return seen_; }
@@ -46,6 +52,8 @@ class GrammarGuard {
   std::string name_;
   graph::Graph::SubscriptionId sub_ = 0;
   std::function<void(const Violation&)> cb_;
+  std::function<void(const graph::ReplicaId&, const Error&)> unverified_cb_;
+  std::uint64_t verified_ = 0, unverified_ = 0;
   std::set<std::vector<std::pair<std::string, graph::NodeId>>> open_;
   std::vector<Violation> to_repair_;
   bool repairing_ = false;

@@ -39,7 +39,8 @@ struct ReplicatorOptions {
   bool observer = false;                     ///< announce as a read-only observer
   std::int64_t heartbeat_ns = 100'000'000;   ///< summary period
   std::int64_t lease_ns = 1'000'000'000;     ///< a peer silent this long has left
-  std::int64_t pull_timeout_ns = 400'000'000;
+  std::int64_t pull_timeout_ns = 400'000'000;  ///< longest silence a pull waits (first tries wait less)
+  std::int64_t pull_first_timeout_ns = 50'000'000;  ///< the first try's patience; doubles per timeout
   std::int64_t gap_grace_ns = 30'000'000;    ///< reordering tolerated before a gap is pulled
   std::size_t buffer_bytes = 16u << 20;      ///< relay buffer of recent deltas (all origins)
   std::size_t chunk_bytes = 256u << 10;      ///< state transfer chunk size
@@ -181,7 +182,8 @@ class Replicator {
   bool pulling_ = false;
   PeerId pull_target_;
   std::uint64_t pull_request_ = 0;
-  std::int64_t pull_sent_ns_ = 0;
+  std::int64_t pull_sent_ns_ = 0;     // last sign of progress (sent, or a chunk arrived)
+  int pull_timeouts_in_a_row_ = 0;
   PeerId last_failed_target_;
   bool gap_pending_ = false;
   std::int64_t gap_since_ns_ = 0;

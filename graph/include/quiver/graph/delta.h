@@ -69,6 +69,10 @@ struct GraphDelta {
   std::vector<RtSample> samples;
   /// kState only: dots of entries the sender holds that the receiver's context already had.
   std::vector<Dot> keep;
+  /// Optional claim of the grammar rule this delta applies and the node each variable matched,
+  /// so that receivers can verify it without searching (empty rule: no claim).
+  std::string rule;
+  std::vector<std::pair<std::string, NodeId>> binding;
 
   void clear();
   bool empty() const { return nodes.empty() && edges.empty() && context.empty(); }

@@ -257,6 +257,12 @@ class Graph {
   /// Observed just before a commit applies: return an error to refuse the transaction.
   using CommitValidator = std::function<Status(const Graph&, const std::vector<TxnOp>&)>;
   void set_commit_validator(CommitValidator v);
+  /// Attaches a rule claim to the delta of the next (or in-progress) commit; typically called by
+  /// a commit validator that matched the transaction to a rule.
+  void annotate_commit(std::string rule, std::vector<std::pair<std::string, NodeId>> binding);
+  /// Called at the start of every merge with the state before it and the incoming fragment.
+  using MergeObserver = std::function<void(const Graph& before, const GraphDelta& incoming)>;
+  void set_merge_observer(MergeObserver o);
   /// The fencing epoch local writes to a node's attributes carry (a lock module installs it;
   /// edge attributes take the greater of their endpoints'). Without a provider, writes carry 0.
   using FenceProvider = std::function<std::uint64_t(NodeId)>;
