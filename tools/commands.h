@@ -6,6 +6,8 @@ namespace quiver::tools {
 
 void add_sim_command(CLI::App& app);
 void add_bench_commands(CLI::App& app);
+/// lookup, import-urdf, bench transforms, bench scene (needs add_bench_commands first).
+void add_kinematics_commands(CLI::App& app);
 void add_agent_commands(CLI::App& app);
 void add_dds_bench_commands(CLI::App& app);
 void add_agents_bench_commands(CLI::App& app);

@@ -11,6 +11,7 @@ int main(int argc, char** argv) {
   app.require_subcommand(1);
   quiver::tools::add_sim_command(app);
   quiver::tools::add_bench_commands(app);
+  quiver::tools::add_kinematics_commands(app);  // adds to `bench`: after add_bench_commands
   quiver::tools::add_agent_commands(app);
   quiver::tools::add_dds_bench_commands(app);
   quiver::tools::add_agents_bench_commands(app);

@@ -2,6 +2,7 @@
 
 #include <dds/dds.h>
 
+#include <algorithm>
 #include <cstdlib>
 #include <map>
 #include <mutex>
@@ -162,6 +163,9 @@ struct DdsTransport::Impl {
   Entity waitset;
   Entity guard;
   std::uint32_t matched_seen = 0;
+  // Entities the last wait() saw triggered (their attach args); drain() takes only from these.
+  std::vector<dds_attach_t> triggered;
+  bool all_triggered = true;  // before the first wait (or after a timeout): take from all
   RangesOut ranges_a, ranges_b;
   quiver_wire_Replica self{};
 
@@ -348,7 +352,16 @@ void DdsTransport::send(const Envelope& e) {
 }
 
 void DdsTransport::wait(std::int64_t timeout_ns) {
-  dds_waitset_wait(impl_->waitset.get(), nullptr, 0, timeout_ns < 0 ? 0 : timeout_ns);
+  Impl& d = *impl_;
+  d.triggered.resize(8);
+  dds_return_t n = dds_waitset_wait(d.waitset.get(), d.triggered.data(), d.triggered.size(), timeout_ns < 0 ? 0 : timeout_ns);
+  if (n < 0 || n > static_cast<dds_return_t>(d.triggered.size())) {
+    d.all_triggered = true;
+    d.triggered.clear();
+  } else {
+    d.all_triggered = false;
+    d.triggered.resize(static_cast<std::size_t>(n));
+  }
 }
 
 void DdsTransport::wake() { dds_set_guardcondition(impl_->guard.get(), true); }
@@ -388,6 +401,9 @@ void DdsTransport::drain(const std::function<void(const Envelope&)>& on_envelope
   auto for_us = [&](const quiver_wire_Replica& to) { return (to.agent == 0 && to.incarnation == 0) || from_wire(to) == self; };
 
   auto take_all = [&](const Entity& r, auto&& handle) {
+    if (!d.all_triggered &&
+        std::find(d.triggered.begin(), d.triggered.end(), static_cast<dds_attach_t>(r.get())) == d.triggered.end())
+      return;
     for (;;) {
       for (auto& s : samples) s = nullptr;
       dds_return_t n = dds_take(r.get(), samples, infos, kMax, kMax);
@@ -471,6 +487,7 @@ void DdsTransport::drain(const std::function<void(const Envelope&)>& on_envelope
     e.messages.emplace_back(ByeMsg{});
     on_envelope(e);
   });
+  d.all_triggered = true;  // until the next wait() says otherwise
 }
 
 }  // namespace quiver::agents

@@ -438,6 +438,9 @@ struct GrammarChecker::Impl {
   };
 
   Attempt try_rule(const Graph& gr, const Compiled& r, const Changes& c, const std::vector<NodeId>* fixed) const;
+  // Checks `c` against the named rule with the claimed binding (no search).
+  Status verify_claim(const Graph& gr, const Changes& c, const std::string& rule,
+                      const std::vector<std::pair<std::string, NodeId>>& binding) const;
 };
 
 GrammarChecker::GrammarChecker(Grammar g) : impl_(std::make_unique<Impl>()) {
@@ -751,28 +754,33 @@ Status GrammarChecker::check(const Graph& gr, const std::vector<TxnOp>& ops, Rul
   return make_error(ErrorCode::kRefused, msg);
 }
 
-Status GrammarChecker::verify(const Graph& gr, const std::vector<TxnOp>& ops, const RuleMatch& claim) const {
-  const Grammar& g = impl_->g;
-  Changes c = extract(g, gr, ops);
-  if (!c.unruled.empty()) return make_error(ErrorCode::kRefused, "grammar '" + g.name + "': " + c.unruled);
-  if (!c.structural() && claim.rule.empty()) return {};
+Status GrammarChecker::Impl::verify_claim(const Graph& gr, const Changes& c, const std::string& rule,
+                                          const std::vector<std::pair<std::string, NodeId>>& binding) const {
   const Compiled* r = nullptr;
-  for (const auto& x : impl_->rules)
-    if (x.rule->name == claim.rule) r = &x;
-  if (!r) return make_error(ErrorCode::kRefused, "grammar '" + g.name + "' has no rule '" + claim.rule + "'");
+  for (const auto& x : rules)
+    if (x.rule->name == rule) r = &x;
+  if (!r) return make_error(ErrorCode::kRefused, "grammar '" + g.name + "' has no rule '" + rule + "'");
   std::vector<NodeId> fixed(r->vars.size());
   std::vector<bool> seen(r->vars.size());
-  for (const auto& [var, id] : claim.binding) {
+  for (const auto& [var, id] : binding) {
     auto it = r->slot.find(var);
-    if (it == r->slot.end()) return make_error(ErrorCode::kRefused, "rule '" + claim.rule + "' has no variable '" + var + "'");
+    if (it == r->slot.end()) return make_error(ErrorCode::kRefused, "rule '" + rule + "' has no variable '" + var + "'");
     fixed[it->second] = id;
     seen[it->second] = true;
   }
   for (std::size_t s = 0; s < seen.size(); ++s)
-    if (!seen[s]) return make_error(ErrorCode::kRefused, "the claim leaves variable '" + r->vars[s] + "' of rule '" + claim.rule + "' unbound");
-  auto a = impl_->try_rule(gr, *r, c, &fixed);
-  if (!a.ok) return make_error(ErrorCode::kRefused, "the change does not apply rule '" + claim.rule + "': " + a.why);
+    if (!seen[s])
+      return make_error(ErrorCode::kRefused, "the claim leaves variable '" + r->vars[s] + "' of rule '" + rule + "' unbound");
+  auto a = try_rule(gr, *r, c, &fixed);
+  if (!a.ok) return make_error(ErrorCode::kRefused, "the change does not apply rule '" + rule + "': " + a.why);
   return {};
+}
+
+Status GrammarChecker::verify(const Graph& gr, const std::vector<TxnOp>& ops, const RuleMatch& claim) const {
+  Changes c = extract(impl_->g, gr, ops);
+  if (!c.unruled.empty()) return make_error(ErrorCode::kRefused, "grammar '" + impl_->g.name + "': " + c.unruled);
+  if (!c.structural() && claim.rule.empty()) return {};
+  return impl_->verify_claim(gr, c, claim.rule, claim.binding);
 }
 
 Status GrammarChecker::verify_delta(const Graph& before, const graph::GraphDelta& d) const {
@@ -793,23 +801,7 @@ Status GrammarChecker::verify_delta(const Graph& before, const graph::GraphDelta
       return make_error(ErrorCode::kRefused, "a repair that does more than delete edges (" + describe(before, c) + ")");
     return {};
   }
-  const Compiled* r = nullptr;
-  for (const auto& x : impl_->rules)
-    if (x.rule->name == d.rule) r = &x;
-  if (!r) return make_error(ErrorCode::kRefused, "grammar '" + g.name + "' has no rule '" + d.rule + "'");
-  std::vector<NodeId> fixed(r->vars.size());
-  std::vector<bool> seen(r->vars.size());
-  for (const auto& [var, id] : d.binding) {
-    auto it = r->slot.find(var);
-    if (it == r->slot.end()) return make_error(ErrorCode::kRefused, "rule '" + d.rule + "' has no variable '" + var + "'");
-    fixed[it->second] = id;
-    seen[it->second] = true;
-  }
-  for (std::size_t s = 0; s < seen.size(); ++s)
-    if (!seen[s]) return make_error(ErrorCode::kRefused, "the claim leaves variable '" + r->vars[s] + "' unbound");
-  auto a = impl_->try_rule(before, *r, c, &fixed);
-  if (!a.ok) return make_error(ErrorCode::kRefused, "the change does not apply rule '" + d.rule + "': " + a.why);
-  return {};
+  return impl_->verify_claim(before, c, d.rule, d.binding);
 }
 
 // ------------------------------------------------------------------ constraints

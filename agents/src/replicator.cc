@@ -6,6 +6,9 @@
 #include "quiver/graph/codec.h"
 
 namespace quiver::agents {
+namespace {
+constexpr std::uint64_t kMaxInterval = 1u << 20;  // commits coalesced into one delta interval
+}
 
 Replicator::Replicator(graph::Graph& g, Transport& t, ReplicatorOptions options)
     : g_(g), t_(t), opt_(std::move(options)), self_(g.replica()) {
@@ -26,6 +29,7 @@ void Replicator::on_local_delta(const graph::GraphDelta& d) {
     } else {
       pending_.append(d);
     }
+    if (seq_ - pending_lo_ + 1 >= kMaxInterval) flush();  // receivers refuse longer intervals
     return;
   }
   publish(graph::encode(d), seq_, seq_);
@@ -186,6 +190,11 @@ void Replicator::handle(const PeerId& from, const SummaryMsg& m) {
 
 void Replicator::handle(const PeerId& from, const DeltaMsg& m) {
   if (m.origin == self_ || m.lo == 0 || m.hi < m.lo || !m.payload) return;
+  // An interval covers the commits it joins; a huge one would mark future deltas as seen.
+  if (m.hi - m.lo > kMaxInterval)
+    return reject(make_error(ErrorCode::kTooLarge, "delta " + m.origin.to_string() + "#" + std::to_string(m.lo) +
+                                                       " from " + from.to_string() + " claims " +
+                                                       std::to_string(m.hi - m.lo + 1) + " sequence numbers"));
   crdt::CausalContext range;
   range.add_range(m.origin, m.lo, m.hi);
   if (applied_.includes(range)) {
@@ -290,6 +299,11 @@ void Replicator::handle(const PeerId& from, const StateMsg& m) {
     ra.chunks.resize(m.count);
   }
   if (ra.chunks[m.index]) return;  // duplicate
+  if (ra.bytes + m.chunk->size() > opt_.max_state_bytes) {
+    reassembly_.erase(from);
+    return reject(make_error(ErrorCode::kTooLarge, "state from " + from.to_string() + " exceeds max_state_bytes (" +
+                                                       std::to_string(opt_.max_state_bytes) + ")"));
+  }
   if (pulling_ && pull_target_ == from) pull_sent_ns_ = now_;  // progress: the pull is alive
   ra.chunks[m.index] = m.chunk;
   ++ra.received;

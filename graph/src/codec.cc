@@ -302,6 +302,7 @@ class Encoder {
         node_ref(e.value.fallback_parent);
         if (!e.value.fallback_parent.is_null()) {
           pose(e.value.fallback_pose);
+          w_.svarint(e.value.fallback_stamp);
           dot(e.value.fallback_epoch);
         }
       }
@@ -626,6 +627,7 @@ class Decoder {
         e.value.fallback_parent = node_ref("claim fallback parent");
         if (!e.value.fallback_parent.is_null()) {
           e.value.fallback_pose = pose();
+          e.value.fallback_stamp = r_.svarint("claim fallback stamp");
           e.value.fallback_epoch = dot("claim fallback epoch");
         }
         if (r_.ok() && (e.value.parent == n.id || e.value.fallback_parent == n.id)) {

@@ -141,13 +141,15 @@ bool Graph::Impl::insert_sample(NodeRec* r, const RtSample& s) {
   if (pos != h.end() && pos->dot == s.dot) return false;
   for (const RtSample& x : h)
     if (x.dot == s.dot) return false;
+  bool evicted_current = false;
   if (h.size() >= kRtHistoryDepth) {
     if (pos == h.begin()) return false;  // older than everything kept
+    evicted_current = h.front().epoch == r->rt_epoch;
     h.erase(h.begin());
     pos = std::lower_bound(h.begin(), h.end(), s, sample_less);
   }
   h.insert(pos, s);
-  if (r->rt_parent && s.epoch == r->rt_epoch && tracker.enabled) {
+  if (r->rt_parent && (s.epoch == r->rt_epoch || evicted_current) && tracker.enabled) {
     auto* t = tracker.touch_edge(EdgeKey{r->rt_parent->id, r->id, symbols::rt()}, true);
     add_unique(t->attrs, Symbol("pose"));
   }

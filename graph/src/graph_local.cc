@@ -267,6 +267,7 @@ void Graph::Impl::local_set_rt(NodeRec* parent, NodeRec* child, const Pose& pose
     RtEdge cur = current_rt(*child);
     c.fallback_parent = cur.parent;
     c.fallback_pose = cur.pose;
+    c.fallback_stamp = cur.stamp;
     c.fallback_epoch = cur.epoch;
   }
   Dot d = mint();
@@ -284,6 +285,15 @@ void Graph::Impl::local_set_rt(NodeRec* parent, NodeRec* child, const Pose& pose
   out.claims.push_back(crdt::Entry<RtClaim>{d, c});
   op.claim_added.end = u32(out.claims.size());
   claim_updated(child);
+  // The move's own pose is the first sample of its epoch, so history covers it too.
+  if (parent) {
+    RtSample s{stamp, mint(), d, pose};
+    if (insert_sample(child, s)) {
+      auto& sop = out_node(child->id, kSamples);
+      out.samples.push_back(s);
+      sop.samples.end = u32(out.samples.size());
+    }
+  }
 }
 
 void Graph::Impl::local_remove_rt(NodeRec* child) {

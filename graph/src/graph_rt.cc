@@ -77,6 +77,7 @@ void Graph::Impl::recompute_rt(std::vector<std::pair<NodeId, NodeId>>*) {
       c->rt_parent = p;
       c->rt_epoch = cl.fallback_epoch;
       c->rt_base_pose = cl.fallback_pose;
+      c->rt_base_stamp = cl.fallback_stamp;
       p->rt_children.push_back(c);
     }
   }
@@ -92,7 +93,9 @@ void Graph::Impl::recompute_rt(std::vector<std::pair<NodeId, NodeId>>*) {
       continue;
     }
     if (o.parent) tracker.touch_edge(EdgeKey{o.parent->id, c->id, symbols::rt()}, true);
-    if (c->rt_parent) tracker.touch_edge(EdgeKey{c->rt_parent->id, c->id, symbols::rt()}, false);
+    // "pose" makes a detach-and-reattach within one change an update rather than nothing.
+    if (c->rt_parent)
+      add_unique(tracker.touch_edge(EdgeKey{c->rt_parent->id, c->id, symbols::rt()}, false)->attrs, Symbol("pose"));
   }
 }
 
@@ -106,7 +109,8 @@ void Graph::Impl::link_rt(NodeRec* c, NodeRec* parent) {
   c->rt_parent = parent;
   if (parent) {
     parent->rt_children.push_back(c);
-    if (tracker.enabled) tracker.touch_edge(EdgeKey{parent->id, c->id, symbols::rt()}, false);
+    if (tracker.enabled)
+      add_unique(tracker.touch_edge(EdgeKey{parent->id, c->id, symbols::rt()}, false)->attrs, Symbol("pose"));
   }
 }
 

@@ -122,6 +122,7 @@ Digest128 Graph::digest() const {
       h.i64(e.value.stamp);
       hash_node_id(h, e.value.fallback_parent);
       hash_pose(h, e.value.fallback_pose);
+      h.i64(e.value.fallback_stamp);
       hash_dot(h, e.value.fallback_epoch);
       total += h.digest();
     }

@@ -276,7 +276,7 @@ TEST(GraphTest, RtTreeParentsChildrenAndPoseUpdates) {
   }
   EXPECT_EQ(a.g.rt_edge(robot)->pose.translation[0], 2.0);
   EXPECT_EQ(a.g.rt_edge(robot)->stamp, 20);
-  EXPECT_EQ(a.g.rt_history(robot).size(), 1u);
+  EXPECT_EQ(a.g.rt_history(robot).size(), 2u) << "the move's pose (t=10) and the update (t=20)";
   auto tx = a.g.begin();
   auto refused = tx.set_rt(arm, world, at(0));
   EXPECT_EQ(refused.error().code, ErrorCode::kRefused) << "a cycle is refused locally";

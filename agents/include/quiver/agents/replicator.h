@@ -44,6 +44,7 @@ struct ReplicatorOptions {
   std::int64_t gap_grace_ns = 30'000'000;    ///< reordering tolerated before a gap is pulled
   std::size_t buffer_bytes = 16u << 20;      ///< relay buffer of recent deltas (all origins)
   std::size_t chunk_bytes = 256u << 10;      ///< state transfer chunk size
+  std::size_t max_state_bytes = 1u << 30;    ///< a state transfer larger than this is refused
   std::size_t max_frame_bytes = 60u << 10;   ///< messages are batched into frames up to this
   bool coalesce = false;                     ///< hold local deltas until flush() or tick()
 };

@@ -58,8 +58,9 @@ struct RtClaim {
   Pose pose;                ///< X_PC at the time of the move.
   std::int64_t stamp = 0;   ///< Replicated time of `pose` (e.g. nanoseconds).
   NodeId fallback_parent;   ///< C's parent when the claim was made (null if none).
-  Pose fallback_pose;
-  Dot fallback_epoch;       ///< The claim that had set `fallback_parent`.
+  Pose fallback_pose;       ///< and its pose then,
+  std::int64_t fallback_stamp = 0;  ///< taken at this time,
+  Dot fallback_epoch;       ///< under the claim that had set `fallback_parent`.
 
   friend bool operator==(const RtClaim&, const RtClaim&) = default;
 };
