@@ -355,17 +355,23 @@ void Replicator::evict_front() {
 }
 
 void Replicator::trim_buffer() {
-  // Drop what every live peer already holds: acknowledged by their summaries.
+  // Drop what every live peer already holds: acknowledged by their summaries. Cheap per entry
+  // (a peer's contiguous prefix usually answers), so a large buffer does not stall the thread.
   std::vector<const Peer*> live;
   for (const auto& [id, p] : peers_)
     if (p.info.alive) live.push_back(&p);
   if (live.empty()) return;
+  auto acked = [&](const Buffered& e) {
+    for (const Peer* p : live) {
+      if (p->applied.contiguous(e.origin) >= e.hi) continue;
+      crdt::CausalContext range;
+      range.add_range(e.origin, e.lo, e.hi);
+      if (!p->applied.includes(range)) return false;
+    }
+    return true;
+  };
   for (auto it = buffer_.begin(); it != buffer_.end();) {
-    crdt::CausalContext range;
-    range.add_range(it->origin, it->lo, it->hi);
-    bool acked = true;
-    for (const Peer* p : live) acked = acked && p->applied.includes(range);
-    if (!acked) {
+    if (!acked(*it)) {
       ++it;
       continue;
     }
