@@ -252,6 +252,7 @@ struct Graph::Impl {
   void local_set_rt(NodeRec* parent, NodeRec* child, const Pose& pose, std::int64_t stamp);
   void local_remove_rt(NodeRec* child);
   void record_attr_removals(std::vector<GraphDelta::AttrOp>& ops, AttrList& attrs);
+  void record_edge_removal(EdgeRec& e);
 };
 
 }  // namespace quiver::graph

@@ -151,16 +151,7 @@ void Graph::Impl::local_delete_node(NodeRec* r) {
   incident.insert(incident.end(), r->in.begin(), r->in.end());
   for (EdgeRec* e : incident) {
     if (e->exists.empty() && e->attrs.empty()) continue;
-    GraphDelta::EdgeOp op;
-    op.key = e->key;
-    op.removed = open_span(out.removed.size());
-    for (const Dot& d : e->exists) out.removed.push_back(d);
-    op.removed.end = u32(out.removed.size());
-    op.added = open_span(out.added.size());
-    op.attrs = open_span(out.attrs.size());
-    record_attr_removals(out.attrs, e->attrs);
-    op.attrs.end = u32(out.attrs.size());
-    out.edges.push_back(op);
+    record_edge_removal(*e);
   }
   // RT edges to the children: remove the claims that name this node as parent.
   std::vector<NodeRec*> children = r->rt_children;
@@ -219,18 +210,23 @@ void Graph::Impl::local_insert_edge(const EdgeKey& key, const std::vector<std::p
   out.edges.push_back(op);
 }
 
-void Graph::Impl::local_delete_edge(EdgeRec* e) {
-  touch_edge(*e);
+void Graph::Impl::record_edge_removal(EdgeRec& e) {
+  // The edge's existence dots and every attribute value, removed; nothing added.
   GraphDelta::EdgeOp op;
-  op.key = e->key;
+  op.key = e.key;
   op.removed = open_span(out.removed.size());
-  for (const Dot& x : e->exists) out.removed.push_back(x);
+  for (const Dot& x : e.exists) out.removed.push_back(x);
   op.removed.end = u32(out.removed.size());
   op.added = open_span(out.added.size());
   op.attrs = open_span(out.attrs.size());
-  record_attr_removals(out.attrs, e->attrs);
+  record_attr_removals(out.attrs, e.attrs);
   op.attrs.end = u32(out.attrs.size());
   out.edges.push_back(op);
+}
+
+void Graph::Impl::local_delete_edge(EdgeRec* e) {
+  touch_edge(*e);
+  record_edge_removal(*e);
   erase_edge_record(e);
 }
 

@@ -22,6 +22,24 @@ void hash_edge_key(Hasher& h, const EdgeKey& k) {
 }
 std::uint32_t u32(std::size_t n) { return static_cast<std::uint32_t>(n); }
 
+/// Sum of the digests of every register entry in an attribute list; `owner` hashes the node id
+/// or edge key the list belongs to, `tag` tells nodes from edges.
+template <class HashOwner>
+Digest128 digest_attrs(const AttrList& attrs, std::uint64_t tag, HashOwner&& owner) {
+  Digest128 sum;
+  for (const AttrSlot& slot : attrs)
+    for (const auto& e : slot.reg) {
+      Hasher h(tag);
+      owner(h);
+      h.str(slot.name.str());
+      hash_dot(h, e.dot);
+      h.u64(e.fence);
+      e.value.hash_into(h);
+      sum += h.digest();
+    }
+  return sum;
+}
+
 }  // namespace
 
 GraphDelta Graph::state() const { return state_diff(crdt::CausalContext{}); }
@@ -103,16 +121,7 @@ Digest128 Graph::digest() const {
       h.str(r.type.str()).str(r.name);
       total += h.digest();
     }
-    for (const AttrSlot& slot : r.attrs)
-      for (const auto& e : slot.reg) {
-        Hasher h(2);
-        hash_node_id(h, id);
-        h.str(slot.name.str());
-        hash_dot(h, e.dot);
-        h.u64(e.fence);
-        e.value.hash_into(h);
-        total += h.digest();
-      }
+    total += digest_attrs(r.attrs, 2, [&](Hasher& h) { hash_node_id(h, id); });
     for (const auto& e : r.claim) {
       Hasher h(3);
       hash_node_id(h, id);
@@ -143,16 +152,7 @@ Digest128 Graph::digest() const {
       hash_dot(h, x);
       total += h.digest();
     }
-    for (const AttrSlot& slot : e.attrs)
-      for (const auto& en : slot.reg) {
-        Hasher h(6);
-        hash_edge_key(h, key);
-        h.str(slot.name.str());
-        hash_dot(h, en.dot);
-        h.u64(en.fence);
-        en.value.hash_into(h);
-        total += h.digest();
-      }
+    total += digest_attrs(e.attrs, 6, [&](Hasher& h) { hash_edge_key(h, key); });
   }
   return total;
 }

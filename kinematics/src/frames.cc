@@ -333,21 +333,25 @@ template <class T>
   for (int i = 0; i < 3; ++i) acc[4 + i] = p[i] + acc[4 + i];
 }
 
+/// Resolves both ends into raw.sa / raw.sb; on failure records which end and why.
+bool resolve_pair(const Core& core, int c, const FrameRef& A, const FrameRef& B, Raw& raw) {
+  raw.code = Code::kOk;
+  const FrameRef* ends[2] = {&A, &B};
+  std::uint32_t* slots[2] = {&raw.sa, &raw.sb};
+  for (int i = 0; i < 2; ++i) {
+    const Code k = resolve(core, c, *ends[i], slots[i]);
+    if (k != Code::kOk) {
+      raw.code = k;
+      raw.which = i;
+      return false;
+    }
+  }
+  return true;
+}
+
 /// Latest-time X_AB in copy c.
 void read_latest(const Core& core, int c, const FrameRef& A, const FrameRef& B, Raw& raw) {
-  raw.code = Code::kOk;
-  Code k = resolve(core, c, A, &raw.sa);
-  if (k != Code::kOk) {
-    raw.code = k;
-    raw.which = 0;
-    return;
-  }
-  k = resolve(core, c, B, &raw.sb);
-  if (k != Code::kOk) {
-    raw.code = k;
-    raw.which = 1;
-    return;
-  }
+  if (!resolve_pair(core, c, A, B, raw)) return;
   const SlotData* a = core.slot(c, raw.sa);
   const SlotData* b = core.slot(c, raw.sb);
   const std::int32_t root_a = ld(a->root);
@@ -380,19 +384,7 @@ void read_latest(const Core& core, int c, const FrameRef& A, const FrameRef& B, 
 /// X_AB at time t in copy c: both sides walk up to their lowest common ancestor L, the deeper
 /// one alone first, then both in lock step.
 void read_at(const Core& core, int c, const FrameRef& A, const FrameRef& B, Time t, Raw& raw) {
-  raw.code = Code::kOk;
-  Code k = resolve(core, c, A, &raw.sa);
-  if (k != Code::kOk) {
-    raw.code = k;
-    raw.which = 0;
-    return;
-  }
-  k = resolve(core, c, B, &raw.sb);
-  if (k != Code::kOk) {
-    raw.code = k;
-    raw.which = 1;
-    return;
-  }
+  if (!resolve_pair(core, c, A, B, raw)) return;
   const SlotData* da = core.slot(c, raw.sa);
   const SlotData* db = core.slot(c, raw.sb);
   if (ld(da->root) != ld(db->root)) return read_latest(core, c, A, B, raw);  // builds the message
