@@ -67,15 +67,9 @@ void settle_before_seeding(Agent& a) {
 }
 
 int run_agent(const AgentFlags& f) {
-  auto cfg = f.dds.resolve();
-  if (!cfg.ok()) {
-    std::fprintf(stderr, "quiver agent: %s\n", cfg.error().to_string().c_str());
-    return 2;
-  }
   agents::AgentOptions o;
   o.name = f.name;
-  o.dds = *cfg;
-  auto created = Agent::create(o);
+  auto created = f.dds.create_agent(o);
   if (!created.ok()) {
     std::fprintf(stderr, "quiver agent: %s\n", created.error().to_string().c_str());
     return 2;
@@ -171,16 +165,10 @@ void print_graph(const graph::Graph& g) {
 }
 
 int run_dump(const DumpFlags& f) {
-  auto cfg = f.dds.resolve();
-  if (!cfg.ok()) {
-    std::fprintf(stderr, "quiver dump: %s\n", cfg.error().to_string().c_str());
-    return 2;
-  }
   agents::AgentOptions o;
   o.name = "quiver-dump";
   o.observer = true;
-  o.dds = *cfg;
-  auto created = Agent::create(o);
+  auto created = f.dds.create_agent(o);
   if (!created.ok()) {
     std::fprintf(stderr, "quiver dump: %s\n", created.error().to_string().c_str());
     return 2;

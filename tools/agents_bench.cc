@@ -8,6 +8,7 @@
 #include <nlohmann/json.hpp>
 #include <thread>
 
+#include "bench_stats.h"
 #include "commands.h"
 #include "quiver/agents/agent.h"
 #include "quiver/agents/grammar.h"
@@ -21,13 +22,6 @@ namespace {
 using graph::NodeId;
 using graph::Symbol;
 using json = nlohmann::json;
-
-double percentile(std::vector<double> v, double p) {
-  if (v.empty()) return 0;
-  std::sort(v.begin(), v.end());
-  return v[std::min(v.size() - 1, static_cast<std::size_t>(p * static_cast<double>(v.size() - 1) + 0.5))];
-}
-double round1(double x) { return std::round(x * 10) / 10; }
 
 // ------------------------------------------------------------------ grammar
 
@@ -113,9 +107,10 @@ int run_bench_grammar(int nodes, int rules, int checks) {
   out["nodes"] = g.node_count();
   out["checks"] = checks;
   out["accepted"] = accepted;
-  out["check_us_p50"] = std::round(percentile(structural_us, 0.5) * 100) / 100;
-  out["check_us_p99"] = std::round(percentile(structural_us, 0.99) * 100) / 100;
-  out["attribute_txn_check_us_p50"] = std::round(percentile(attr_us, 0.5) * 1000) / 1000;
+  const Percentiles structural(structural_us);
+  out["check_us_p50"] = round_to(structural.at(0.5), 2);
+  out["check_us_p99"] = round_to(structural.at(0.99), 2);
+  out["attribute_txn_check_us_p50"] = round_to(Percentiles(attr_us).at(0.5), 3);
   std::cout << out.dump() << std::endl;
   return accepted == checks ? 0 : 1;
 }
@@ -137,8 +132,9 @@ json lock_latency_in_simulator(int agents, std::uint64_t seed) {
   j["agents"] = agents;
   j["network_delay_ms"] = "0.1-2";
   j["acquisitions"] = ms.size();
-  j["acquire_ms_p50"] = std::round(percentile(ms, 0.5) * 100) / 100;
-  j["acquire_ms_p99"] = std::round(percentile(ms, 0.99) * 100) / 100;
+  const Percentiles pct(ms);
+  j["acquire_ms_p50"] = round_to(pct.at(0.5), 2);
+  j["acquire_ms_p99"] = round_to(pct.at(0.99), 2);
   j["overlap_connected_ms"] = r.lock_overlap_connected_ns / 1e6;
   return j;
 }
@@ -218,8 +214,9 @@ json lock_latency_over_dds(int agents, int rounds, std::uint32_t domain) {
   j["mode"] = "dds";
   j["agents"] = agents;
   j["acquisitions"] = us.size();
-  j["acquire_us_p50"] = round1(percentile(us, 0.5));
-  j["acquire_us_p99"] = round1(percentile(us, 0.99));
+  const Percentiles pct(us);
+  j["acquire_us_p50"] = round_to(pct.at(0.5), 1);
+  j["acquire_us_p99"] = round_to(pct.at(0.99), 1);
   return j;
 }
 

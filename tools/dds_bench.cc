@@ -14,6 +14,7 @@
 #include <nlohmann/json.hpp>
 #include <numeric>
 
+#include "bench_stats.h"
 #include "commands.h"
 #include "dds_options.h"
 #include "quiver/agents/agent.h"
@@ -40,16 +41,10 @@ std::string self_exe() {
 }
 
 std::unique_ptr<Agent> make_agent(const std::string& name, const DdsFlags& dds) {
-  auto cfg = dds.resolve();
-  if (!cfg.ok()) {
-    std::fprintf(stderr, "%s\n", cfg.error().to_string().c_str());
-    std::exit(2);
-  }
   agents::AgentOptions o;
   o.name = name;
-  o.dds = *cfg;
   o.dds.max_blocking_ns = 2 * kSec;  // a benchmark wants back-pressure, not drops
-  auto a = Agent::create(o);
+  auto a = dds.create_agent(o);
   if (!a.ok()) {
     std::fprintf(stderr, "%s: %s\n", name.c_str(), a.error().to_string().c_str());
     std::exit(2);
@@ -57,11 +52,17 @@ std::unique_ptr<Agent> make_agent(const std::string& name, const DdsFlags& dds) 
   return std::move(*a);
 }
 
-double percentile(std::vector<double> v, double p) {
-  if (v.empty()) return 0;
-  std::sort(v.begin(), v.end());
-  std::size_t i = static_cast<std::size_t>(p * static_cast<double>(v.size() - 1) + 0.5);
-  return v[std::min(i, v.size() - 1)];
+/// Waits until every live peer holds all this agent has written.
+bool wait_all_hold(Agent& a, std::int64_t timeout_ns) {
+  const std::uint64_t seq = a.replicator().last_seq();
+  return a.spin_until([&] { return a.replicator().all_peers_hold(a.id(), seq); }, timeout_ns);
+}
+
+/// The writer tells the readers which phase of the benchmark it is in.
+void set_phase(graph::Graph& g, NodeId control, const char* phase) {
+  auto tx = g.begin();
+  (void)tx.set(control, Symbol("phase"), Value(phase));
+  (void)tx.commit();
 }
 
 struct RoleFlags {
@@ -107,11 +108,8 @@ void writer_role(const RoleFlags& f) {
     (void)tx.commit();
   }
   for (int i = 0; i < 1000; i += 250) add_nodes(i, i + 250);
-  auto wait_all_hold = [&](std::int64_t timeout) {
-    const std::uint64_t seq = a.replicator().last_seq();
-    return a.spin_until([&] { return a.replicator().all_peers_hold(a.id(), seq); }, timeout);
-  };
-  if (!wait_all_hold(30 * kSec)) std::fprintf(stderr, "bench writer: readers did not confirm the seed\n");
+  if (!wait_all_hold(a, 30 * kSec))
+    std::fprintf(stderr, "bench writer: readers did not confirm the seed\n");
 
   // Throughput: N random writes in transactions of `batch`.
   Rng rng(1);
@@ -126,19 +124,12 @@ void writer_role(const RoleFlags& f) {
     if (++txns % 16 == 0) a.spin_once(0);  // keep up with summaries and pulls
   }
   const std::int64_t t_local = monotonic_ns();
-  {
-    auto tx = g.begin();
-    (void)tx.set(control, Symbol("phase"), Value("throughput-done"));
-    (void)tx.commit();
-  }
-  if (!wait_all_hold(60 * kSec)) std::fprintf(stderr, "bench writer: readers did not confirm the throughput phase\n");
+  set_phase(g, control, "throughput-done");
+  if (!wait_all_hold(a, 60 * kSec))
+    std::fprintf(stderr, "bench writer: readers did not confirm the throughput phase\n");
 
   // Latency: single unbatched writes, spaced so they do not queue behind each other.
-  {
-    auto tx = g.begin();
-    (void)tx.set(control, Symbol("phase"), Value("latency"));
-    (void)tx.commit();
-  }
+  set_phase(g, control, "latency");
   a.spin_for(100'000'000);
   for (int i = 0; i < f.latency_samples; ++i) {
     auto tx = g.begin();
@@ -150,12 +141,9 @@ void writer_role(const RoleFlags& f) {
 
   // Join: grow to `join_nodes` nodes x 10 attributes, then a late joiner syncs from the replicas.
   for (int i = 1000; i < f.join_nodes; i += 500) add_nodes(i, std::min(i + 500, f.join_nodes));
-  {
-    auto tx = g.begin();
-    (void)tx.set(control, Symbol("phase"), Value("join"));
-    (void)tx.commit();
-  }
-  if (!wait_all_hold(60 * kSec)) std::fprintf(stderr, "bench writer: readers did not confirm the join graph\n");
+  set_phase(g, control, "join");
+  if (!wait_all_hold(a, 60 * kSec))
+    std::fprintf(stderr, "bench writer: readers did not confirm the join graph\n");
   json ready;
   ready["role"] = "writer";
   ready["phase"] = "ready-for-joiner";
@@ -165,12 +153,8 @@ void writer_role(const RoleFlags& f) {
   std::cout << ready.dump() << std::endl;
   // Wait for the joiner (one more peer) to hold everything, then end the run.
   a.spin_until([&] { return a.replicator().live_peer_count() > static_cast<std::size_t>(f.readers); }, 60 * kSec);
-  wait_all_hold(60 * kSec);
-  {
-    auto tx = g.begin();
-    (void)tx.set(control, Symbol("phase"), Value("done"));
-    (void)tx.commit();
-  }
+  wait_all_hold(a, 60 * kSec);
+  set_phase(g, control, "done");
   a.spin_for(300'000'000);
 }
 
@@ -253,8 +237,7 @@ void tracker_role(const RoleFlags& f) {
   }
   const std::size_t listeners = static_cast<std::size_t>(f.agents - 1);
   a.spin_until([&] { return a.replicator().live_peer_count() >= listeners; }, 60 * kSec);
-  const std::uint64_t seq = a.replicator().last_seq();
-  a.spin_until([&] { return a.replicator().all_peers_hold(a.id(), seq); }, 60 * kSec);
+  wait_all_hold(a, 60 * kSec);
   // 2 people x 15 joints at 30 Hz: one transaction per person per frame.
   const std::int64_t period = kSec / kHz;
   std::int64_t next = monotonic_ns();
@@ -322,6 +305,21 @@ std::vector<std::string> role_argv(const std::string& role, const DdsFlags& dds,
   return argv;
 }
 
+/// `n` processes of one role, numbered by --id.
+std::optional<std::vector<Subprocess>> spawn_roles(const std::string& role, int n,
+                                                   const DdsFlags& dds,
+                                                   const std::vector<std::string>& common) {
+  std::vector<Subprocess> out;
+  for (int i = 0; i < n; ++i) {
+    auto extra = common;
+    extra.insert(extra.end(), {"--id", std::to_string(i)});
+    auto p = Subprocess::spawn(role_argv(role, dds, extra));
+    if (!p) return std::nullopt;
+    out.push_back(std::move(*p));
+  }
+  return out;
+}
+
 std::optional<json> read_json(Subprocess& p, const char* who, int timeout_ms) {
   for (;;) {
     auto line = p.read_line(timeout_ms);
@@ -338,14 +336,8 @@ int run_bench_dds(const RoleFlags& f) {
   std::vector<std::string> common = {"--updates", std::to_string(f.updates), "--batch", std::to_string(f.batch),
                                      "--readers", std::to_string(f.readers), "--latency-samples",
                                      std::to_string(f.latency_samples), "--join-nodes", std::to_string(f.join_nodes)};
-  std::vector<Subprocess> readers;
-  for (int i = 0; i < f.readers; ++i) {
-    auto extra = common;
-    extra.insert(extra.end(), {"--id", std::to_string(i)});
-    auto p = Subprocess::spawn(role_argv("reader", f.dds, extra));
-    if (!p) return 2;
-    readers.push_back(std::move(*p));
-  }
+  auto readers = spawn_roles("reader", f.readers, f.dds, common);
+  if (!readers) return 2;
   auto writer = Subprocess::spawn(role_argv("writer", f.dds, common));
   if (!writer) return 2;
   auto ready = read_json(*writer, "writer", 600'000);
@@ -356,13 +348,13 @@ int run_bench_dds(const RoleFlags& f) {
   std::int64_t t_done = 0;
   std::vector<double> lat;
   for (int i = 0; i < f.readers; ++i) {
-    auto r = read_json(readers[i], "reader", 120'000);
+    auto r = read_json((*readers)[i], "reader", 120'000);
     if (!r) return 1;
     t_done = std::max<std::int64_t>(t_done, (*r)["t_throughput_done_ns"].get<std::int64_t>());
     for (double v : (*r)["latencies_us"]) lat.push_back(v);
   }
   writer->wait(10'000);
-  for (auto& r : readers) r.wait(10'000);
+  for (auto& r : *readers) r.wait(10'000);
   joiner->wait(10'000);
   const double secs = static_cast<double>(t_done - (*ready)["t0_ns"].get<std::int64_t>()) / 1e9;
   json out;
@@ -371,8 +363,9 @@ int run_bench_dds(const RoleFlags& f) {
   out["batch"] = f.batch;
   out["readers"] = f.readers;
   out["updates_per_s"] = static_cast<long>(static_cast<double>(f.updates) / secs);
-  out["latency_us_p50"] = std::round(percentile(lat, 0.50) * 10) / 10;
-  out["latency_us_p99"] = std::round(percentile(lat, 0.99) * 10) / 10;
+  const Percentiles pct(lat);
+  out["latency_us_p50"] = round_to(pct.at(0.50), 1);
+  out["latency_us_p99"] = round_to(pct.at(0.99), 1);
   out["latency_samples"] = lat.size();
   out["join_ms_10k"] = joined ? (*joined)["join_ms"] : json(nullptr);
   if (joined) out["join_ms_10k_from_process_start"] = (*joined)["join_ms_from_process_start"];
@@ -382,21 +375,15 @@ int run_bench_dds(const RoleFlags& f) {
 }
 
 int run_bench_tracking(const RoleFlags& f) {
-  std::vector<Subprocess> listeners;
   std::vector<std::string> common = {"--agents", std::to_string(f.agents), "--seconds", std::to_string(f.seconds)};
-  for (int i = 0; i < f.agents - 1; ++i) {
-    auto extra = common;
-    extra.insert(extra.end(), {"--id", std::to_string(i)});
-    auto p = Subprocess::spawn(role_argv("listener", f.dds, extra));
-    if (!p) return 2;
-    listeners.push_back(std::move(*p));
-  }
+  auto listeners = spawn_roles("listener", f.agents - 1, f.dds, common);
+  if (!listeners) return 2;
   auto tracker = Subprocess::spawn(role_argv("tracker", f.dds, common));
   if (!tracker) return 2;
   auto t = read_json(*tracker, "tracker", static_cast<int>((f.seconds + 120) * 1000));
   if (!t) return 1;
   std::vector<double> lat;
-  for (auto& l : listeners) {
+  for (auto& l : *listeners) {
     auto r = read_json(l, "listener", 30'000);
     if (!r) return 1;
     for (double v : (*r)["latencies_us"]) lat.push_back(v);
@@ -406,9 +393,10 @@ int run_bench_tracking(const RoleFlags& f) {
   out["agents"] = f.agents;
   out["rt_updates_per_s"] = static_cast<long>((*t)["updates"].get<long>() / f.seconds);
   out["deliveries"] = lat.size();
-  out["latency_us_p50"] = std::round(percentile(lat, 0.50) * 10) / 10;
-  out["latency_us_p99"] = std::round(percentile(lat, 0.99) * 10) / 10;
-  out["latency_us_max"] = std::round(percentile(lat, 1.0) * 10) / 10;
+  const Percentiles pct(lat);
+  out["latency_us_p50"] = round_to(pct.at(0.50), 1);
+  out["latency_us_p99"] = round_to(pct.at(0.99), 1);
+  out["latency_us_max"] = round_to(pct.at(1.0), 1);
   std::cout << out.dump() << std::endl;
   return 0;
 }

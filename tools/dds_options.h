@@ -3,9 +3,11 @@
 
 #include <CLI/CLI.hpp>
 #include <fstream>
+#include <memory>
 #include <sstream>
 #include <string>
 
+#include "quiver/agents/agent.h"
 #include "quiver/agents/dds_transport.h"
 #include "quiver/result.h"
 
@@ -25,8 +27,9 @@ struct DdsFlags {
     cmd->add_option("--loss-permille", loss_permille, "testing: Cyclone drops this share of sent packets")
         ->check(CLI::Range(0, 999));
   }
-  Result<agents::DdsConfig> resolve() const {
-    agents::DdsConfig c;
+  /// Sets the fields of `c` these flags choose (domain, configuration source, loss); leaves the
+  /// rest.
+  Status apply_to(agents::DdsConfig& c) const {
     c.domain = domain;
     c.xmit_loss_permille = loss_permille;
     if (config == "loopback") {
@@ -41,7 +44,12 @@ struct DdsFlags {
       c.source = agents::DdsConfig::Source::kXml;
       c.xml = ss.str();
     }
-    return c;
+    return {};
+  }
+  /// An agent on the chosen domain and configuration; the other options come from `o`.
+  Result<std::unique_ptr<agents::Agent>> create_agent(agents::AgentOptions o) const {
+    if (Status s = apply_to(o.dds); !s.ok()) return s.error();
+    return agents::Agent::create(o);
   }
 };
 

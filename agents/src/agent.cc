@@ -54,7 +54,8 @@ void Agent::spin_once(std::int64_t max_wait_ns) {
                     [&](const PeerId& p) { replicator_->on_peer_lost(p); });
   // A newcomer matched: announce ourselves now so it does not wait for a heartbeat.
   if (transport_->take_new_match()) replicator_->announce();
-  std::deque<std::function<void()>> tasks;
+  std::vector<std::function<void()>>
+      tasks;  // empty vectors own no memory: nothing allocated when idle
   {
     std::lock_guard<std::mutex> lock(mu_);
     tasks.swap(posted_);

@@ -6,6 +6,7 @@
 #include <cstdlib>
 #include <map>
 #include <mutex>
+#include <type_traits>
 #include <vector>
 
 #include "quiver_wire.h"
@@ -67,29 +68,29 @@ std::atomic<dds_domainid_t> g_next_private{0x4000};
 quiver_wire_Replica to_wire(const PeerId& p) { return quiver_wire_Replica{p.agent, p.incarnation}; }
 PeerId from_wire(const quiver_wire_Replica& r) { return PeerId{r.agent, r.incarnation}; }
 
-/// Holds the arrays a context points into while a sample is written.
+/// Holds the arrays a context points into while a sample is written. Reused from sample to
+/// sample: after the first few, building allocates nothing.
 struct RangesOut {
   std::vector<quiver_wire_ReplicaRanges> replicas;
-  std::vector<std::vector<quiver_wire_SeqRange>> ranges;
+  std::vector<quiver_wire_SeqRange> flat;  // every replica's ranges, one after the other
+  std::vector<std::size_t> starts;         // where each replica's ranges begin in `flat`
 
   dds_sequence_quiver_wire_ReplicaRanges build(const crdt::CausalContext& c) {
     replicas.clear();
-    ranges.clear();
-    PeerId cur{};
-    bool first = true;
+    flat.clear();
+    starts.clear();
     c.for_each_range([&](const PeerId& r, std::uint64_t lo, std::uint64_t hi) {
-      if (first || !(r == cur)) {
+      if (replicas.empty() || !(from_wire(replicas.back().replica) == r)) {
         replicas.push_back(quiver_wire_ReplicaRanges{to_wire(r), {}});
-        ranges.emplace_back();
-        cur = r;
-        first = false;
+        starts.push_back(flat.size());
       }
-      ranges.back().push_back(quiver_wire_SeqRange{lo, hi});
+      flat.push_back(quiver_wire_SeqRange{lo, hi});
     });
-    for (std::size_t i = 0; i < replicas.size(); ++i) {
+    for (std::size_t i = 0; i < replicas.size(); ++i) {  // `flat` is final now: point into it
+      const std::size_t end = i + 1 < starts.size() ? starts[i + 1] : flat.size();
       auto& s = replicas[i].ranges;
-      s._length = s._maximum = static_cast<std::uint32_t>(ranges[i].size());
-      s._buffer = ranges[i].data();
+      s._length = s._maximum = static_cast<std::uint32_t>(end - starts[i]);
+      s._buffer = flat.data() + starts[i];
       s._release = false;
     }
     dds_sequence_quiver_wire_ReplicaRanges out{};
@@ -157,9 +158,11 @@ struct DdsTransport::Impl {
   bool shared_domain = false;
   Entity private_domain;
   Entity participant;
-  Entity topics[5];
-  Entity w_summary, w_delta, w_pull, w_state, w_bye;
-  Entity r_summary, r_delta, r_pull, r_state, r_bye;
+  // One topic, writer and reader per message kind, indexed by Kind.
+  enum Kind { kSummary, kDelta, kPull, kState, kBye, kKinds };
+  Entity topics[kKinds];
+  Entity writers[kKinds];
+  Entity readers[kKinds];
   Entity waitset;
   Entity guard;
   std::uint32_t matched_seen = 0;
@@ -230,15 +233,6 @@ Result<std::unique_ptr<DdsTransport>> DdsTransport::create(const PeerId& self, c
   if (pp < 0) return dds_error("DdsTransport: dds_create_participant", pp);
   d.participant = Entity(pp);
 
-  const dds_topic_descriptor_t* descs[5] = {&quiver_wire_Summary_desc, &quiver_wire_Delta_desc, &quiver_wire_Pull_desc,
-                                            &quiver_wire_StateChunk_desc, &quiver_wire_Bye_desc};
-  const char* names[5] = {"quiver_summary", "quiver_delta", "quiver_pull", "quiver_state", "quiver_bye"};
-  for (int i = 0; i < 5; ++i) {
-    dds_entity_t tp = dds_create_topic(pp, descs[i], names[i], nullptr, nullptr);
-    if (tp < 0) return dds_error(std::string("DdsTransport: dds_create_topic(") + names[i] + ")", tp);
-    d.topics[i] = Entity(tp);
-  }
-
   // Heartbeats: the latest per sender is all that matters.
   Qos summary;
   dds_qset_reliability(summary.q, DDS_RELIABILITY_RELIABLE, DDS_MSECS(10));
@@ -251,23 +245,24 @@ Result<std::unique_ptr<DdsTransport>> DdsTransport::create(const PeerId& self, c
   dds_qset_resource_limits(reliable.q, 100000, DDS_LENGTH_UNLIMITED, DDS_LENGTH_UNLIMITED);
   dds_qset_ignorelocal(reliable.q, DDS_IGNORELOCAL_PARTICIPANT);
 
-  auto writer = [&](int i, const Qos& q, Entity& out) -> Status {
-    dds_entity_t w = dds_create_writer(pp, d.topics[i].get(), q.q, nullptr);
-    if (w < 0) return dds_error(std::string("DdsTransport: dds_create_writer(") + names[i] + ")", w);
-    out = Entity(w);
-    return {};
-  };
-  auto reader = [&](int i, const Qos& q, Entity& out) -> Status {
-    dds_entity_t r = dds_create_reader(pp, d.topics[i].get(), q.q, nullptr);
-    if (r < 0) return dds_error(std::string("DdsTransport: dds_create_reader(") + names[i] + ")", r);
-    out = Entity(r);
-    return {};
-  };
-  for (Status s : {writer(0, summary, d.w_summary), writer(1, reliable, d.w_delta), writer(2, reliable, d.w_pull),
-                   writer(3, reliable, d.w_state), writer(4, reliable, d.w_bye), reader(0, summary, d.r_summary),
-                   reader(1, reliable, d.r_delta), reader(2, reliable, d.r_pull), reader(3, reliable, d.r_state),
-                   reader(4, reliable, d.r_bye)})
-    if (!s.ok()) return s.error();
+  const dds_topic_descriptor_t* descs[Impl::kKinds] = {
+      &quiver_wire_Summary_desc, &quiver_wire_Delta_desc, &quiver_wire_Pull_desc,
+      &quiver_wire_StateChunk_desc, &quiver_wire_Bye_desc};
+  const char* names[Impl::kKinds] = {"quiver_summary", "quiver_delta", "quiver_pull",
+                                     "quiver_state", "quiver_bye"};
+  for (int i = 0; i < Impl::kKinds; ++i) {
+    const std::string what = std::string("(") + names[i] + ")";
+    dds_entity_t tp = dds_create_topic(pp, descs[i], names[i], nullptr, nullptr);
+    if (tp < 0) return dds_error("DdsTransport: dds_create_topic" + what, tp);
+    d.topics[i] = Entity(tp);
+    const Qos& q = i == Impl::kSummary ? summary : reliable;
+    dds_entity_t w = dds_create_writer(pp, tp, q.q, nullptr);
+    if (w < 0) return dds_error("DdsTransport: dds_create_writer" + what, w);
+    d.writers[i] = Entity(w);
+    dds_entity_t r = dds_create_reader(pp, tp, q.q, nullptr);
+    if (r < 0) return dds_error("DdsTransport: dds_create_reader" + what, r);
+    d.readers[i] = Entity(r);
+  }
 
   dds_entity_t ws = dds_create_waitset(pp);
   if (ws < 0) return dds_error("DdsTransport: dds_create_waitset", ws);
@@ -277,16 +272,16 @@ Result<std::unique_ptr<DdsTransport>> DdsTransport::create(const PeerId& self, c
   d.guard = Entity(gc);
   dds_return_t rc = dds_waitset_attach(ws, gc, 0);
   if (rc < 0) return dds_error("DdsTransport: dds_waitset_attach(guard)", rc);
-  for (Entity* r : {&d.r_summary, &d.r_delta, &d.r_pull, &d.r_state, &d.r_bye}) {
+  for (Entity* r = d.readers; r != d.readers + Impl::kKinds; ++r) {
     // Data available, or (for summaries) an instance state change.
     rc = dds_set_status_mask(r->get(), DDS_DATA_AVAILABLE_STATUS);
     if (rc < 0) return dds_error("DdsTransport: dds_set_status_mask", rc);
     rc = dds_waitset_attach(ws, r->get(), r->get());
     if (rc < 0) return dds_error("DdsTransport: dds_waitset_attach(reader)", rc);
   }
-  rc = dds_set_status_mask(d.w_summary.get(), DDS_PUBLICATION_MATCHED_STATUS);
+  rc = dds_set_status_mask(d.writers[Impl::kSummary].get(), DDS_PUBLICATION_MATCHED_STATUS);
   if (rc < 0) return dds_error("DdsTransport: dds_set_status_mask(writer)", rc);
-  rc = dds_waitset_attach(ws, d.w_summary.get(), d.w_summary.get());
+  rc = dds_waitset_attach(ws, d.writers[Impl::kSummary].get(), d.writers[Impl::kSummary].get());
   if (rc < 0) return dds_error("DdsTransport: dds_waitset_attach(writer)", rc);
   return t;
 }
@@ -313,7 +308,7 @@ void DdsTransport::send(const Envelope& e) {
             s.name = const_cast<char*>(msg.name.c_str());
             s.observer = msg.observer;
             s.applied = d.ranges_a.build(msg.applied);
-            write(d.w_summary, &s);
+            write(d.writers[Impl::kSummary], &s);
           } else if constexpr (std::is_same_v<T, DeltaMsg>) {
             quiver_wire_Delta s{};
             s.sender = d.self;
@@ -322,7 +317,7 @@ void DdsTransport::send(const Envelope& e) {
             s.lo = msg.lo;
             s.hi = msg.hi;
             s.payload = octets(*msg.payload);
-            write(d.w_delta, &s);
+            write(d.writers[Impl::kDelta], &s);
           } else if constexpr (std::is_same_v<T, PullMsg>) {
             quiver_wire_Pull s{};
             s.sender = d.self;
@@ -330,7 +325,7 @@ void DdsTransport::send(const Envelope& e) {
             s.request = msg.request;
             s.applied = d.ranges_a.build(msg.applied);
             s.context = d.ranges_b.build(msg.context);
-            write(d.w_pull, &s);
+            write(d.writers[Impl::kPull], &s);
           } else if constexpr (std::is_same_v<T, StateMsg>) {
             quiver_wire_StateChunk s{};
             s.sender = d.self;
@@ -340,11 +335,11 @@ void DdsTransport::send(const Envelope& e) {
             s.count = msg.count;
             s.applied = d.ranges_a.build(msg.applied);
             s.payload = octets(*msg.chunk);
-            write(d.w_state, &s);
+            write(d.writers[Impl::kState], &s);
           } else {
             quiver_wire_Bye s{};
             s.sender = d.self;
-            write(d.w_bye, &s);
+            write(d.writers[Impl::kBye], &s);
           }
         },
         m);
@@ -368,7 +363,8 @@ void DdsTransport::wake() { dds_set_guardcondition(impl_->guard.get(), true); }
 
 bool DdsTransport::take_new_match() {
   dds_publication_matched_status_t st;
-  if (dds_get_publication_matched_status(impl_->w_summary.get(), &st) < 0) return false;
+  if (dds_get_publication_matched_status(impl_->writers[Impl::kSummary].get(), &st) < 0)
+    return false;
   bool fresh = st.total_count != impl_->matched_seen;
   impl_->matched_seen = st.total_count;
   return fresh;
@@ -385,7 +381,7 @@ void DdsTransport::dispose_self() {
   quiver_wire_Summary key{};
   key.sender_agent = impl_->self.agent;
   key.sender_incarnation = impl_->self.incarnation;
-  dds_dispose(impl_->w_summary.get(), &key);
+  dds_dispose(impl_->writers[Impl::kSummary].get(), &key);
 }
 
 void DdsTransport::drain(const std::function<void(const Envelope&)>& on_envelope,
@@ -398,7 +394,10 @@ void DdsTransport::drain(const std::function<void(const Envelope&)>& on_envelope
   void* samples[kMax];
   dds_sample_info_t infos[kMax];
   const PeerId self = self_;
-  auto for_us = [&](const quiver_wire_Replica& to) { return (to.agent == 0 && to.incarnation == 0) || from_wire(to) == self; };
+  auto for_us = [&](const quiver_wire_Replica& to) {
+    const PeerId t = from_wire(to);
+    return t.is_null() || t == self;
+  };
 
   auto take_all = [&](const Entity& r, auto&& handle) {
     if (!d.all_triggered &&
@@ -415,12 +414,13 @@ void DdsTransport::drain(const std::function<void(const Envelope&)>& on_envelope
     }
   };
 
-  take_all(d.r_summary, [&](void* p, const dds_sample_info_t& info) {
+  take_all(d.readers[Impl::kSummary], [&](void* p, const dds_sample_info_t& info) {
     const auto* s = static_cast<const quiver_wire_Summary*>(p);
     if (!info.valid_data) {
       if (info.instance_state != DDS_IST_ALIVE) {
         quiver_wire_Summary key{};
-        if (dds_instance_get_key(d.r_summary.get(), info.instance_handle, &key) == DDS_RETCODE_OK) {
+        if (dds_instance_get_key(d.readers[Impl::kSummary].get(), info.instance_handle, &key) ==
+            DDS_RETCODE_OK) {
           PeerId lost{key.sender_agent, key.sender_incarnation};
           dds_sample_free(&key, &quiver_wire_Summary_desc, DDS_FREE_CONTENTS);
           if (!(lost == self)) {
@@ -440,46 +440,47 @@ void DdsTransport::drain(const std::function<void(const Envelope&)>& on_envelope
     e.messages.emplace_back(std::move(m));
     on_envelope(e);
   });
-  take_all(d.r_delta, [&](void* p, const dds_sample_info_t& info) {
-    if (!info.valid_data) return;
-    const auto* s = static_cast<const quiver_wire_Delta*>(p);
-    if (!for_us(s->destination)) return;
-    Envelope e;
-    e.from = from_wire(s->sender);
-    e.to = from_wire(s->destination);
-    e.messages.emplace_back(DeltaMsg{from_wire(s->origin), s->lo, s->hi, copy_octets(s->payload)});
-    on_envelope(e);
-  });
-  take_all(d.r_pull, [&](void* p, const dds_sample_info_t& info) {
-    if (!info.valid_data) return;
-    const auto* s = static_cast<const quiver_wire_Pull*>(p);
-    if (!for_us(s->destination)) return;
-    Envelope e;
-    e.from = from_wire(s->sender);
-    e.to = from_wire(s->destination);
-    PullMsg m;
-    m.request = s->request;
-    if (!read_ranges(s->applied, m.applied) || !read_ranges(s->context, m.context)) return;
-    e.messages.emplace_back(std::move(m));
-    on_envelope(e);
-  });
-  take_all(d.r_state, [&](void* p, const dds_sample_info_t& info) {
-    if (!info.valid_data) return;
-    const auto* s = static_cast<const quiver_wire_StateChunk*>(p);
-    if (!for_us(s->destination)) return;
-    Envelope e;
-    e.from = from_wire(s->sender);
-    e.to = from_wire(s->destination);
-    StateMsg m;
-    m.request = s->request;
-    m.index = s->index;
-    m.count = s->count;
-    if (!read_ranges(s->applied, m.applied)) return;
-    m.chunk = copy_octets(s->payload);
-    e.messages.emplace_back(std::move(m));
-    on_envelope(e);
-  });
-  take_all(d.r_bye, [&](void* p, const dds_sample_info_t& info) {
+  // Point-to-point topics: a sample addressed to someone else is skipped; `build` fills the
+  // envelope's message and says whether the sample was well formed.
+  auto take_addressed = [&](const Entity& r, auto type, auto&& build) {
+    using T = typename decltype(type)::type;
+    take_all(r, [&](void* p, const dds_sample_info_t& info) {
+      if (!info.valid_data) return;
+      const T& s = *static_cast<const T*>(p);
+      if (!for_us(s.destination)) return;
+      Envelope e;
+      e.from = from_wire(s.sender);
+      e.to = from_wire(s.destination);
+      if (build(s, e)) on_envelope(e);
+    });
+  };
+  take_addressed(
+      d.readers[Impl::kDelta], std::type_identity<quiver_wire_Delta>{},
+      [&](const quiver_wire_Delta& s, Envelope& e) {
+        e.messages.emplace_back(DeltaMsg{from_wire(s.origin), s.lo, s.hi, copy_octets(s.payload)});
+        return true;
+      });
+  take_addressed(d.readers[Impl::kPull], std::type_identity<quiver_wire_Pull>{},
+                 [&](const quiver_wire_Pull& s, Envelope& e) {
+                   PullMsg m;
+                   m.request = s.request;
+                   if (!read_ranges(s.applied, m.applied) || !read_ranges(s.context, m.context))
+                     return false;
+                   e.messages.emplace_back(std::move(m));
+                   return true;
+                 });
+  take_addressed(d.readers[Impl::kState], std::type_identity<quiver_wire_StateChunk>{},
+                 [&](const quiver_wire_StateChunk& s, Envelope& e) {
+                   StateMsg m;
+                   m.request = s.request;
+                   m.index = s.index;
+                   m.count = s.count;
+                   if (!read_ranges(s.applied, m.applied)) return false;
+                   m.chunk = copy_octets(s.payload);
+                   e.messages.emplace_back(std::move(m));
+                   return true;
+                 });
+  take_all(d.readers[Impl::kBye], [&](void* p, const dds_sample_info_t& info) {
     if (!info.valid_data) return;
     const auto* s = static_cast<const quiver_wire_Bye*>(p);
     Envelope e;

@@ -195,9 +195,7 @@ void Replicator::handle(const PeerId& from, const DeltaMsg& m) {
     return reject(make_error(ErrorCode::kTooLarge, "delta " + m.origin.to_string() + "#" + std::to_string(m.lo) +
                                                        " from " + from.to_string() + " claims " +
                                                        std::to_string(m.hi - m.lo + 1) + " sequence numbers"));
-  crdt::CausalContext range;
-  range.add_range(m.origin, m.lo, m.hi);
-  if (applied_.includes(range)) {
+  if (applied_.includes(m.origin, m.lo, m.hi)) {
     ++stats_.deltas_duplicate;
     return;
   }
@@ -325,7 +323,6 @@ void Replicator::handle(const PeerId& from, const StateMsg& m) {
   ++stats_.states_applied;
   stats_.state_bytes_received += all.size();
   if (pulling_ && pull_target_ == from) pulling_ = false;
-  pull_timeouts_in_a_row_ = 0;
   gap_pending_ = false;
 }
 
@@ -355,19 +352,15 @@ void Replicator::evict_front() {
 }
 
 void Replicator::trim_buffer() {
-  // Drop what every live peer already holds: acknowledged by their summaries. Cheap per entry
-  // (a peer's contiguous prefix usually answers), so a large buffer does not stall the thread.
+  // Drop what every live peer already holds: acknowledged by their summaries. No allocation per
+  // entry, so a large buffer does not stall the thread.
   std::vector<const Peer*> live;
   for (const auto& [id, p] : peers_)
     if (p.info.alive) live.push_back(&p);
   if (live.empty()) return;
   auto acked = [&](const Buffered& e) {
-    for (const Peer* p : live) {
-      if (p->applied.contiguous(e.origin) >= e.hi) continue;
-      crdt::CausalContext range;
-      range.add_range(e.origin, e.lo, e.hi);
-      if (!p->applied.includes(range)) return false;
-    }
+    for (const Peer* p : live)
+      if (!p->applied.includes(e.origin, e.lo, e.hi)) return false;
     return true;
   };
   for (auto it = buffer_.begin(); it != buffer_.end();) {
@@ -434,8 +427,7 @@ void Replicator::tick(std::int64_t now_ns) {
     if (pick) {
       pull_from(*pick);
     } else if (gap_pending_ && now_ - gap_since_ns_ >= opt_.gap_grace_ns) {
-      auto it = peers_.find(gap_peer_);
-      if (it != peers_.end() && it->second.info.alive) pull_from(gap_peer_);
+      if (peer_alive(gap_peer_)) pull_from(gap_peer_);
       gap_pending_ = false;
     }
   }

@@ -82,24 +82,21 @@ void CausalContext::join(const CausalContext& other) {
   });
 }
 
+bool CausalContext::includes(const ReplicaId& r, std::uint64_t lo, std::uint64_t hi) const {
+  const Entry* e = find(r);
+  if (e == nullptr) return false;
+  if (hi <= e->max) return true;
+  const std::uint64_t from = std::max(lo, e->max + 1);
+  auto it = e->cloud.upper_bound(from);
+  if (it == e->cloud.begin()) return false;
+  --it;
+  return it->first <= from && hi <= it->second;
+}
+
 bool CausalContext::includes(const CausalContext& other) const {
   bool all = true;
   other.for_each_range([&](const ReplicaId& r, std::uint64_t lo, std::uint64_t hi) {
-    if (!all) return;
-    const Entry* e = find(r);
-    if (e == nullptr) {
-      all = false;
-      return;
-    }
-    if (hi <= e->max) return;
-    std::uint64_t from = std::max(lo, e->max + 1);
-    auto it = e->cloud.upper_bound(from);
-    if (it == e->cloud.begin()) {
-      all = false;
-      return;
-    }
-    --it;
-    if (!(it->first <= from && hi <= it->second)) all = false;
+    all = all && includes(r, lo, hi);
   });
   return all;
 }

@@ -96,6 +96,14 @@ TEST(CausalContextTest, MatchesASetModel) {
     EXPECT_TRUE(u.includes(a));
     EXPECT_TRUE(u.includes(b));
     EXPECT_EQ(a.includes(b), std::includes(ma.begin(), ma.end(), mb.begin(), mb.end())) << "seed " << base + s;
+    for (int r = 0; r < 3; ++r)
+      for (std::uint64_t lo = 1; lo < 50; ++lo)
+        for (std::uint64_t hi = lo; hi < lo + 8; ++hi) {
+          bool all = true;
+          for (auto x = lo; x <= hi; ++x) all = all && ma.count({r, x}) == 1;
+          ASSERT_EQ(a.includes(rep(r), lo, hi), all)
+              << "seed " << base + s << " range " << lo << ".." << hi;
+        }
     CausalContext u2 = b;
     u2.join(a);
     EXPECT_EQ(u, u2);

@@ -7,11 +7,11 @@
 
 #include <atomic>
 #include <cstdint>
-#include <deque>
 #include <functional>
 #include <memory>
 #include <mutex>
 #include <string>
+#include <vector>
 
 #include "quiver/agents/dds_transport.h"
 #include "quiver/agents/replicator.h"
@@ -72,7 +72,7 @@ class Agent {
   std::unique_ptr<Replicator> replicator_;
   std::int64_t next_tick_ = 0;
   std::mutex mu_;
-  std::deque<std::function<void()>> posted_;
+  std::vector<std::function<void()>> posted_;  // guarded by mu_
   std::atomic<bool> stop_{false};
 };
 

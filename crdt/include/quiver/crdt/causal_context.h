@@ -32,6 +32,8 @@ class CausalContext {
   void join(const CausalContext& other);
   /// True if every dot of `other` is in this context.
   bool includes(const CausalContext& other) const;
+  /// True if every counter of `r` in [lo, hi] is present (lo <= hi).
+  bool includes(const ReplicaId& r, std::uint64_t lo, std::uint64_t hi) const;
   /// Dots of this context that `other` lacks.
   CausalContext minus(const CausalContext& other) const;
 
