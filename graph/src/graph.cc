@@ -151,7 +151,7 @@ bool Graph::Impl::insert_sample(NodeRec* r, const RtSample& s) {
   h.insert(pos, s);
   if (r->rt_parent && (s.epoch == r->rt_epoch || evicted_current) && tracker.enabled) {
     auto* t = tracker.touch_edge(EdgeKey{r->rt_parent->id, r->id, symbols::rt()}, true);
-    add_unique(t->attrs, Symbol("pose"));
+    add_unique(t->attrs, symbols::pose());
   }
   return true;
 }

@@ -1,6 +1,7 @@
 #pragma once
 // Private: the records behind quiver::graph::Graph.
 
+#include <algorithm>
 #include <functional>
 #include <string>
 #include <unordered_map>
@@ -150,6 +151,8 @@ struct Graph::Impl {
   FenceProvider fence_of;
   MergeObserver merge_observer;
   std::uint64_t fence(NodeId n) const { return fence_of ? fence_of(n) : 0; }
+  /// An edge attribute carries the higher fence of its two ends.
+  std::uint64_t edge_fence(const EdgeKey& k) const { return std::max(fence(k.from), fence(k.to)); }
 
   // Events.
   std::vector<std::pair<SubscriptionId, ChangeCallback>> subscribers;

@@ -196,6 +196,7 @@ void Graph::Impl::local_insert_edge(const EdgeKey& key, const std::vector<std::p
   }
   e.attrs.erase(std::remove_if(e.attrs.begin(), e.attrs.end(), [](const AttrSlot& s) { return s.reg.empty(); }),
                 e.attrs.end());
+  const std::uint64_t attr_fence = attrs.empty() ? 0 : edge_fence(key);
   for (const auto& [name, v] : attrs) {
     AttrSlot* slot = find_slot(e.attrs, name);
     if (slot == nullptr) {
@@ -204,7 +205,7 @@ void Graph::Impl::local_insert_edge(const EdgeKey& key, const std::vector<std::p
     }
     Dot ad = mint();
     touch_edge_attr(e, name);
-    out.attrs.push_back(record_write(out, *slot, &ad, &v, std::max(fence(key.from), fence(key.to))));
+    out.attrs.push_back(record_write(out, *slot, &ad, &v, attr_fence));
   }
   op.attrs.end = u32(out.attrs.size());
   out.edges.push_back(op);
@@ -240,7 +241,7 @@ void Graph::Impl::local_write_edge_attr(EdgeRec* e, Symbol name, const Value* v)
   touch_edge_attr(*e, name);
   Dot d = v ? mint() : Dot{};
   auto& op = out_edge(e->key);
-  out.attrs.push_back(record_write(out, *slot, &d, v, v ? std::max(fence(e->key.from), fence(e->key.to)) : 0));
+  out.attrs.push_back(record_write(out, *slot, &d, v, v ? edge_fence(e->key) : 0));
   op.attrs.end = u32(out.attrs.size());
   if (v == nullptr) e->attrs.erase(e->attrs.begin() + (slot - e->attrs.data()));
 }

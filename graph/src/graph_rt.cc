@@ -88,14 +88,14 @@ void Graph::Impl::recompute_rt(std::vector<std::pair<NodeId, NodeId>>*) {
     if (o.parent == c->rt_parent) {
       if (c->rt_parent && !(o.epoch == c->rt_epoch)) {
         auto* t = tracker.touch_edge(EdgeKey{c->rt_parent->id, c->id, symbols::rt()}, true);
-        add_unique(t->attrs, Symbol("pose"));
+        add_unique(t->attrs, symbols::pose());
       }
       continue;
     }
     if (o.parent) tracker.touch_edge(EdgeKey{o.parent->id, c->id, symbols::rt()}, true);
     // "pose" makes a detach-and-reattach within one change an update rather than nothing.
     if (c->rt_parent)
-      add_unique(tracker.touch_edge(EdgeKey{c->rt_parent->id, c->id, symbols::rt()}, false)->attrs, Symbol("pose"));
+      add_unique(tracker.touch_edge(EdgeKey{c->rt_parent->id, c->id, symbols::rt()}, false)->attrs, symbols::pose());
   }
 }
 
@@ -110,7 +110,7 @@ void Graph::Impl::link_rt(NodeRec* c, NodeRec* parent) {
   if (parent) {
     parent->rt_children.push_back(c);
     if (tracker.enabled)
-      add_unique(tracker.touch_edge(EdgeKey{parent->id, c->id, symbols::rt()}, false)->attrs, Symbol("pose"));
+      add_unique(tracker.touch_edge(EdgeKey{parent->id, c->id, symbols::rt()}, false)->attrs, symbols::pose());
   }
 }
 
@@ -149,7 +149,7 @@ void Graph::Impl::claim_updated(NodeRec* c) {
   c->rt_base_stamp = cl.stamp;
   rt_max_order = w->dot;
   if (tracker.enabled && p && p == old_parent && !(old_epoch == c->rt_epoch))
-    add_unique(tracker.touch_edge(EdgeKey{p->id, c->id, symbols::rt()}, true)->attrs, Symbol("pose"));
+    add_unique(tracker.touch_edge(EdgeKey{p->id, c->id, symbols::rt()}, true)->attrs, symbols::pose());
 }
 
 RtEdge Graph::Impl::current_rt(const NodeRec& r) const {

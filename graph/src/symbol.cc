@@ -75,6 +75,10 @@ Symbol rt() {
   static const Symbol s("RT");
   return s;
 }
+Symbol pose() {
+  static const Symbol s("pose");
+  return s;
+}
 }  // namespace symbols
 
 }  // namespace quiver::graph

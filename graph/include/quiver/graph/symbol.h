@@ -43,6 +43,8 @@ inline bool text_less(Symbol a, Symbol b) { return !(a == b) && a.str() < b.str(
 namespace symbols {
 /// The edge type of kinematic (rigid transform) edges.
 Symbol rt();
+/// The attribute an RT edge's change events name when its pose changed.
+Symbol pose();
 }  // namespace symbols
 
 }  // namespace quiver::graph
