@@ -25,10 +25,13 @@ void Graph::Impl::recompute_rt(std::vector<std::pair<NodeId, NodeId>>*) {
     NodeRec* child;
     NodeRec* parent;
     Dot epoch;
+    std::int64_t base_stamp;
+    Pose base_pose;
   };
   std::vector<Old> old;
   old.reserve(claimants.size());
-  for (NodeRec* c : claimants) old.push_back(Old{c, c->rt_parent, c->rt_epoch});
+  for (NodeRec* c : claimants)
+    old.push_back(Old{c, c->rt_parent, c->rt_epoch, c->rt_base_stamp, c->rt_base_pose});
   for (NodeRec* c : claimants)
     if (c->rt_parent) c->rt_parent->rt_children.clear();
   for (NodeRec* c : claimants) {
@@ -86,7 +89,12 @@ void Graph::Impl::recompute_rt(std::vector<std::pair<NodeId, NodeId>>*) {
   for (const Old& o : old) {
     NodeRec* c = o.child;
     if (o.parent == c->rt_parent) {
-      if (c->rt_parent && !(o.epoch == c->rt_epoch)) {
+      // Same parent: the pose changed if the epoch did, or if the same epoch now comes with
+      // another base (a move that fell back to the parent it had keeps that epoch but brings
+      // the pose the child had when it was made).
+      const bool pose_changed = !(o.epoch == c->rt_epoch) || o.base_stamp != c->rt_base_stamp ||
+                                !(o.base_pose == c->rt_base_pose);
+      if (c->rt_parent && pose_changed) {
         auto* t = tracker.touch_edge(EdgeKey{c->rt_parent->id, c->id, symbols::rt()}, true);
         add_unique(t->attrs, symbols::pose());
       }

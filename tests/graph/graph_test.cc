@@ -317,6 +317,48 @@ TEST(GraphTest, ConcurrentReparentingNeverMakesACycle) {
   EXPECT_EQ(a.g.digest(), b.g.digest());
 }
 
+// A move whose new parent is gone falls back to the parent the child had, with the epoch it had
+// there but the pose it had when the move was made: a pose change the merge must announce even
+// though parent and epoch stay the same.
+TEST(GraphTest, AMoveThatFallsBackAnnouncesThePoseItBrings) {
+  Peer a(1), b(2);
+  NodeId p = a.add("table", "p"), q = a.add("shelf", "q"), c = a.add("mug", "c");
+  {
+    auto tx = a.g.begin();
+    ASSERT_TRUE(tx.set_rt(p, c, at(1), 10).ok());
+    ASSERT_TRUE(tx.commit().ok());
+  }
+  b.receive_all(a);
+  {
+    auto tx = a.g.begin();
+    ASSERT_TRUE(tx.set_rt(p, c, at(2), 20).ok());  // a pose update b will not see
+    ASSERT_TRUE(tx.commit().ok());
+  }
+  {
+    auto tx = a.g.begin();
+    ASSERT_TRUE(tx.set_rt(q, c, at(3), 30).ok());  // the move, made at pose 2
+    ASSERT_TRUE(tx.commit().ok());
+  }
+  {
+    auto tx = b.g.begin();
+    ASSERT_TRUE(tx.delete_node(q).ok());  // concurrently, the new parent goes
+    ASSERT_TRUE(tx.commit().ok());
+  }
+  ASSERT_EQ(b.g.rt_edge(c)->pose.translation[0], 1.0);
+  std::vector<ChangeBatch> seen;
+  b.g.subscribe([&](const ChangeBatch& batch) { seen.push_back(batch); });
+  b.receive(a.outbox.back());
+  ASSERT_EQ(b.g.rt_parent(c), p);
+  EXPECT_EQ(b.g.rt_edge(c)->pose.translation[0], 2.0) << "the pose the move was made at";
+  ASSERT_EQ(seen.size(), 1u);
+  bool announced = false;
+  for (const EdgeChange& e : seen[0].edges)
+    if (e.key == EdgeKey{p, c, symbols::rt()} && e.kind == ChangeKind::kUpdated)
+      announced = std::find(e.attrs.begin(), e.attrs.end(), symbols::pose()) != e.attrs.end();
+  EXPECT_TRUE(announced) << "the merge changed the pose of p -> c without saying so";
+  EXPECT_TRUE(b.g.check_invariants().empty());
+}
+
 TEST(GraphTest, DeletingAParentDetachesItsChildren) {
   Peer a(1);
   NodeId world = a.add("world", "world"), robot = a.add("robot", "robot"), arm = a.add("arm", "arm");
