@@ -44,28 +44,37 @@ class DdsProcessTest : public ::testing::Test {
       }
     }
   }
+  // Polls the agents' status every `interval_ms` until `done()` holds; false on timeout.
+  template <class Pred>
+  static bool poll_until(std::vector<std::unique_ptr<AgentProc>>& agents, int timeout_ms,
+                         int interval_ms, Pred&& done) {
+    auto end = std::chrono::steady_clock::now() + std::chrono::milliseconds(timeout_ms);
+    while (std::chrono::steady_clock::now() < end) {
+      std::this_thread::sleep_for(std::chrono::milliseconds(interval_ms));
+      poll(agents);
+      if (done()) return true;
+    }
+    return false;
+  }
   // Waits until every running agent has stopped writing and reports the same digest, at least
   // `min_nodes` nodes and `peers` live peers; returns that digest or "" on timeout.
   static std::string wait_converged(std::vector<std::unique_ptr<AgentProc>>& agents, int timeout_ms,
                                     std::size_t peers, std::size_t min_nodes = 1) {
-    auto end = std::chrono::steady_clock::now() + std::chrono::milliseconds(timeout_ms);
-    while (std::chrono::steady_clock::now() < end) {
-      std::this_thread::sleep_for(std::chrono::milliseconds(100));
-      poll(agents);
-      std::string d;
-      bool same = true;
+    std::string d;
+    auto same = [&] {
+      d.clear();
       for (auto& a : agents) {
-        if (!a->last.is_object() || a->last["churning"].get<bool>() || a->last["peers"].get<std::size_t>() < peers ||
-            a->last["nodes"].get<std::size_t>() < min_nodes) {
-          same = false;
-          break;
-        }
+        if (!a->last.is_object() || a->last["churning"].get<bool>() ||
+            a->last["peers"].get<std::size_t>() < peers ||
+            a->last["nodes"].get<std::size_t>() < min_nodes)
+          return false;
         std::string x = a->last["digest"];
         if (d.empty()) d = x;
-        same = same && x == d;
+        if (x != d) return false;
       }
-      if (same) return d;
-    }
+      return true;
+    };
+    if (poll_until(agents, timeout_ms, 100, same)) return d;
     for (auto& a : agents)
       std::fprintf(stderr, "  %s: %s\n", a->name.c_str(), a->last.is_object() ? a->last.dump().c_str() : "(no status)");
     return "";
@@ -106,17 +115,12 @@ TEST_F(DdsProcessTest, KilledAgentsRestartUnderNewIncarnationsAndRejoin) {
   for (int i = 0; i < 4; ++i)
     agents.push_back(start("k" + std::to_string(i), domain, {"--churn-hz", "40", "--churn-for", "6", "--seed",
                                                              std::to_string(300 + i)}));
-  {
-    auto end = std::chrono::steady_clock::now() + std::chrono::seconds(30);
-    bool mesh = false;
-    while (!mesh && std::chrono::steady_clock::now() < end) {
-      std::this_thread::sleep_for(std::chrono::milliseconds(50));
-      poll(agents);
-      mesh = true;
-      for (auto& a : agents) mesh = mesh && a->last.is_object() && a->last["peers"] == 3;
-    }
-    ASSERT_TRUE(mesh) << "initial mesh";
-  }
+  const bool mesh = poll_until(agents, 30'000, 50, [&] {
+    for (auto& a : agents)
+      if (!a->last.is_object() || a->last["peers"] != 3) return false;
+    return true;
+  });
+  ASSERT_TRUE(mesh) << "initial mesh";
   std::map<std::string, std::string> before;
   for (auto& a : agents) before[a->name] = a->last["replica"];
   // kill -9 two agents in the middle of their writes.
@@ -129,13 +133,9 @@ TEST_F(DdsProcessTest, KilledAgentsRestartUnderNewIncarnationsAndRejoin) {
     std::vector<std::unique_ptr<AgentProc>> survivors;
     survivors.push_back(std::move(agents[0]));
     survivors.push_back(std::move(agents[2]));
-    auto end = std::chrono::steady_clock::now() + std::chrono::seconds(10);
-    bool noticed = false;
-    while (!noticed && std::chrono::steady_clock::now() < end) {
-      std::this_thread::sleep_for(std::chrono::milliseconds(50));
-      poll(survivors);
-      noticed = survivors[0]->last["peers"] == 1 && survivors[1]->last["peers"] == 1;
-    }
+    const bool noticed = poll_until(survivors, 10'000, 50, [&] {
+      return survivors[0]->last["peers"] == 1 && survivors[1]->last["peers"] == 1;
+    });
     EXPECT_TRUE(noticed) << "survivors should see the killed agents leave";
     agents[0] = std::move(survivors[0]);
     agents[2] = std::move(survivors[1]);
