@@ -121,7 +121,7 @@ Digest128 Graph::digest() const {
       h.str(r.type.str()).str(r.name);
       total += h.digest();
     }
-    total += digest_attrs(r.attrs, 2, [&](Hasher& h) { hash_node_id(h, id); });
+    total += digest_attrs(r.attrs, 2, [&id = id](Hasher& h) { hash_node_id(h, id); });
     for (const auto& e : r.claim) {
       Hasher h(3);
       hash_node_id(h, id);
@@ -152,7 +152,7 @@ Digest128 Graph::digest() const {
       hash_dot(h, x);
       total += h.digest();
     }
-    total += digest_attrs(e.attrs, 6, [&](Hasher& h) { hash_edge_key(h, key); });
+    total += digest_attrs(e.attrs, 6, [&key = key](Hasher& h) { hash_edge_key(h, key); });
   }
   return total;
 }
