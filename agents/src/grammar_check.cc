@@ -28,11 +28,12 @@ namespace {
 
 struct EdgeRef {
   NodeId from, to;
-  std::string label;
+  Symbol label;
+  // By label text, not symbol index (which depends on interning order).
   friend bool operator<(const EdgeRef& a, const EdgeRef& b) {
     if (a.from != b.from) return a.from < b.from;
     if (a.to != b.to) return a.to < b.to;
-    return a.label < b.label;
+    return graph::text_less(a.label, b.label);
   }
   friend bool operator==(const EdgeRef& a, const EdgeRef& b) = default;
 };
@@ -46,12 +47,15 @@ struct Changes {
 };
 
 bool edge_in_pre(const Graph& g, const EdgeRef& e) {
-  if (e.label == "RT") {
+  if (e.label == graph::symbols::rt()) {
     auto p = g.rt_parent(e.to);
     return p && *p == e.from;
   }
-  return g.has_edge(e.from, e.to, Symbol(e.label));
+  return g.has_edge(e.from, e.to, e.label);
 }
+
+// System attributes ("__lock", ...) belong to the runtime, not to the domain grammar.
+bool system_attr(Symbol a) { return a.str().rfind("__", 0) == 0; }
 
 Changes extract(const Grammar& gr, const Graph& g, const std::vector<TxnOp>& ops) {
   Changes c;
@@ -65,8 +69,10 @@ Changes extract(const Grammar& gr, const Graph& g, const std::vector<TxnOp>& ops
     auto it = rt_parent.find(child);
     return it != rt_parent.end() ? it->second : g.rt_parent(child);
   };
-  auto need = [&](bool allowed, const std::string& what) {
-    if (!allowed && c.unruled.empty()) c.unruled = what;
+  const Symbol rt = graph::symbols::rt();
+  // `ok` first: an allowed change builds no message and looks nothing up.
+  auto need = [&](bool ok, const auto& what) {
+    if (!ok && c.unruled.empty()) c.unruled = what();
   };
   for (const TxnOp& op : ops) {
     switch (op.kind) {
@@ -76,44 +82,48 @@ Changes extract(const Grammar& gr, const Graph& g, const std::vector<TxnOp>& ops
         break;
       case TxnOp::Kind::kSetAttr:
       case TxnOp::Kind::kRemoveAttr:
-        // System attributes ("__lock", ...) belong to the runtime, not to the domain grammar.
-        if (op.attr.str().rfind("__", 0) == 0) break;
-        if (!c.created.count(op.node))
-          need(gr.allow_attributes, "attribute '" + op.attr.str() + "' of " + g.name_of(op.node) +
-                                        " changes but the grammar has no 'allow attributes'");
+        need(gr.allow_attributes || system_attr(op.attr) || c.created.count(op.node), [&] {
+          return "attribute '" + op.attr.str() + "' of " + g.name_of(op.node) +
+                 " changes but the grammar has no 'allow attributes'";
+        });
         break;
       case TxnOp::Kind::kInsertEdge: {
-        EdgeRef e{op.node, op.other, op.type.str()};
-        if (present(e) && !op.attrs.empty())
-          need(gr.allow_attributes, "edge attributes change but the grammar has no 'allow attributes'");
+        EdgeRef e{op.node, op.other, op.type};
+        need(gr.allow_attributes || op.attrs.empty() || !present(e), [] {
+          return std::string("edge attributes change but the grammar has no 'allow attributes'");
+        });
         state[e] = true;
         break;
       }
-      case TxnOp::Kind::kDeleteEdge: state[EdgeRef{op.node, op.other, op.type.str()}] = false; break;
-      case TxnOp::Kind::kSetEdgeAttr:
-      case TxnOp::Kind::kRemoveEdgeAttr: {
-        EdgeRef e{op.node, op.other, op.type.str()};
-        if (edge_in_pre(g, e))
-          need(gr.allow_attributes, "edge attribute '" + op.attr.str() + "' changes but the grammar has no 'allow attributes'");
+      case TxnOp::Kind::kDeleteEdge:
+        state[EdgeRef{op.node, op.other, op.type}] = false;
         break;
-      }
+      case TxnOp::Kind::kSetEdgeAttr:
+      case TxnOp::Kind::kRemoveEdgeAttr:
+        need(gr.allow_attributes || !edge_in_pre(g, EdgeRef{op.node, op.other, op.type}), [&] {
+          return "edge attribute '" + op.attr.str() +
+                 "' changes but the grammar has no 'allow attributes'";
+        });
+        break;
       case TxnOp::Kind::kSetRt: {
         auto old = parent_of(op.node);
         if (old && *old == op.other) {
-          if (!c.created.count(op.node))
-            need(gr.allow_rt_poses, "the RT pose of " + g.name_of(op.node) + " changes but the grammar has no 'allow rt-poses'");
+          need(gr.allow_rt_poses || c.created.count(op.node), [&] {
+            return "the RT pose of " + g.name_of(op.node) +
+                   " changes but the grammar has no 'allow rt-poses'";
+          });
           break;
         }
         rt_parent[op.node] = op.other;
         if (gr.allow_rt_moves) break;
-        if (old) state[EdgeRef{*old, op.node, "RT"}] = false;
-        state[EdgeRef{op.other, op.node, "RT"}] = true;
+        if (old) state[EdgeRef{*old, op.node, rt}] = false;
+        state[EdgeRef{op.other, op.node, rt}] = true;
         break;
       }
       case TxnOp::Kind::kRemoveRt: {
         auto old = parent_of(op.node);
         rt_parent[op.node] = std::nullopt;
-        if (old && !gr.allow_rt_moves) state[EdgeRef{*old, op.node, "RT"}] = false;
+        if (old && !gr.allow_rt_moves) state[EdgeRef{*old, op.node, rt}] = false;
         break;
       }
     }
@@ -130,8 +140,9 @@ Changes extract(const Grammar& gr, const Graph& g, const std::vector<TxnOp>& ops
 // The structural changes a delta makes to `g` (the receiver's state before merging it).
 Changes extract_delta(const Grammar& gr, const Graph& g, const graph::GraphDelta& d) {
   Changes c;
-  auto need = [&](bool allowed, const std::string& what) {
-    if (!allowed && c.unruled.empty()) c.unruled = what;
+  const Symbol rt = graph::symbols::rt();
+  auto need = [&](bool ok, const auto& what) {  // as in extract()
+    if (!ok && c.unruled.empty()) c.unruled = what();
   };
   for (const auto& n : d.nodes) {
     if (n.has_header && !g.has_node(n.id) && !g.context().contains(n.id.dot)) c.created[n.id] = n.type.str();
@@ -139,29 +150,34 @@ Changes extract_delta(const Grammar& gr, const Graph& g, const graph::GraphDelta
   }
   for (const auto& n : d.nodes) {
     const bool fresh = c.created.count(n.id) != 0;
-    for (std::uint32_t i = n.attrs.begin; i < n.attrs.end; ++i)
-      if (!fresh && !n.removed && d.attrs[i].name.str().rfind("__", 0) != 0)
-        need(gr.allow_attributes, "attribute '" + d.attrs[i].name.str() + "' changes but the grammar has no 'allow attributes'");
+    if (!gr.allow_attributes && !fresh && !n.removed)
+      for (std::uint32_t i = n.attrs.begin; i < n.attrs.end; ++i)
+        need(system_attr(d.attrs[i].name), [&] {
+          return "attribute '" + d.attrs[i].name.str() +
+                 "' changes but the grammar has no 'allow attributes'";
+        });
     for (std::uint32_t i = n.claim_added.begin; i < n.claim_added.end; ++i) {
       const graph::RtClaim& cl = d.claims[i].value;
       auto old = g.rt_parent(n.id);
       if (old && !cl.parent.is_null() && *old == cl.parent) continue;
       if (gr.allow_rt_moves) continue;
-      if (old) c.removed.push_back(EdgeRef{*old, n.id, "RT"});
-      if (!cl.parent.is_null()) c.added.push_back(EdgeRef{cl.parent, n.id, "RT"});
+      if (old) c.removed.push_back(EdgeRef{*old, n.id, rt});
+      if (!cl.parent.is_null()) c.added.push_back(EdgeRef{cl.parent, n.id, rt});
     }
-    if (!n.samples.empty() && !fresh) need(gr.allow_rt_poses, "an RT pose changes but the grammar has no 'allow rt-poses'");
+    need(gr.allow_rt_poses || n.samples.empty() || fresh,
+         [] { return std::string("an RT pose changes but the grammar has no 'allow rt-poses'"); });
   }
   for (const auto& e : d.edges) {
     if (c.deleted.count(e.key.from) || c.deleted.count(e.key.to)) continue;
     const bool pre = g.has_edge(e.key.from, e.key.to, e.key.type);
-    EdgeRef ref{e.key.from, e.key.to, e.key.type.str()};
+    EdgeRef ref{e.key.from, e.key.to, e.key.type};
     if (!pre && !e.added.empty()) c.added.push_back(ref);
     else if (pre && e.added.empty() && !e.removed.empty()) c.removed.push_back(ref);
-    else if (pre) {
+    else if (pre && !gr.allow_attributes) {
       for (std::uint32_t i = e.attrs.begin; i < e.attrs.end; ++i)
-        if (!d.attrs[i].added.empty())
-          need(gr.allow_attributes, "edge attributes change but the grammar has no 'allow attributes'");
+        need(d.attrs[i].added.empty(), [] {
+          return std::string("edge attributes change but the grammar has no 'allow attributes'");
+        });
     }
   }
   return c;
@@ -173,7 +189,7 @@ std::string describe(const Graph& g, const EdgeRef& e, const std::map<NodeId, st
     if (s.empty()) s = created.count(n) ? "new " + created.at(n) : n.to_string();
     return s;
   };
-  return name(e.from) + " -[" + e.label + "]-> " + name(e.to);
+  return name(e.from) + " -[" + e.label.str() + "]-> " + name(e.to);
 }
 
 std::string describe(const Graph& g, const Changes& c) {
@@ -188,6 +204,20 @@ std::string describe(const Graph& g, const Changes& c) {
 
 // ------------------------------------------------------------------ compiled rules
 
+// A pattern's edges as a formula, and the positive ones (in order), which anchor candidates.
+struct Guard {
+  Formula formula;
+  std::vector<const PatternEdge*> edges;
+};
+Guard guard_of(const Pattern& p);
+
+// A forall effect: its guard, and the edges it removes and adds (the same for every match).
+struct CompiledForall {
+  const ForallEffect* effect = nullptr;
+  Guard guard;
+  std::vector<const PatternEdge*> removed, added;
+};
+
 struct Compiled {
   const Rule* rule = nullptr;
   std::vector<std::string> vars;                  // slot -> variable
@@ -196,11 +226,24 @@ struct Compiled {
   std::vector<int> deleted, created, kept;        // slots
   struct E {
     int from, to;
-    std::string label;
+    Symbol label;
   };
   std::vector<E> removed, added, context, neg_pre, neg_post;
+  std::vector<CompiledForall> foralls;
   std::string signature;
 };
+
+// "from->to(label)", the way messages name a rule's edge.
+std::string edge_text(const Compiled& r, const Compiled::E& e) {
+  return r.vars[e.from] + "->" + r.vars[e.to] + "(" + e.label.str() + ")";
+}
+
+// True if `p` has the (positive) edge `e`.
+bool pattern_has_edge(const Pattern& p, const PatternEdge& e) {
+  for (const auto& x : p.edges)
+    if (!x.negated && x.from == e.from && x.to == e.to && x.label == e.label) return true;
+  return false;
+}
 
 std::string signature(std::vector<std::string> removed, std::vector<std::string> added, std::size_t ndel,
                       std::size_t ncre) {
@@ -226,16 +269,12 @@ Compiled compile(const Rule& r) {
   for (const auto& n : r.lhs.nodes) (r.rhs.node(n.var) ? c.kept : c.deleted).push_back(c.slot[n.var]);
   for (const auto& n : r.rhs.nodes)
     if (!r.lhs.node(n.var)) c.created.push_back(c.slot[n.var]);
-  auto has = [](const Pattern& p, const PatternEdge& e) {
-    for (const auto& x : p.edges)
-      if (!x.negated && x.from == e.from && x.to == e.to && x.label == e.label) return true;
-    return false;
-  };
   std::vector<std::string> rl, al;
   for (const auto& e : r.lhs.edges) {
-    Compiled::E ce{c.slot[e.from], c.slot[e.to], e.label};
+    Compiled::E ce{c.slot[e.from], c.slot[e.to], e.symbol};
     if (e.negated) c.neg_pre.push_back(ce);
-    else if (has(r.rhs, e)) c.context.push_back(ce);
+    else if (pattern_has_edge(r.rhs, e))
+      c.context.push_back(ce);
     else {
       // An edge of a deleted node goes with the node; it is matched, not counted as a removal.
       bool with_node = !r.rhs.node(e.from) || !r.rhs.node(e.to);
@@ -247,12 +286,20 @@ Compiled compile(const Rule& r) {
     }
   }
   for (const auto& e : r.rhs.edges) {
-    Compiled::E ce{c.slot[e.from], c.slot[e.to], e.label};
+    Compiled::E ce{c.slot[e.from], c.slot[e.to], e.symbol};
     if (e.negated) c.neg_post.push_back(ce);
-    else if (!has(r.lhs, e)) {
+    else if (!pattern_has_edge(r.lhs, e)) {
       c.added.push_back(ce);
       al.push_back(e.label);
     }
+  }
+  for (const ForallEffect& fe : r.foralls) {
+    CompiledForall cf{&fe, guard_of(fe.lhs), {}, {}};
+    for (const auto& e : fe.lhs.edges)
+      if (!e.negated && !pattern_has_edge(fe.rhs, e)) cf.removed.push_back(&e);
+    for (const auto& e : fe.rhs.edges)
+      if (!e.negated && !pattern_has_edge(fe.lhs, e)) cf.added.push_back(&e);
+    c.foralls.push_back(std::move(cf));
   }
   c.signature = signature(rl, al, c.deleted.size(), c.created.size());
   return c;
@@ -308,11 +355,11 @@ std::vector<NodeId> candidates(const Graph& g, const TypeSystem& types, const st
   for (const PatternEdge* e : edges) {
     if (e->negated) continue;
     if (e->to == var && b.count(e->from)) {
-      for (const EdgeKey& k : g.edges_from(b.at(e->from), Symbol(e->label))) out.push_back(k.to);
+      for (const EdgeKey& k : g.edges_from(b.at(e->from), e->symbol)) out.push_back(k.to);
       break;
     }
     if (e->from == var && b.count(e->to)) {
-      for (const EdgeKey& k : g.edges_to(b.at(e->to), Symbol(e->label))) out.push_back(k.from);
+      for (const EdgeKey& k : g.edges_to(b.at(e->to), e->symbol)) out.push_back(k.from);
       break;
     }
   }
@@ -336,25 +383,35 @@ void collect_edges(const Formula& f, std::vector<const PatternEdge*>& out) {
 bool eval(const Graph& g, const TypeSystem& types, const Formula& f, Binding& b);
 
 // Enumerates bindings of `vars` (injective, distinct from the bound nodes) for which `guard`
-// holds; calls `each` until it returns false. Returns false if stopped early.
-bool enumerate(const Graph& g, const TypeSystem& types, const std::vector<PatternNode>& vars, std::size_t i,
-               const Formula& guard, Binding& b, const std::function<bool(Binding&)>& each) {
+// holds; calls `each` until it returns false. Returns false if stopped early. `edges` are the
+// guard's (collect_edges), which anchor the candidates.
+bool enumerate(const Graph& g, const TypeSystem& types, const std::vector<PatternNode>& vars,
+               std::size_t i, const Formula& guard, const std::vector<const PatternEdge*>& edges,
+               Binding& b, const std::function<bool(Binding&)>& each) {
   if (i == vars.size()) {
     if (!eval(g, types, guard, b)) return true;
     return each(b);
   }
-  std::vector<const PatternEdge*> edges;
-  collect_edges(guard, edges);
   for (NodeId n : candidates(g, types, vars[i].var, vars[i].type, edges, b)) {
     bool used = false;
     for (const auto& [v, m] : b) used = used || m == n;
     if (used) continue;
     b[vars[i].var] = n;
-    bool go_on = enumerate(g, types, vars, i + 1, guard, b, each);
+    bool go_on = enumerate(g, types, vars, i + 1, guard, edges, b, each);
     b.erase(vars[i].var);
     if (!go_on) return false;
   }
   return true;
+}
+bool enumerate(const Graph& g, const TypeSystem& types, const std::vector<PatternNode>& vars,
+               const Guard& guard, Binding& b, const std::function<bool(Binding&)>& each) {
+  return enumerate(g, types, vars, 0, guard.formula, guard.edges, b, each);
+}
+bool enumerate(const Graph& g, const TypeSystem& types, const std::vector<PatternNode>& vars,
+               const Formula& guard, Binding& b, const std::function<bool(Binding&)>& each) {
+  std::vector<const PatternEdge*> edges;
+  collect_edges(guard, edges);
+  return enumerate(g, types, vars, 0, guard, edges, b, each);
 }
 
 bool eval(const Graph& g, const TypeSystem& types, const Formula& f, Binding& b) {
@@ -371,17 +428,19 @@ bool eval(const Graph& g, const TypeSystem& types, const Formula& f, Binding& b)
       return false;
     case Formula::Kind::kNot: return !eval(g, types, f.kids[0], b);
     case Formula::Kind::kEdge:
-      return edge_in_pre(g, EdgeRef{b.at(f.edge.from), b.at(f.edge.to), f.edge.label});
-    case Formula::Kind::kHas: return g.attr(b.at(f.var), Symbol(f.attr)) != nullptr;
+      return edge_in_pre(g, EdgeRef{b.at(f.edge.from), b.at(f.edge.to), f.edge.symbol});
+    case Formula::Kind::kHas:
+      return g.attr(b.at(f.var), f.attr_symbol) != nullptr;
     case Formula::Kind::kCompare: {
       const graph::Value* v =
-          f.var.empty() ? g.edge_attr(EdgeKey{b.at(f.edge.from), b.at(f.edge.to), Symbol(f.edge.label)}, Symbol(f.attr))
-                        : g.attr(b.at(f.var), Symbol(f.attr));
+          f.var.empty() ? g.edge_attr(EdgeKey{b.at(f.edge.from), b.at(f.edge.to), f.edge.symbol},
+                                      f.attr_symbol)
+                        : g.attr(b.at(f.var), f.attr_symbol);
       return v != nullptr && compare(*v, f.op, f.literal);
     }
     case Formula::Kind::kExists: {
       bool found = false;
-      enumerate(g, types, f.vars, 0, f.kids[0], b, [&](Binding&) {
+      enumerate(g, types, f.vars, f.kids[0], b, [&](Binding&) {
         found = true;
         return false;
       });
@@ -389,7 +448,7 @@ bool eval(const Graph& g, const TypeSystem& types, const Formula& f, Binding& b)
     }
     case Formula::Kind::kForall: {
       bool all = true;
-      enumerate(g, types, f.vars, 0, f.kids[0], b, [&](Binding& inner) {
+      enumerate(g, types, f.vars, f.kids[0], b, [&](Binding& inner) {
         all = eval(g, types, f.kids[1], inner);
         return all;
       });
@@ -399,8 +458,9 @@ bool eval(const Graph& g, const TypeSystem& types, const Formula& f, Binding& b)
   return false;
 }
 
-Formula conjunction_of(const Pattern& p) {
-  Formula f;
+Guard guard_of(const Pattern& p) {
+  Guard g;
+  Formula& f = g.formula;
   f.kind = Formula::Kind::kAnd;
   for (const auto& e : p.edges) {
     Formula atom;
@@ -414,9 +474,55 @@ Formula conjunction_of(const Pattern& p) {
       f.kids.push_back(neg);
     } else {
       f.kids.push_back(atom);
+      g.edges.push_back(
+          &e);  // what collect_edges(f) finds, but pointing into `p` (which stays put)
     }
   }
-  return f;
+  return g;
+}
+
+// A constraint with its guard and, per variable of its pattern, the other variables: an anchor
+// bound to that variable leaves those to enumerate.
+struct CompiledConstraint {
+  const Constraint* con = nullptr;
+  Guard guard;
+  std::vector<std::vector<PatternNode>> rest;
+};
+
+CompiledConstraint compile(const Constraint& con) {
+  CompiledConstraint c{&con, guard_of(con.forbid), {}};
+  for (const PatternNode& pv : con.forbid.nodes) {
+    std::vector<PatternNode>& rest = c.rest.emplace_back();
+    for (const auto& x : con.forbid.nodes)
+      if (x.var != pv.var) rest.push_back(x);
+  }
+  return c;
+}
+
+// Sets the interned symbols of every label and attribute name (the parser does, but a grammar
+// may be built by hand).
+void intern(Pattern& p) {
+  for (auto& e : p.edges) e.symbol = Symbol(e.label);
+}
+void intern(Formula& f) {
+  f.edge.symbol = Symbol(f.edge.label);
+  f.attr_symbol = Symbol(f.attr);
+  for (auto& k : f.kids) intern(k);
+}
+void intern(Grammar& g) {
+  for (Rule& r : g.rules) {
+    intern(r.lhs);
+    intern(r.rhs);
+    if (r.precondition) intern(*r.precondition);
+    for (ForallEffect& fe : r.foralls) {
+      intern(fe.lhs);
+      intern(fe.rhs);
+    }
+  }
+  for (Constraint& c : g.constraints) {
+    intern(c.forbid);
+    if (c.where) intern(*c.where);
+  }
 }
 
 }  // namespace
@@ -426,6 +532,7 @@ Formula conjunction_of(const Pattern& p) {
 struct GrammarChecker::Impl {
   Grammar g;
   std::vector<Compiled> rules;
+  std::vector<CompiledConstraint> constraints;
   std::unordered_map<std::string, std::vector<int>> by_signature;
   std::vector<int> with_foralls;
 
@@ -445,7 +552,9 @@ struct GrammarChecker::Impl {
 
 GrammarChecker::GrammarChecker(Grammar g) : impl_(std::make_unique<Impl>()) {
   impl_->g = std::move(g);
+  intern(impl_->g);
   for (const Rule& r : impl_->g.rules) impl_->rules.push_back(compile(r));
+  for (const Constraint& c : impl_->g.constraints) impl_->constraints.push_back(compile(c));
   for (int i = 0; i < static_cast<int>(impl_->rules.size()); ++i) {
     if (!impl_->rules[i].rule->foralls.empty()) impl_->with_foralls.push_back(i);
     else impl_->by_signature[impl_->rules[i].signature].push_back(i);
@@ -541,8 +650,9 @@ GrammarChecker::Impl::Attempt GrammarChecker::Impl::try_rule(const Graph& gr, co
         if (!fb) unbind(e.from);
       }
       if (!any)
-        note(progress, std::string("it ") + (ob.kind == Ob::kRemoved ? "removes" : "adds") + " an edge (" + e.label +
-                           ") " + r.vars[e.from] + "->" + r.vars[e.to] + " that this change does not");
+        note(progress, std::string("it ") + (ob.kind == Ob::kRemoved ? "removes" : "adds") +
+                           " an edge (" + e.label.str() + ") " + r.vars[e.from] + "->" +
+                           r.vars[e.to] + " that this change does not");
       return false;
     }
     const bool del = ob.kind == Ob::kDeleted;
@@ -584,16 +694,16 @@ GrammarChecker::Impl::Attempt GrammarChecker::Impl::try_rule(const Graph& gr, co
         }
     if (pick >= 0) {
       std::vector<NodeId> cand;
-      if (via) {
+      if (via && via->label == graph::symbols::rt()) {
         if (via->to == pick)
-          for (const EdgeKey& k : gr.edges_from(slot[via->from], Symbol(via->label))) cand.push_back(k.to);
+          cand = gr.rt_children(slot[via->from]);
+        else if (auto p = gr.rt_parent(slot[via->to]))
+          cand.push_back(*p);
+      } else if (via) {
+        if (via->to == pick)
+          for (const EdgeKey& k : gr.edges_from(slot[via->from], via->label)) cand.push_back(k.to);
         else
-          for (const EdgeKey& k : gr.edges_to(slot[via->to], Symbol(via->label))) cand.push_back(k.from);
-        if (via->label == "RT") {
-          cand.clear();
-          if (via->to == pick) cand = gr.rt_children(slot[via->from]);
-          else if (auto p = gr.rt_parent(slot[via->to])) cand.push_back(*p);
-        }
+          for (const EdgeKey& k : gr.edges_to(slot[via->to], via->label)) cand.push_back(k.from);
       } else {
         cand = gr.nodes();  // a context variable no edge reaches: scan
       }
@@ -606,8 +716,7 @@ GrammarChecker::Impl::Attempt GrammarChecker::Impl::try_rule(const Graph& gr, co
         unbind(pick);
       }
       if (!any)
-        note(progress, via ? "it needs an edge " + r.vars[via->from] + "->" + r.vars[via->to] + "(" + via->label +
-                                 ") that the graph lacks"
+        note(progress, via ? "it needs an edge " + edge_text(r, *via) + " that the graph lacks"
                            : "no node can play '" + r.vars[pick] + "' (a " + r.types[pick] + ")");
       return false;
     }
@@ -619,19 +728,19 @@ GrammarChecker::Impl::Attempt GrammarChecker::Impl::try_rule(const Graph& gr, co
       EdgeRef x = ref(e);
       bool endpoint_deleted = c.deleted.count(x.from) || c.deleted.count(x.to);
       if (!edge_in_pre(gr, x) || (!endpoint_deleted && removed_now(x))) {
-        note(progress + 1, "it needs an edge " + r.vars[e.from] + "->" + r.vars[e.to] + "(" + e.label + ") that the graph lacks");
+        note(progress + 1, "it needs an edge " + edge_text(r, e) + " that the graph lacks");
         return false;
       }
     }
     for (const auto& e : r.neg_pre)
       if (edge_in_pre(gr, ref(e))) {
-        note(progress + 2, "it forbids the edge " + r.vars[e.from] + "->" + r.vars[e.to] + "(" + e.label + "), which exists");
+        note(progress + 2, "it forbids the edge " + edge_text(r, e) + ", which exists");
         return false;
       }
     for (const auto& e : r.neg_post) {
       EdgeRef x = ref(e);
       if ((edge_in_pre(gr, x) && !removed_now(x)) || added_now(x)) {
-        note(progress + 2, "its result forbids the edge " + r.vars[e.from] + "->" + r.vars[e.to] + "(" + e.label + ")");
+        note(progress + 2, "its result forbids the edge " + edge_text(r, e));
         return false;
       }
     }
@@ -646,19 +755,13 @@ GrammarChecker::Impl::Attempt GrammarChecker::Impl::try_rule(const Graph& gr, co
     std::vector<EdgeRef> want_removed, want_added;
     for (const auto& e : r.removed) want_removed.push_back(ref(e));
     for (const auto& e : r.added) want_added.push_back(ref(e));
-    for (const ForallEffect& fe : r.rule->foralls) {
-      Formula guard = conjunction_of(fe.lhs);
+    for (const CompiledForall& cf : r.foralls) {
       Binding fb = b;
-      enumerate(gr, types, fe.vars, 0, guard, fb, [&](Binding& m) {
-        auto has = [](const Pattern& p, const PatternEdge& e) {
-          for (const auto& x : p.edges)
-            if (!x.negated && x.from == e.from && x.to == e.to && x.label == e.label) return true;
-          return false;
-        };
-        for (const auto& e : fe.lhs.edges)
-          if (!e.negated && !has(fe.rhs, e)) want_removed.push_back(EdgeRef{m.at(e.from), m.at(e.to), e.label});
-        for (const auto& e : fe.rhs.edges)
-          if (!e.negated && !has(fe.lhs, e)) want_added.push_back(EdgeRef{m.at(e.from), m.at(e.to), e.label});
+      enumerate(gr, types, cf.effect->vars, cf.guard, fb, [&](Binding& m) {
+        for (const PatternEdge* e : cf.removed)
+          want_removed.push_back(EdgeRef{m.at(e->from), m.at(e->to), e->symbol});
+        for (const PatternEdge* e : cf.added)
+          want_added.push_back(EdgeRef{m.at(e->from), m.at(e->to), e->symbol});
         return true;
       });
     }
@@ -697,8 +800,8 @@ Status GrammarChecker::check(const Graph& gr, const std::vector<TxnOp>& ops, Rul
     return make_error(ErrorCode::kRefused, "grammar '" + g.name + "': " + c.unruled);
   if (!c.structural()) return {};
   std::vector<std::string> rl, al;
-  for (const auto& e : c.removed) rl.push_back(e.label);
-  for (const auto& e : c.added) al.push_back(e.label);
+  for (const auto& e : c.removed) rl.push_back(e.label.str());
+  for (const auto& e : c.added) al.push_back(e.label.str());
   std::vector<int> candidates;
   if (auto it = impl_->by_signature.find(signature(rl, al, c.deleted.size(), c.created.size())); it != impl_->by_signature.end())
     candidates = it->second;
@@ -727,13 +830,13 @@ Status GrammarChecker::check(const Graph& gr, const std::vector<TxnOp>& ops, Rul
   std::string msg = "grammar '" + g.name + "' has no rule for: " + describe(gr, c);
   if (!closest) {
     int best = -1;
+    std::multiset<std::string> mine;
+    for (const auto& e : c.removed) mine.insert("-" + e.label.str());
+    for (const auto& e : c.added) mine.insert("+" + e.label.str());
     for (const Compiled& r : impl_->rules) {
-      std::multiset<std::string> mine;
-      for (const auto& e : c.removed) mine.insert("-" + e.label);
-      for (const auto& e : c.added) mine.insert("+" + e.label);
       int score = 0;
-      for (const auto& e : r.removed) score += mine.count("-" + e.label) ? 2 : 0;
-      for (const auto& e : r.added) score += mine.count("+" + e.label) ? 2 : 0;
+      for (const auto& e : r.removed) score += mine.count("-" + e.label.str()) ? 2 : 0;
+      for (const auto& e : r.added) score += mine.count("+" + e.label.str()) ? 2 : 0;
       score -= static_cast<int>(r.removed.size() + r.added.size());
       if (score > best) {
         best = score;
@@ -742,8 +845,10 @@ Status GrammarChecker::check(const Graph& gr, const std::vector<TxnOp>& ops, Rul
     }
     if (closest) {
       std::string what;
-      for (const auto& e : closest->removed) what += (what.empty() ? "" : ", ") + std::string("remove ") + closest->vars[e.from] + "->" + closest->vars[e.to] + "(" + e.label + ")";
-      for (const auto& e : closest->added) what += (what.empty() ? "" : ", ") + std::string("add ") + closest->vars[e.from] + "->" + closest->vars[e.to] + "(" + e.label + ")";
+      for (const auto& e : closest->removed)
+        what += (what.empty() ? "" : ", ") + std::string("remove ") + edge_text(*closest, e);
+      for (const auto& e : closest->added)
+        what += (what.empty() ? "" : ", ") + std::string("add ") + edge_text(*closest, e);
       for (int s : closest->deleted) what += (what.empty() ? "" : ", ") + std::string("delete ") + closest->vars[s];
       for (int s : closest->created) what += (what.empty() ? "" : ", ") + std::string("create ") + closest->vars[s];
       msg += "; closest rule '" + closest->rule->name + "' does: " + what;
@@ -819,18 +924,16 @@ std::vector<Violation> GrammarChecker::violations_around(const Graph& gr, const 
   // produce it (symmetric patterns give several), the smallest is reported, so every replica
   // reports the same one whatever order it found them in.
   std::map<std::pair<std::string, std::vector<NodeId>>, Violation> found;
-  for (const Constraint& con : impl_->g.constraints) {
-    Formula guard = conjunction_of(con.forbid);
+  for (const CompiledConstraint& cc : impl_->constraints) {
+    const Constraint& con = *cc.con;
     for (NodeId anchor : anchors) {
       if (!gr.has_node(anchor)) continue;
-      for (const PatternNode& pv : con.forbid.nodes) {
+      for (std::size_t i = 0; i < con.forbid.nodes.size(); ++i) {
+        const PatternNode& pv = con.forbid.nodes[i];
         if (!types.is_a(gr.type_of(anchor).str(), pv.type)) continue;
         Binding b;
         b[pv.var] = anchor;
-        std::vector<PatternNode> rest;
-        for (const auto& x : con.forbid.nodes)
-          if (x.var != pv.var) rest.push_back(x);
-        enumerate(gr, types, rest, 0, guard, b, [&](Binding& m) {
+        enumerate(gr, types, cc.rest[i], cc.guard, b, [&](Binding& m) {
           if (con.where && !eval(gr, types, *con.where, m)) return true;
           Violation v;
           v.constraint = con.name;

@@ -8,6 +8,9 @@ using graph::NodeId;
 
 GrammarGuard::GrammarGuard(graph::Graph& g, GrammarChecker checker, std::string agent_name)
     : g_(g), checker_(std::move(checker)), name_(std::move(agent_name)) {
+  for (const Constraint& c : checker_.grammar().constraints) where_free_ = where_free_ && !c.where;
+  // Starting from a graph without violations, on_changes keeps every violation in open_.
+  complete_ = where_free_ && (g_.node_count() == 0 || checker_.all_violations(g_).empty());
   sub_ = g_.subscribe([this](const graph::ChangeBatch& b) { on_changes(b); });
   g_.set_merge_observer([this](const graph::Graph& before, const graph::GraphDelta& d) {
     if (d.kind != graph::GraphDelta::Kind::kDelta) return;  // states carry no single rule
@@ -34,7 +37,7 @@ graph::Graph::CommitValidator GrammarGuard::validator() {
     }
     RuleMatch m;
     Status s = checker_.check(g, ops, &m);
-    if (s.ok() && !m.rule.empty()) g_.annotate_commit(m.rule, m.binding);
+    if (s.ok() && !m.rule.empty()) g_.annotate_commit(std::move(m.rule), std::move(m.binding));
     return s;
   };
 }
@@ -43,30 +46,53 @@ void GrammarGuard::install() { g_.set_commit_validator(validator()); }
 
 void GrammarGuard::on_changes(const graph::ChangeBatch& b) {
   if (checker_.grammar().constraints.empty()) return;
-  std::vector<NodeId> anchors;
-  for (const auto& n : b.nodes)
+  // anchors: the nodes around which violations may have appeared; changed: the nodes that
+  // appeared or disappeared or whose edges did (attribute and pose updates change none).
+  std::vector<NodeId> anchors, changed;
+  for (const auto& n : b.nodes) {
     if (n.kind != graph::ChangeKind::kDeleted) anchors.push_back(n.id);
+    if (n.kind != graph::ChangeKind::kUpdated) changed.push_back(n.id);
+  }
   for (const auto& e : b.edges) {
     anchors.push_back(e.key.from);
     anchors.push_back(e.key.to);
+    if (e.kind == graph::ChangeKind::kUpdated) continue;
+    changed.push_back(e.key.from);
+    changed.push_back(e.key.to);
   }
+  // Without 'where' conditions, whether a binding violates a constraint depends only on which of
+  // its nodes exist and the edges among them. So a violation none of whose nodes changed still
+  // holds, and once open_ holds every violation (complete_), a batch that changes no node or
+  // edge can neither close nor open one.
+  if (complete_ && changed.empty()) return;
   std::sort(anchors.begin(), anchors.end());
   anchors.erase(std::unique(anchors.begin(), anchors.end()), anchors.end());
+  std::sort(changed.begin(), changed.end());
+  auto unchanged = [&](const OpenViolation& o) {
+    for (const auto& [var, id] : o.second)
+      if (std::binary_search(changed.begin(), changed.end(), id)) return false;
+    return true;
+  };
   // Violations that no longer hold are closed; new ones are reported.
   for (auto it = open_.begin(); it != open_.end();) {
+    if (where_free_ && unchanged(*it)) {
+      ++it;
+      continue;
+    }
+    const auto& [constraint, binding] = *it;
     bool still = false;
-    for (const auto& [var, id] : *it) still = still || g_.has_node(id);
+    for (const auto& [var, id] : binding) still = still || g_.has_node(id);
     if (still) {
       std::vector<NodeId> ids;
-      for (const auto& [var, id] : *it) ids.push_back(id);
+      for (const auto& [var, id] : binding) ids.push_back(id);
       still = false;
       for (const Violation& v : checker_.violations_around(g_, ids))
-        if (v.binding == *it) still = true;
+        if (v.constraint == constraint && v.binding == binding) still = true;
     }
     it = still ? std::next(it) : open_.erase(it);
   }
   for (const Violation& v : checker_.violations_around(g_, anchors)) {
-    if (!open_.insert(v.binding).second) continue;
+    if (!open_.emplace(v.constraint, v.binding).second) continue;
     ++seen_;
     if (cb_) cb_(v);
     for (const Constraint& c : checker_.grammar().constraints)
@@ -97,7 +123,7 @@ void GrammarGuard::tick() {
     graph::Dot oldest_version;
     for (const PatternEdge& e : con->forbid.edges) {
       if (e.negated) continue;
-      graph::EdgeKey k{at(e.from), at(e.to), graph::Symbol(e.label)};
+      graph::EdgeKey k{at(e.from), at(e.to), e.symbol};
       auto ver = g_.edge_version(k);
       if (ver && (!oldest || crdt::lamport_less(*ver, oldest_version))) {
         oldest = k;

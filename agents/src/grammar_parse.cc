@@ -270,10 +270,16 @@ class Parser {
       for (const std::string& v : {a, b})
         if (!declared.count(v)) fail_at(start, "edge uses undeclared variable '" + v + "'");
       if (a == b) fail_at(start, "an edge from '" + a + "' to itself (self-loops are not allowed)");
-      p.edges.push_back(PatternEdge{a, b, label, neg, start});
+      p.edges.push_back(PatternEdge{a, b, label, neg, start, graph::Symbol(label)});
     }
     take();
     return p;
+  }
+
+  static std::set<std::string> vars_of(const Pattern& p) {
+    std::set<std::string> vars;
+    for (const auto& n : p.nodes) vars.insert(n.var);
+    return vars;
   }
 
   std::vector<PatternNode> quantified_vars(const std::string& context) {
@@ -289,33 +295,29 @@ class Parser {
   }
 
   // formula := conj ('or' conj)* ; conj := unary ('and' unary)* ; ...
-  Formula formula(std::set<std::string>& scope) {
-    Formula left = conj(scope);
-    if (!is_word("or")) return left;
+  Formula formula(const std::set<std::string>& scope) {
+    return nary("or", Formula::Kind::kOr, &Parser::conj, scope);
+  }
+  Formula conj(const std::set<std::string>& scope) {
+    return nary("and", Formula::Kind::kAnd, &Parser::unary, scope);
+  }
+  // operand (word operand)*, as one `kind` node when there are several operands.
+  Formula nary(const char* word, Formula::Kind kind,
+               Formula (Parser::*operand)(const std::set<std::string>&),
+               const std::set<std::string>& scope) {
+    Formula left = (this->*operand)(scope);
+    if (!is_word(word)) return left;
     Formula f;
-    f.kind = Formula::Kind::kOr;
+    f.kind = kind;
     f.loc = left.loc;
     f.kids.push_back(std::move(left));
-    while (is_word("or")) {
+    while (is_word(word)) {
       take();
-      f.kids.push_back(conj(scope));
+      f.kids.push_back((this->*operand)(scope));
     }
     return f;
   }
-  Formula conj(std::set<std::string>& scope) {
-    Formula left = unary(scope);
-    if (!is_word("and")) return left;
-    Formula f;
-    f.kind = Formula::Kind::kAnd;
-    f.loc = left.loc;
-    f.kids.push_back(std::move(left));
-    while (is_word("and")) {
-      take();
-      f.kids.push_back(unary(scope));
-    }
-    return f;
-  }
-  Formula unary(std::set<std::string>& scope) {
+  Formula unary(const std::set<std::string>& scope) {
     Formula f;
     f.loc = peek().loc;
     if (is_word("not")) {
@@ -357,6 +359,7 @@ class Parser {
       f.var = ident("a variable after 'has'");
       expect(".", "and an attribute name after the variable");
       f.attr = ident("an attribute name");
+      f.attr_symbol = graph::Symbol(f.attr);
       if (!scope.count(f.var)) fail_at(f.loc, "unknown variable '" + f.var + "'");
       return f;
     }
@@ -370,14 +373,16 @@ class Parser {
       expect(")", "to close the edge label");
       if (!scope.count(b)) fail_at(f.loc, "unknown variable '" + b + "'");
       f.kind = Formula::Kind::kEdge;
-      f.edge = PatternEdge{a, b, label, false, f.loc};
+      f.edge = PatternEdge{a, b, label, false, f.loc, graph::Symbol(label)};
       if (!is(".")) return f;
       take();  // an edge attribute: a->b(label).attr OP value
       f.attr = ident("an edge attribute name");
+      f.attr_symbol = graph::Symbol(f.attr);
     } else {
       expect(".", "'->' or '.' after '" + a + "'");
       f.var = a;
       f.attr = ident("an attribute name");
+      f.attr_symbol = graph::Symbol(f.attr);
     }
     f.kind = Formula::Kind::kCompare;
     static const std::pair<const char*, CompareOp> ops[] = {{"==", CompareOp::kEq}, {"!=", CompareOp::kNe},
@@ -436,16 +441,13 @@ class Parser {
     for (const auto& n : r.rhs.nodes)
       if (const PatternNode* l = r.lhs.node(n.var); l && l->type != n.type)
         fail_at(n.loc, "variable '" + n.var + "' changes type between the sides of rule '" + r.name + "'");
-    std::set<std::string> all;
-    for (const auto& n : r.lhs.nodes) all.insert(n.var);
-    for (const auto& n : r.rhs.nodes) all.insert(n.var);
+    std::set<std::string> all = vars_of(r.lhs);
+    all.merge(vars_of(r.rhs));
     while (!is("}")) {
       if (is_word("precondition")) {
         take();
         expect("{", "to open the precondition");
-        std::set<std::string> lhs_vars;
-        for (const auto& n : r.lhs.nodes) lhs_vars.insert(n.var);
-        r.precondition = formula(lhs_vars);
+        r.precondition = formula(vars_of(r.lhs));
         expect("}", "to close the precondition");
       } else if (is_word("forall")) {
         ForallEffect fe;
@@ -480,9 +482,7 @@ class Parser {
       if (is_word("where")) {
         take();
         expect("{", "to open the condition");
-        std::set<std::string> vars;
-        for (const auto& n : c.forbid.nodes) vars.insert(n.var);
-        c.where = formula(vars);
+        c.where = formula(vars_of(c.forbid));
         expect("}", "to close the condition");
       } else if (is_word("repair")) {
         take();

@@ -88,15 +88,18 @@ void LockManager::refresh(NodeId root) {
   }
   Seen& s = seen_[root];
   LockClaim old = s.winner;
-  s.all.clear();
+  s.max_epoch = 0;
   const graph::AttrValue* wv = nullptr;
+  LockClaim w;
   for (const auto& v : values)
     if (auto c = decode_claim(v.value)) {
-      s.all.push_back(*c);
-      if (wv == nullptr || claim_less(*decode_claim(wv->value), *c)) wv = &v;
+      s.max_epoch = std::max(s.max_epoch, c->epoch);
+      if (wv == nullptr || claim_less(w, *c)) {
+        wv = &v;
+        w = *c;
+      }
     }
-  if (s.all.empty()) return;
-  LockClaim w = *decode_claim(wv->value);
+  if (wv == nullptr) return;  // no claim decodes
   // A new write of the winning claim (a renewal or a new claim) restarts the lease clock.
   if (!(wv->dot == s.winner_dot)) {
     s.winner_dot = wv->dot;
@@ -169,8 +172,7 @@ Status LockManager::acquire(NodeId root, std::int64_t priority) {
   if (!g_.has_node(root)) return make_error(ErrorCode::kNotFound, "acquire(): node " + root.to_string() + " does not exist");
   refresh(root);
   std::uint64_t max_epoch = 0;
-  if (auto it = seen_.find(root); it != seen_.end())
-    for (const auto& c : it->second.all) max_epoch = std::max(max_epoch, c.epoch);
+  if (auto it = seen_.find(root); it != seen_.end()) max_epoch = it->second.max_epoch;
   if (auto w = winner(root)) {
     if (w->holder == g_.replica() && mine_.count(root)) return {};  // already ours
     if (!(w->holder == g_.replica()) && w->priority >= priority)
@@ -195,7 +197,7 @@ Status LockManager::release(NodeId root) {
   if (m == mine_.end()) return make_error(ErrorCode::kNotFound, "release(): no claim on " + root.to_string());
   std::uint64_t max_epoch = m->second.epoch;
   if (auto it = seen_.find(root); it != seen_.end())
-    for (const auto& c : it->second.all) max_epoch = std::max(max_epoch, c.epoch);
+    max_epoch = std::max(max_epoch, it->second.max_epoch);
   LockClaim c{max_epoch + 1, 0, g_.replica(), 0, true};
   mine_.erase(m);
   scopes_dirty_ = true;

@@ -4,6 +4,7 @@
 #include <map>
 #include <memory>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <queue>
 
 #include "quiver/agents/frame_codec.h"
@@ -78,6 +79,8 @@ class Simulation {
     ChurnMix mix = cfg.mix;
     if (cfg.locks.enabled) mix.delete_node = 0;  // keep the scope roots alive
     churn_ = Churn(mix);
+    if (cfg.rooms.enabled)
+      rooms_grammar_ = *agents::parse_grammar(rooms_grammar(cfg.rooms.repair), "rooms");
     agents_.resize(cfg.agents);
     last_delivery_.assign(cfg.agents * cfg.agents, 0);
   }
@@ -121,12 +124,7 @@ class Simulation {
     result_.digest = agents_[0].graph->digest().hex();
     result_.final_nodes = agents_[0].graph->node_count();
     result_.final_edges = agents_[0].graph->edge_count();
-    for (const auto& a : agents_) add_stats(a.replicator->stats());
-    for (const auto& a : agents_)
-      if (a.guard) {
-        result_.violations_seen += a.guard->violations_seen();
-        result_.repairs += a.guard->repairs_made();
-      }
+    for (const auto& a : agents_) add_stats(a);
     if (agents_[0].guard) result_.final_violations = agents_[0].guard->checker().all_violations(*agents_[0].graph).size();
     if (cfg_.inspect) {
       std::vector<const graph::Graph*> graphs;
@@ -190,18 +188,14 @@ class Simulation {
     opt.name = "agent" + std::to_string(i);
     a.replicator = std::make_unique<agents::Replicator>(*a.graph, *a.endpoint, opt);
     a.replicator->start(now_);
-    graph::Graph::CommitValidator grammar_check;
-    if (cfg_.rooms.enabled) {
-      auto g = agents::parse_grammar(rooms_grammar(cfg_.rooms.repair), "rooms");
-      a.guard = std::make_unique<agents::GrammarGuard>(*a.graph, agents::GrammarChecker(std::move(*g)), opt.name);
-      a.guard->install();
-      grammar_check = a.guard->validator();
-    }
+    if (rooms_grammar_)
+      a.guard = std::make_unique<agents::GrammarGuard>(
+          *a.graph, agents::GrammarChecker(*rooms_grammar_), opt.name);
     if (cfg_.locks.enabled) {
       agents::LockOptions lo;
       lo.lease_ns = cfg_.locks.lease_ns;
-      a.locks = std::make_unique<agents::LockManager>(*a.graph, a.replicator.get(), [this] { return now_; }, lo);
-      a.locks->install(grammar_check);
+      a.locks = std::make_unique<agents::LockManager>(
+          *a.graph, a.replicator.get(), [this] { return now_; }, lo);
       a.locks->on_event([this](const agents::LockEvent& e) {
         if (e.kind == agents::LockEventKind::kAcquired) {
           ++result_.lock_acquired;
@@ -211,6 +205,15 @@ class Simulation {
         if (e.kind == agents::LockEventKind::kExpired) ++result_.lock_expired;
       });
     }
+    install_validators(a);
+  }
+
+  // The graph has one commit validator: the grammar check, or the lock check chained after it.
+  static void install_validators(Agent& a) {
+    if (a.locks)
+      a.locks->install(a.guard ? a.guard->validator() : graph::Graph::CommitValidator{});
+    else if (a.guard)
+      a.guard->install();
   }
 
   // Scope roots, each with two RT children, created by agent 0 before the workload starts.
@@ -218,6 +221,7 @@ class Simulation {
     auto tx = agents_[0].graph->begin();
     for (int s = 0; s < cfg_.locks.scopes; ++s) {
       auto root = tx.create_node("scope", "scope" + std::to_string(s));
+      scope_roots_.push_back(*root);
       for (int c = 0; c < 2; ++c) {
         auto child = tx.create_node("part", "scope" + std::to_string(s) + "_part" + std::to_string(c));
         (void)tx.set_rt(*root, *child, graph::Pose{}, 0);
@@ -239,8 +243,7 @@ class Simulation {
     // The world is set up before any rule applies.
     g.set_commit_validator(nullptr);
     (void)tx.commit();
-    if (agents_[0].locks) agents_[0].locks->install(agents_[0].guard->validator());
-    else agents_[0].guard->install();
+    install_validators(agents_[0]);
   }
 
   // One changeRoom attempt by agent `who`, checked by its grammar.
@@ -265,8 +268,8 @@ class Simulation {
   void lock_step(int who) {
     Agent& a = agents_[who];
     std::vector<graph::NodeId> roots;
-    for (int s = 0; s < cfg_.locks.scopes; ++s)
-      if (auto id = a.graph->find_node("scope" + std::to_string(s))) roots.push_back(*id);
+    for (graph::NodeId r : scope_roots_)
+      if (a.graph->has_node(r)) roots.push_back(r);
     if (roots.empty()) return;
     graph::NodeId root = rng_.pick(roots);
     if (a.locks->holds(root) || a.locks->pending(root)) {
@@ -292,13 +295,13 @@ class Simulation {
   void account_overlap() {
     if (!cfg_.locks.enabled) return;
     bool connected = false, partitioned = false;
-    for (int s = 0; s < cfg_.locks.scopes && !connected; ++s) {
+    for (std::size_t s = 0; s < scope_roots_.size() && !connected; ++s) {
+      const graph::NodeId root = scope_roots_[s];
       std::vector<int> holders;
       for (int i = 0; i < cfg_.agents; ++i) {
         Agent& a = agents_[i];
         if (!a.up) continue;
-        auto root = a.graph->find_node("scope" + std::to_string(s));
-        if (root && a.locks->holds(*root)) holders.push_back(i);
+        if (a.graph->has_node(root) && a.locks->holds(root)) holders.push_back(i);
       }
       for (std::size_t x = 0; x < holders.size(); ++x)
         for (std::size_t y = x + 1; y < holders.size(); ++y) {
@@ -322,11 +325,7 @@ class Simulation {
     if (!a.up) return;
     // The process dies: its memory (graph, buffers) is gone, nothing is said to anyone.
     a.up = false;
-    add_stats(a.replicator->stats());
-    if (a.guard) {
-      result_.violations_seen += a.guard->violations_seen();
-      result_.repairs += a.guard->repairs_made();
-    }
+    add_stats(a);
     a.guard.reset();
     a.locks.reset();
     a.replicator.reset();
@@ -423,10 +422,16 @@ class Simulation {
     if (cfg_.check_every_step) check_invariants_all();
   }
 
-  void add_stats(const agents::ReplicatorStats& st) {
+  // Adds an agent's counters to the result (when it crashes, and for every agent at the end).
+  void add_stats(const Agent& a) {
+    const agents::ReplicatorStats& st = a.replicator->stats();
     result_.deltas_applied += st.deltas_applied;
     result_.states_applied += st.states_applied;
     result_.rejected_frames += st.rejected_frames;
+    if (a.guard) {
+      result_.violations_seen += a.guard->violations_seen();
+      result_.repairs += a.guard->repairs_made();
+    }
   }
 
   void check_invariants_all() {
@@ -462,6 +467,8 @@ class Simulation {
   std::uint64_t next_seq_ = 0;
   std::int64_t now_ = 0;
   std::vector<std::int64_t> last_delivery_;
+  std::optional<agents::Grammar> rooms_grammar_;  // parsed once, copied into every agent's guard
+  std::vector<graph::NodeId> scope_roots_;        // "scope0", ... as create_scopes made them
   Churn churn_{ChurnMix{}};
   SimResult result_;
   std::int64_t overlap_since_connected_ = -1;

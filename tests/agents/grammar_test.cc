@@ -23,10 +23,14 @@ Grammar load(const char* file) {
 // A replica whose every commit is checked against a grammar; counts what it publishes.
 struct Checked {
   explicit Checked(const char* grammar, std::uint64_t agent = 1) : g(ReplicaId{agent, 1}), checker(load(grammar)) {
+    check_commits();
+    g.set_delta_sink([this](const graph::GraphDelta& d) { published.push_back(graph::encode(d)); });
+  }
+  // (Re)installs the grammar check on every commit, e.g. after building a world without it.
+  void check_commits() {
     g.set_commit_validator([this](const Graph& graph, const std::vector<graph::TxnOp>& ops) {
       return checker.check(graph, ops, &last);
     });
-    g.set_delta_sink([this](const graph::GraphDelta& d) { published.push_back(graph::encode(d)); });
   }
   Graph g;
   GrammarChecker checker;
@@ -62,7 +66,7 @@ TEST(GrammarTest, SpeechLegalSequenceIsAccepted) {
   Checked s("speech.aggl");
   s.g.set_commit_validator(nullptr);
   barthel_world(s.g);
-  s.g.set_commit_validator([&](const Graph& graph, const auto& ops) { return s.checker.check(graph, ops, &s.last); });
+  s.check_commits();
   ASSERT_TRUE(s.edge_swap("robot", "speaking", "is_not", "is").ok());
   EXPECT_EQ(s.last.rule, "startSpeaking");
   ASSERT_TRUE(s.edge_swap("robot", "speaking", "is", "finish").ok());
@@ -80,7 +84,7 @@ TEST(GrammarTest, IllegalJumpIsRefusedAndPublishesNothing) {
   Checked s("speech.aggl");
   s.g.set_commit_validator(nullptr);
   barthel_world(s.g);
-  s.g.set_commit_validator([&](const Graph& graph, const auto& ops) { return s.checker.check(graph, ops, &s.last); });
+  s.check_commits();
   const std::size_t before = s.published.size();
   const auto digest = s.g.digest();
   Status st = s.edge_swap("robot", "speaking", "is_not", "finish");
@@ -108,7 +112,7 @@ TEST(GrammarTest, PreconditionOnAnEdgeLabel) {
                     .ok());
     ASSERT_TRUE(tx.commit().ok());
   }
-  s.g.set_commit_validator([&](const Graph& graph, const auto& ops) { return s.checker.check(graph, ops, &s.last); });
+  s.check_commits();
   Status st = s.edge_swap("robot", "speaking", "is_not", "is");
   ASSERT_FALSE(st.ok());
   EXPECT_NE(st.error().message.find("precondition"), std::string::npos) << st.error().message;
@@ -133,7 +137,7 @@ struct AgmWorld {
     EXPECT_TRUE(tx.insert_edge(robot, mug, Symbol("reach")).ok());
     EXPECT_TRUE(tx.insert_edge(robot, cup, Symbol("noReach")).ok());
     EXPECT_TRUE(tx.commit().ok());
-    s.g.set_commit_validator([this](const Graph& graph, const auto& ops) { return s.checker.check(graph, ops, &s.last); });
+    s.check_commits();
   }
   Status move(NodeId from, NodeId to, bool with_mug) {
     auto tx = s.g.begin();
@@ -222,7 +226,7 @@ TEST(GrammarTest, ConcurrentValidMovesMergeIntoAForbiddenStateSeenAlikeEverywher
     ASSERT_TRUE(tx.insert_edge(a.kitchen, a.bedroom, Symbol("transitable")).ok());
     ASSERT_TRUE(tx.commit().ok());
     b.merge(*graph::decode(a.s.published.back()));
-    a.s.g.set_commit_validator([&](const Graph& graph, const auto& ops) { return a.s.checker.check(graph, ops, &a.s.last); });
+    a.s.check_commits();
   }
   ASSERT_TRUE(a.move(a.kitchen, a.hall, false).ok());
   b.set_commit_validator([&](const Graph& graph, const auto& ops) { return bcheck.check(graph, ops); });
@@ -321,6 +325,71 @@ TEST(GrammarGuardTest, DeltasCarryTheirRuleAndReceiversVerifyIt) {
   ASSERT_EQ(complaints.size(), 2u);
   EXPECT_NE(complaints[1].find("claims no rule"), std::string::npos) << complaints[1];
   EXPECT_EQ(gb.deltas_unverified(), 2u);
+}
+
+TEST(GrammarGuardTest, ConstraintsWhoseViolationsHaveTheSameBindingAreTrackedApart) {
+  // Two constraints over the same variables, both broken by the same nodes.
+  auto gr = parse_grammar(
+      "types { robot room }\n"
+      "constraint inTwoRooms { forbid { r:robot a:room b:room  r->a(in)  r->b(in) } }\n"
+      "constraint nearTwoRooms { forbid { r:robot a:room b:room  r->a(near)  r->b(near) } }\n",
+      "two.aggl");
+  ASSERT_TRUE(gr.ok()) << gr.error().to_string();
+  Graph g(ReplicaId{1, 1});
+  GrammarGuard guard(g, GrammarChecker(std::move(*gr)), "observer");
+  std::vector<std::string> seen;
+  guard.on_violation([&](const Violation& v) { seen.push_back(v.constraint); });
+  NodeId robot, kitchen, hall;
+  {
+    auto tx = g.begin();
+    robot = *tx.create_node("robot", "robot");
+    kitchen = *tx.create_node("room", "kitchen");
+    hall = *tx.create_node("room", "hall");
+    for (NodeId room : {kitchen, hall}) {
+      ASSERT_TRUE(tx.insert_edge(robot, room, Symbol("in")).ok());
+      ASSERT_TRUE(tx.insert_edge(robot, room, Symbol("near")).ok());
+    }
+    ASSERT_TRUE(tx.commit().ok());
+  }
+  EXPECT_EQ(seen, (std::vector<std::string>{"inTwoRooms", "nearTwoRooms"}));
+  EXPECT_EQ(guard.open().size(), 2u);
+  {  // one ends, the other stays open
+    auto tx = g.begin();
+    ASSERT_TRUE(tx.delete_edge(robot, hall, Symbol("near")).ok());
+    ASSERT_TRUE(tx.commit().ok());
+  }
+  ASSERT_EQ(guard.open().size(), 1u);
+  EXPECT_EQ(guard.open().begin()->first, "inTwoRooms");
+  {  // and comes back: a new violation
+    auto tx = g.begin();
+    ASSERT_TRUE(tx.insert_edge(robot, hall, Symbol("near")).ok());
+    ASSERT_TRUE(tx.commit().ok());
+  }
+  EXPECT_EQ(guard.violations_seen(), 3u);
+  EXPECT_EQ(seen.back(), "nearTwoRooms");
+}
+
+TEST(GrammarGuardTest, AViolationPresentAtTheStartIsReportedWhenItsNodesChange) {
+  // The world breaks a constraint before the guard starts: an attribute write to one of its
+  // nodes is what first raises it, as does any change around it.
+  Graph g(ReplicaId{1, 1});
+  NodeId robot;
+  {
+    auto tx = g.begin();
+    robot = *tx.create_node("robot", "robot");
+    for (const char* room : {"kitchen", "hall"})
+      ASSERT_TRUE(tx.insert_edge(robot, *tx.create_node("room", room), Symbol("in")).ok());
+    ASSERT_TRUE(tx.commit().ok());
+  }
+  GrammarGuard guard(g, GrammarChecker(load("agm.aggl")), "observer");
+  EXPECT_EQ(guard.violations_seen(), 0u);
+  {
+    auto tx = g.begin();
+    ASSERT_TRUE(tx.set(robot, "battery", Value(0.5)).ok());
+    ASSERT_TRUE(tx.commit().ok());
+  }
+  EXPECT_EQ(guard.violations_seen(), 1u);
+  EXPECT_EQ(guard.open().size(), 1u);
 }
 
 }  // namespace

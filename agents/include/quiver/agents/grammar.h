@@ -65,6 +65,7 @@ struct PatternEdge {
   std::string from, to, label;
   bool negated = false;
   SourceLoc loc;
+  graph::Symbol symbol;  ///< `label`, interned (by the parser; GrammarChecker re-interns its copy)
 };
 
 struct Pattern {
@@ -83,6 +84,7 @@ struct Formula {
   std::vector<Formula> kids;       ///< kAnd/kOr: operands; kNot: one; kExists: body; kForall: guard, body
   PatternEdge edge;                ///< kEdge; for kCompare / kHas on an edge attribute, the edge
   std::string var, attr;           ///< kCompare / kHas (var empty: the attribute is the edge's)
+  graph::Symbol attr_symbol;       ///< `attr`, interned (like PatternEdge::symbol)
   CompareOp op = CompareOp::kEq;   ///< kCompare
   graph::Value literal;            ///< kCompare
   std::vector<PatternNode> vars;   ///< kExists / kForall

@@ -38,8 +38,10 @@ class GrammarGuard {
   void on_unverified(std::function<void(const graph::ReplicaId&, const Error&)> cb) { unverified_cb_ = std::move(cb); }
   std::uint64_t deltas_verified() const { return verified_; }
   std::uint64_t deltas_unverified() const { return unverified_; }
-  /// Violations currently present around what changed since start (re-checked on every change).
-  const std::set<std::vector<std::pair<std::string, graph::NodeId>>>& open() const { return open_; }
+  /// An open violation: its constraint and binding.
+  using OpenViolation = std::pair<std::string, std::vector<std::pair<std::string, graph::NodeId>>>;
+  /// Violations currently present around what changed since start (re-checked when it changes).
+  const std::set<OpenViolation>& open() const { return open_; }
   std::uint64_t violations_seen() const { return seen_; }
   std::uint64_t repairs_made() const { return repairs_; }
   const GrammarChecker& checker() const { return checker_; }
@@ -54,7 +56,10 @@ class GrammarGuard {
   std::function<void(const Violation&)> cb_;
   std::function<void(const graph::ReplicaId&, const Error&)> unverified_cb_;
   std::uint64_t verified_ = 0, unverified_ = 0;
-  std::set<std::vector<std::pair<std::string, graph::NodeId>>> open_;
+  bool where_free_ =
+      true;                // no constraint has a 'where': violations depend on nodes and edges only
+  bool complete_ = false;  // where_free_, and open_ holds every violation in the graph
+  std::set<OpenViolation> open_;
   std::vector<Violation> to_repair_;
   bool repairing_ = false;
   std::uint64_t seen_ = 0, repairs_ = 0;

@@ -114,7 +114,7 @@ class LockManager {
     graph::Dot winner_dot;         // the register entry holding it (a renewal changes it)
     std::int64_t changed_at = 0;   // local time the winning entry last changed (for expiry)
     bool expiry_reported = false;
-    std::vector<LockClaim> all;
+    std::uint64_t max_epoch = 0;  // the greatest epoch among the claims (0 if none)
   };
   void on_changes(const graph::ChangeBatch& b);
   void refresh(graph::NodeId root);
