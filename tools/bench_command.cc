@@ -5,6 +5,7 @@
 #include <iostream>
 #include <nlohmann/json.hpp>
 
+#include "bench_util.h"
 #include "commands.h"
 #include "quiver/graph/codec.h"
 #include "quiver/graph/graph.h"
@@ -14,10 +15,6 @@ namespace quiver::tools {
 namespace {
 
 using Clock = std::chrono::steady_clock;
-
-double seconds_since(Clock::time_point t0) {
-  return std::chrono::duration<double>(Clock::now() - t0).count();
-}
 
 struct CrdtBench {
   int nodes = 1000;

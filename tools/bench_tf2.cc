@@ -1,15 +1,15 @@
 // quiver_bench_tf2: the `quiver bench transforms` workload run against ROS tf2 (Debian
 // libtf2-dev), printing the same JSON lines with "impl":"tf2", so both run on one machine in one
-// go. The tree (keep in sync with tools/kinematics_commands.cc): root "world", two branches
-// b0_1..b0_D and b1_1..b1_D, each edge with a sample at t = 1 s and one at t = 2 s; look up the
-// leaf of branch 0 relative to the leaf of branch 1 at the latest time and at t = 1.5 s.
+// go. The tree (the poses come from bench_util.h, as in tools/kinematics_commands.cc): root
+// "world", two branches b0_1..b0_D and b1_1..b1_D, each edge with a sample at t = 1 s and one at
+// t = 2 s; look up the leaf of branch 0 relative to the leaf of branch 1 at the latest time and
+// at t = 1.5 s.
 //
 // Usage: quiver_bench_tf2 [--depth D] [--lookups N] [--threads K]
 
 #include <tf2/buffer_core.h>
 #include <tf2/exceptions.h>
 
-#include <Eigen/Geometry>
 #include <atomic>
 #include <chrono>
 #include <cstdio>
@@ -19,24 +19,14 @@
 #include <thread>
 #include <vector>
 
+#include "bench_util.h"
+
 namespace {
 
 using Clock = std::chrono::steady_clock;
-
-struct PoseXQ {
-  double t[3];
-  double q[4];  // w x y z
-};
-
-// Same formula as bench_pose() in tools/kinematics_commands.cc.
-PoseXQ bench_pose(int branch, int i, int sample) {
-  const double angle = 0.1 * (i + 1) + 0.05 * branch + 0.3 * sample;
-  Eigen::Vector3d axis(1.0 + 0.1 * i, 0.5 * branch - 0.2, 0.3 + 0.2 * sample);
-  axis.normalize();
-  Eigen::Quaterniond q(Eigen::AngleAxisd(angle, axis));
-  return PoseXQ{{0.1 + 0.01 * i + 0.05 * sample, 0.02 * branch - 0.01, 0.05 + 0.001 * i},
-                {q.w(), q.x(), q.y(), q.z()}};
-}
+using quiver::tools::bench_pose;
+using quiver::tools::BenchPose;
+using quiver::tools::seconds_since;
 
 void build(tf2::BufferCore& buf, int depth) {
   for (int sample = 0; sample < 2; ++sample)
@@ -44,18 +34,18 @@ void build(tf2::BufferCore& buf, int depth) {
       std::string parent = "world";
       for (int i = 1; i <= depth; ++i) {
         const std::string child = "b" + std::to_string(k) + "_" + std::to_string(i);
-        const PoseXQ p = bench_pose(k, i, sample);
+        const BenchPose p = bench_pose(k, i, sample);
         geometry_msgs::TransformStamped ts;
         ts.header.stamp = ros::Time(sample + 1.0);
         ts.header.frame_id = parent;
         ts.child_frame_id = child;
-        ts.transform.translation.x = p.t[0];
-        ts.transform.translation.y = p.t[1];
-        ts.transform.translation.z = p.t[2];
-        ts.transform.rotation.w = p.q[0];
-        ts.transform.rotation.x = p.q[1];
-        ts.transform.rotation.y = p.q[2];
-        ts.transform.rotation.z = p.q[3];
+        ts.transform.translation.x = p.translation[0];
+        ts.transform.translation.y = p.translation[1];
+        ts.transform.translation.z = p.translation[2];
+        ts.transform.rotation.w = p.rotation[0];
+        ts.transform.rotation.x = p.rotation[1];
+        ts.transform.rotation.y = p.rotation[2];
+        ts.transform.rotation.z = p.rotation[3];
         buf.setTransform(ts, "bench");
         parent = child;
       }
@@ -114,7 +104,7 @@ int main(int argc, char** argv) {
         auto t0 = Clock::now();
         volatile double sink = run(buf, depth, interpolated, lookups, &failures[k]);
         (void)sink;
-        seconds[k] = std::chrono::duration<double>(Clock::now() - t0).count();
+        seconds[k] = seconds_since(t0);
       });
     go.store(true);
     for (auto& t : ts) t.join();

@@ -16,11 +16,13 @@
 #include <thread>
 #include <vector>
 
+#include "bench_util.h"
 #include "commands.h"
 #include "quiver/graph/graph.h"
 #include "quiver/graph/world_file.h"
 #include "quiver/kinematics/collision_scene.h"
 #include "quiver/kinematics/frames.h"
+#include "quiver/kinematics/shape.h"
 #include "quiver/kinematics/urdf_import.h"
 #include "quiver/rng.h"
 
@@ -32,10 +34,6 @@ using graph::Graph;
 using graph::NodeId;
 using graph::Pose;
 using graph::ReplicaId;
-
-double seconds_since(Clock::time_point t0) {
-  return std::chrono::duration<double>(Clock::now() - t0).count();
-}
 
 /// CPU time of the calling thread (what a reader consumed, whatever else the machine ran).
 double thread_cpu_seconds() {
@@ -143,18 +141,10 @@ void run_import(const ImportArgs& args) {
 
 // ---------------------------------------------------------------------------- bench transforms
 
-// The benchmark tree, the same one tools/bench_tf2.cc builds (keep both in sync): root "world",
-// two branches b0_1..b0_D and b1_1..b1_D; edge i of branch k has a pose at t = 1 s and another at
-// t = 2 s (different rotations and translations).
-Pose bench_pose(int branch, int i, int sample) {
-  const double angle = 0.1 * (i + 1) + 0.05 * branch + 0.3 * sample;
-  Eigen::Vector3d axis(1.0 + 0.1 * i, 0.5 * branch - 0.2, 0.3 + 0.2 * sample);
-  axis.normalize();
-  Eigen::Quaterniond q(Eigen::AngleAxisd(angle, axis));
-  Pose p;
-  p.translation = {0.1 + 0.01 * i + 0.05 * sample, 0.02 * branch - 0.01, 0.05 + 0.001 * i};
-  p.rotation = {q.w(), q.x(), q.y(), q.z()};
-  return p;
+// The benchmark tree, the same one tools/bench_tf2.cc builds: see bench_pose() in bench_util.h.
+Pose edge_pose(int branch, int i, int sample) {
+  const BenchPose b = bench_pose(branch, i, sample);
+  return Pose{b.translation, b.rotation};
 }
 constexpr std::int64_t kSecond = 1'000'000'000;
 
@@ -173,7 +163,7 @@ BenchTree build_bench_tree(Graph& g, int depth) {
     NodeId parent = world;
     for (int i = 1; i <= depth; ++i) {
       NodeId c = *tx.create_node("frame", "b" + std::to_string(k) + "_" + std::to_string(i));
-      (void)tx.set_rt(parent, c, bench_pose(k, i, 0), 0);
+      (void)tx.set_rt(parent, c, edge_pose(k, i, 0), 0);
       t.parent_of.push_back(parent);
       t.child_of.push_back(c);
       t.edge_index.emplace_back(k, i);
@@ -185,7 +175,7 @@ BenchTree build_bench_tree(Graph& g, int depth) {
     auto s = g.begin();
     for (std::size_t e = 0; e < t.child_of.size(); ++e)
       (void)s.set_rt(t.parent_of[e], t.child_of[e],
-                     bench_pose(t.edge_index[e].first, t.edge_index[e].second, sample),
+                     edge_pose(t.edge_index[e].first, t.edge_index[e].second, sample),
                      (sample + 1) * kSecond);
     (void)s.commit();
   }
@@ -280,7 +270,6 @@ ModeResult run_mode(const TransformBench& b, bool interpolated, int readers) {
       done.fetch_add(1);
     });
   while (ready.load() < readers) std::this_thread::yield();
-  auto t0 = Clock::now();
   go.store(true, std::memory_order_release);
   if (b.writer_hz > 0) {
     // The owner thread: one transaction per tick with a new sample on every edge, 1 ms of
@@ -296,8 +285,8 @@ ModeResult run_mode(const TransformBench& b, bool interpolated, int readers) {
       stamp += kSecond / 1000;
       auto tx = g.begin();
       for (std::size_t e = 0; e < t.child_of.size(); ++e) {
-        Pose p = bench_pose(t.edge_index[e].first, t.edge_index[e].second,
-                            static_cast<int>(rng.below(2)));
+        Pose p = edge_pose(t.edge_index[e].first, t.edge_index[e].second,
+                           static_cast<int>(rng.below(2)));
         (void)tx.set_rt(t.parent_of[e], t.child_of[e], p, stamp);
       }
       (void)tx.commit();
@@ -306,7 +295,6 @@ ModeResult run_mode(const TransformBench& b, bool interpolated, int readers) {
     }
   }
   for (auto& th : threads) th.join();
-  const double wall = seconds_since(t0);
   long total = 0;
   double sink = 0;
   for (const auto& r : results) {
@@ -323,7 +311,6 @@ ModeResult run_mode(const TransformBench& b, bool interpolated, int readers) {
   }
   m.rate = total / std::max(slowest, 1e-9);
   m.cpu_rate = total / std::max(cpu, 1e-9);
-  (void)wall;
   return m;
 }
 
@@ -365,6 +352,9 @@ struct SceneBench {
 /// Cost of moving one object in an n-object scene (one graph transaction per move, the scene
 /// following the graph): should grow like log n, not like n.
 void run_scene_bench(const SceneBench& b) {
+  kinematics::ShapeSpec ball;
+  ball.kind = kinematics::ShapeSpec::Kind::kSphere;
+  ball.radius = 0.05;
   for (int n : b.objects) {
     Graph g(ReplicaId{fnv1a64("bench-scene"), 1});
     Rng rng(11);
@@ -378,9 +368,8 @@ void run_scene_bench(const SceneBench& b) {
     for (int i = 0; i < n;) {  // transactions of 1000 (validation cost grows with their size)
       auto tx = g.begin();
       for (int k = 0; k < 1000 && i < n; ++k, ++i) {
-        NodeId id = *tx.create_node("object", "o" + std::to_string(i),
-                                    {{graph::Symbol("shape"), graph::Value("sphere")},
-                                     {graph::Symbol("shape_radius"), graph::Value(0.05)}});
+        NodeId id =
+            *tx.create_node("object", "o" + std::to_string(i), kinematics::shape_attributes(ball));
         Pose p;
         p.translation = {rng.uniform() * 100, rng.uniform() * 100, rng.uniform() * 2};
         (void)tx.set_rt(world, id, p, 0);

@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <map>
+#include <type_traits>
 
 namespace quiver::kinematics {
 
@@ -15,13 +16,8 @@ using graph::NodeId;
 namespace {
 
 using Geometry = fcl::CollisionGeometryd;
-
-fcl::Transform3d to_fcl(const Eigen::Isometry3d& X) {
-  fcl::Transform3d T = fcl::Transform3d::Identity();
-  T.linear() = X.linear();
-  T.translation() = X.translation();
-  return T;
-}
+// FCL's transforms are Eigen isometries: poses are passed as they are.
+static_assert(std::is_same_v<fcl::Transform3d, Eigen::Isometry3d>);
 
 }  // namespace
 
@@ -32,10 +28,9 @@ struct CollisionScene::Impl {
     NodeId id;
     Frame frame;
     Frame root;
-    ShapeSpec spec;
-    std::shared_ptr<Geometry> geometry;
-    std::unique_ptr<fcl::CollisionObjectd> obj;
-    Leaf* leaf = nullptr;  ///< in the broad phase
+    std::unique_ptr<fcl::CollisionObjectd> obj;  ///< holds the geometry
+    Leaf* leaf = nullptr;                        ///< in the broad phase
+    std::uint64_t built = 0;                     ///< the update (see `updates`) that built it
   };
 
   FrameTree* frames;
@@ -51,6 +46,7 @@ struct CollisionScene::Impl {
   // O(log n): remove and re-insert one leaf, plus one incremental rebalancing pass.)
   Tree tree;
   Stats stats;
+  std::uint64_t updates = 0;  ///< on_update() calls so far
 
   void tree_insert(Object* o) { o->leaf = tree.insert(o->obj->getAABB(), o); }
   void tree_remove(Object* o) {
@@ -146,11 +142,9 @@ struct CollisionScene::Impl {
     o->id = id;
     o->frame = frames->frame_of(id);
     o->root = frames->root_of(o->frame);
-    o->spec = **spec;
-    o->geometry = *geom;
+    o->built = updates;
     auto X = frames->root_pose_of(o->frame);
-    o->obj = std::make_unique<fcl::CollisionObjectd>(
-        o->geometry, to_fcl(X ? *X : Eigen::Isometry3d::Identity()));
+    o->obj = std::make_unique<fcl::CollisionObjectd>(*geom, X ? *X : Eigen::Isometry3d::Identity());
     o->obj->setUserData(o.get());
     o->obj->computeAABB();
     Object* raw = o.get();
@@ -169,27 +163,28 @@ struct CollisionScene::Impl {
   }
 
   void on_update(const FrameUpdate& u) {
+    ++updates;
     if (u.resynced) {
       rebuild_all();
       return;
     }
+    // Removed frames: the frame tree lists every deleted node it knew, and it knows every node
+    // the scene has built an object for, so the batch's kDeleted events need nothing more.
     for (const NodeId& id : u.removed) remove(id);
     if (u.batch) {
       for (const graph::NodeChange& nc : u.batch->nodes) {
+        if (nc.kind == graph::ChangeKind::kDeleted) continue;
         bool rebuild = nc.kind == graph::ChangeKind::kCreated;
         if (nc.kind == graph::ChangeKind::kUpdated)
           for (const graph::Symbol& a : nc.attrs)
             if (shape_attr::is_shape_attr(a.str())) rebuild = true;
-        if (nc.kind == graph::ChangeKind::kDeleted) {
-          remove(nc.id);
-          continue;
-        }
         if (!rebuild || !g->has_node(nc.id)) continue;
         remove(nc.id);
         if (Object* o = make(nc.id)) tree_insert(o);
       }
     }
-    // Moved frames: new transform and AABB, and their leaves alone re-inserted.
+    // Moved frames: new transform and AABB, and their leaves alone re-inserted. An object built
+    // above already has its current pose (and counts as updated all the same).
     std::size_t moved = 0;
     for (const Frame& f : u.moved) {
       const NodeId id = frames->node_of(f);
@@ -198,12 +193,13 @@ struct CollisionScene::Impl {
       Object& o = *it->second;
       auto X = frames->root_pose_of(f);
       if (!X) continue;
+      ++moved;
+      if (o.built == updates) continue;
       o.frame = f;
       o.root = frames->root_of(f);
-      o.obj->setTransform(to_fcl(*X));
+      o.obj->setTransform(*X);
       o.obj->computeAABB();  // setTransform() does not refresh the AABB
       if (o.leaf) tree.update(o.leaf, o.obj->getAABB());
-      ++moved;
     }
     if (moved > 0) {
       // One rebalancing pass per moved leaf (O(log n) each) keeps the tree's depth in check.
@@ -211,6 +207,18 @@ struct CollisionScene::Impl {
       stats.objects_updated += moved;
       ++stats.broadphase_updates;
     }
+  }
+
+  /// The object of a live frame, or null if its node has no shape; an error if its shape is
+  /// invalid.
+  Result<Object*> shape_of(const char* fn, const FrameRef& f, Frame fr) {
+    const NodeId id = frames->node_of(fr);
+    if (auto p = problems.find(id); p != problems.end())
+      return make_error(ErrorCode::kInvalidArgument,
+                        std::string(fn) + "(): " + f.describe() +
+                            " has an invalid collision shape: " + p->second);
+    auto it = objects.find(id);
+    return it == objects.end() ? nullptr : it->second.get();
   }
 
   /// The object of a frame reference, or an error saying why there is none.
@@ -221,25 +229,55 @@ struct CollisionScene::Impl {
       e.message = std::string(fn) + "(): " + f.describe() + " does not exist in the frame tree";
       return e;
     }
-    const NodeId id = frames->node_of(*fr);
-    if (auto p = problems.find(id); p != problems.end())
-      return make_error(ErrorCode::kInvalidArgument,
-                        std::string(fn) + "(): " + f.describe() +
-                            " has an invalid collision shape: " + p->second);
-    auto it = objects.find(id);
-    if (it == objects.end())
+    auto o = shape_of(fn, f, *fr);
+    if (o.ok() && *o == nullptr)
       return make_error(
           ErrorCode::kInvalidArgument,
           std::string(fn) + "(): " + f.describe() + " has no collision shape (attribute 'shape')");
-    return it->second.get();
+    return o;
   }
 
-  Status same_tree(const char* fn, const Object& a, const Object& b, const FrameRef& A,
-                   const FrameRef& B) {
-    if (a.root == b.root) return Status::Ok();
-    return make_error(ErrorCode::kNotConnected,
-                      std::string(fn) + "(): " + A.describe() + " and " + B.describe() +
-                          " are not part of the same tree: they share no frame");
+  /// Ok if the roots are the same frame; `detail` ends the error message.
+  static Status same_tree(const char* fn, Frame root_a, Frame root_b, const FrameRef& A,
+                          const FrameRef& B, const char* detail) {
+    if (root_a == root_b) return Status::Ok();
+    return make_error(ErrorCode::kNotConnected, std::string(fn) + "(): " + A.describe() + " and " +
+                                                    B.describe() +
+                                                    " are not part of the same tree" + detail);
+  }
+
+  /// The objects of A and B, which must share a tree (collide(), distance()).
+  Result<std::pair<Object*, Object*>> object_pair(const char* fn, const FrameRef& A,
+                                                  const FrameRef& B) {
+    auto a = object(fn, A);
+    if (!a.ok()) return a.error();
+    auto b = object(fn, B);
+    if (!b.ok()) return b.error();
+    if (Status s = same_tree(fn, (*a)->root, (*b)->root, A, B, ": they share no frame"); !s.ok())
+      return s.error();
+    return std::make_pair(*a, *b);
+  }
+
+  /// The narrow phase of collide(a, b): the deepest contact, in a's frame.
+  CollisionInfo contact(const Object& a, const Object& b) {
+    fcl::CollisionRequestd req(/*num_max_contacts=*/16, /*enable_contact=*/true);
+    fcl::CollisionResultd res;
+    fcl::collide(a.obj.get(), b.obj.get(), req, res);
+    CollisionInfo info;
+    info.in_collision = res.isCollision();
+    if (info.in_collision && res.numContacts() > 0) {
+      std::size_t best = 0;
+      for (std::size_t i = 1; i < res.numContacts(); ++i)
+        if (res.getContact(i).penetration_depth > res.getContact(best).penetration_depth) best = i;
+      const auto& c = res.getContact(best);
+      // FCL reports contacts in the common (root) frame; express them in frame A.
+      const Eigen::Isometry3d X_RA = *frames->root_pose_of(a.frame);
+      info.penetration_depth = c.penetration_depth;
+      info.p_AoC_A = X_RA.inverse() * c.pos;
+      // FCL's normal points from o1 to o2 (A to B).
+      info.n_A = X_RA.linear().transpose() * c.normal;
+    }
+    return info;
   }
 };
 
@@ -267,48 +305,27 @@ CollisionScene::Stats CollisionScene::stats() const {
 }
 
 Result<CollisionInfo> CollisionScene::collide(FrameRef A, FrameRef B) {
-  auto a = impl_->object("collide", A);
-  if (!a.ok()) return a.error();
-  auto b = impl_->object("collide", B);
-  if (!b.ok()) return b.error();
-  if (Status s = impl_->same_tree("collide", **a, **b, A, B); !s.ok()) return s.error();
-  fcl::CollisionRequestd req(/*num_max_contacts=*/16, /*enable_contact=*/true);
-  fcl::CollisionResultd res;
-  fcl::collide((*a)->obj.get(), (*b)->obj.get(), req, res);
-  CollisionInfo info;
-  info.in_collision = res.isCollision();
-  if (info.in_collision && res.numContacts() > 0) {
-    std::size_t best = 0;
-    for (std::size_t i = 1; i < res.numContacts(); ++i)
-      if (res.getContact(i).penetration_depth > res.getContact(best).penetration_depth) best = i;
-    const auto& c = res.getContact(best);
-    // FCL reports contacts in the common (root) frame; express them in frame A.
-    const Eigen::Isometry3d X_RA = *impl_->frames->root_pose_of((*a)->frame);
-    info.penetration_depth = c.penetration_depth;
-    info.p_AoC_A = X_RA.inverse() * c.pos;
-    // FCL's normal points from o1 to o2 (A to B).
-    info.n_A = X_RA.linear().transpose() * c.normal;
-  }
-  return info;
+  auto ab = impl_->object_pair("collide", A, B);
+  if (!ab.ok()) return ab.error();
+  return impl_->contact(*ab->first, *ab->second);
 }
 
 Result<DistanceInfo> CollisionScene::distance(FrameRef A, FrameRef B) {
-  auto a = impl_->object("distance", A);
-  if (!a.ok()) return a.error();
-  auto b = impl_->object("distance", B);
-  if (!b.ok()) return b.error();
-  if (Status s = impl_->same_tree("distance", **a, **b, A, B); !s.ok()) return s.error();
+  auto ab = impl_->object_pair("distance", A, B);
+  if (!ab.ok()) return ab.error();
+  const Impl::Object& a = *ab->first;
+  const Impl::Object& b = *ab->second;
   fcl::DistanceRequestd req(/*enable_nearest_points=*/true);
   fcl::DistanceResultd res;
-  fcl::distance((*a)->obj.get(), (*b)->obj.get(), req, res);
+  fcl::distance(a.obj.get(), b.obj.get(), req, res);
   DistanceInfo info;
-  const Eigen::Isometry3d X_AR = impl_->frames->root_pose_of((*a)->frame)->inverse();
+  const Eigen::Isometry3d X_AR = impl_->frames->root_pose_of(a.frame)->inverse();
   if (res.min_distance <= 0.0) {
     // Touching or overlapping: FCL's nearest points are not meaningful; report a contact point.
     info.in_collision = true;
     info.distance = 0.0;
-    auto c = collide(A, B);
-    if (c.ok() && c->in_collision) info.p_AoPa_A = info.p_AoPb_A = c->p_AoC_A;
+    const CollisionInfo c = impl_->contact(a, b);
+    if (c.in_collision) info.p_AoPa_A = info.p_AoPb_A = c.p_AoC_A;
     return info;
   }
   info.distance = res.min_distance;
@@ -342,19 +359,15 @@ Result<ReachInfo> CollisionScene::within_reach(FrameRef target, FrameRef base, d
   if (!fb.ok()) return fb.error();
   auto ft = impl_->frames->frame(target);
   if (!ft.ok()) return ft.error();
-  const NodeId tid = impl_->frames->node_of(*ft);
-  if (auto p = impl_->problems.find(tid); p != impl_->problems.end())
-    return make_error(
-        ErrorCode::kInvalidArgument,
-        "within_reach(): " + target.describe() + " has an invalid collision shape: " + p->second);
-  if (!(impl_->frames->root_of(*fb) == impl_->frames->root_of(*ft)))
-    return make_error(ErrorCode::kNotConnected, "within_reach(): " + target.describe() + " and " +
-                                                    base.describe() +
-                                                    " are not part of the same tree");
+  auto shape = impl_->shape_of("within_reach", target, *ft);
+  if (!shape.ok()) return shape.error();
+  if (Status s = Impl::same_tree("within_reach", impl_->frames->root_of(*ft),
+                                 impl_->frames->root_of(*fb), target, base, "");
+      !s.ok())
+    return s.error();
   const Eigen::Isometry3d X_RB = *impl_->frames->root_pose_of(*fb);
   ReachInfo info;
-  auto it = impl_->objects.find(tid);
-  if (it == impl_->objects.end()) {
+  if (*shape == nullptr) {
     // No shape: the target is its frame's origin.
     const Eigen::Vector3d p_BoT_B =
         X_RB.inverse() * impl_->frames->root_pose_of(*ft)->translation();
@@ -364,11 +377,11 @@ Result<ReachInfo> CollisionScene::within_reach(FrameRef target, FrameRef base, d
     // The distance from the base origin to the shape: a point-sized sphere at the origin.
     constexpr double kPoint = 1e-9;
     auto probe_geom = std::make_shared<fcl::Sphered>(kPoint);
-    fcl::CollisionObjectd probe(probe_geom, to_fcl(X_RB));
+    fcl::CollisionObjectd probe(probe_geom, X_RB);
     probe.computeAABB();
     fcl::DistanceRequestd req(/*enable_nearest_points=*/true);
     fcl::DistanceResultd res;
-    fcl::distance(&probe, it->second->obj.get(), req, res);
+    fcl::distance(&probe, (*shape)->obj.get(), req, res);
     if (res.min_distance <= 0.0) {
       info.distance = 0.0;
       info.p_BoN_B = Eigen::Vector3d::Zero();

@@ -11,6 +11,7 @@
 
 #include "frame_store.h"
 #include "pose_math.h"
+#include "quiver/hash.h"
 
 namespace quiver::kinematics {
 
@@ -97,14 +98,7 @@ namespace {
 
 // ------------------------------------------------------------------------------------ hashing
 
-std::uint64_t hash_name(std::string_view s) {
-  std::uint64_t h = 0xcbf29ce484222325ULL;
-  for (unsigned char c : s) {
-    h ^= c;
-    h *= 0x100000001b3ULL;
-  }
-  return mix64(h);
-}
+std::uint64_t hash_name(std::string_view s) { return mix64(fnv1a64(s)); }
 
 std::uint64_t hash_id(const NodeId& id) { return mix64(hash_value(id.dot) + 0x51ed27ULL); }
 
@@ -223,10 +217,15 @@ struct EdgeSel {
   double r, theta, cos_theta, inv_sin, sign;
 };
 
+/// How many samples of a (possibly null) published history block may be read.
+[[gnu::always_inline]] inline std::uint32_t history_size(const HistoryBlock* h) {
+  return h ? std::min(ld(h->size), h->capacity) : 0;
+}
+
 /// Finds the samples of a slot's edge bracketing time t.
 [[gnu::always_inline]] inline Code select_edge(const SlotData* d, Time t, EdgeSel& e, Time* bound) {
   const HistoryBlock* h = d->history.load(std::memory_order_acquire);
-  const std::uint32_t n = h ? std::min(ld(h->size), h->capacity) : 0;
+  const std::uint32_t n = history_size(h);
   e.r = e.theta = e.inv_sin = 0.0;
   e.cos_theta = e.sign = 1.0;
   if (n < 2) {
@@ -567,69 +566,53 @@ std::uint64_t FrameReader::version() const {
   return core_->seq.load(std::memory_order_acquire) / 2;
 }
 
-Result<Frame> FrameReader::frame(FrameRef f) {
+template <class T, class Read>
+Result<T> FrameReader::read_frame(const char* fn, const FrameRef& f, Read&& read) {
   enter();
   struct Out {
     Code code;
-    Frame frame;
+    T value;
   };
-  Out out = internal::latch_read(*core_, [&](int c) {
+  const Out out = internal::latch_read(*core_, [&](int c) {
+    Out o{Code::kOk, T{}};
     std::uint32_t s = 0;
-    Code k = resolve(*core_, c, f, &s);
-    if (k != Code::kOk) return Out{k, {}};
-    return Out{k, Frame{s, ld(core_->slot(c, s)->generation)}};
+    o.code = resolve(*core_, c, f, &s);
+    if (o.code == Code::kOk) o.code = read(c, s, o.value);
+    return o;
   });
   if (out.code != Code::kOk) {
     Raw raw;
     raw.code = out.code;
-    return raw_error("frame", raw, f, f, 0);
+    return raw_error(fn, raw, f, f, 0);
   }
-  return out.frame;
+  return out.value;
+}
+
+Result<Frame> FrameReader::frame(FrameRef f) {
+  return read_frame<Frame>("frame", f, [&](int c, std::uint32_t s, Frame& out) {
+    out = Frame{s, ld(core_->slot(c, s)->generation)};
+    return Code::kOk;
+  });
 }
 
 Result<NodeId> FrameReader::node(FrameRef f) {
-  enter();
-  struct Out {
-    Code code;
-    NodeId id;
-  };
-  Out out = internal::latch_read(*core_, [&](int c) {
-    std::uint32_t s = 0;
-    Code k = resolve(*core_, c, f, &s);
-    if (k != Code::kOk) return Out{k, {}};
+  return read_frame<NodeId>("node", f, [&](int c, std::uint32_t s, NodeId& id) {
     const SlotData* d = core_->slot(c, s);
-    NodeId id;
     id.dot.replica.agent = ld(d->id[0]);
     id.dot.replica.incarnation = ld(d->id[1]);
     id.dot.counter = ld(d->id[2]);
-    return Out{k, id};
+    return Code::kOk;
   });
-  if (out.code != Code::kOk) {
-    Raw raw;
-    raw.code = out.code;
-    return raw_error("node", raw, f, f, 0);
-  }
-  return out.id;
 }
 
 Result<std::string> FrameReader::name(FrameRef f) {
-  enter();
-  struct Out {
-    Code code;
-    const std::string* name;
-  };
-  Out out = internal::latch_read(*core_, [&](int c) {
-    std::uint32_t s = 0;
-    Code k = resolve(*core_, c, f, &s);
-    if (k != Code::kOk) return Out{k, nullptr};
-    return Out{k, load_name(core_->slot(c, s))};
-  });
-  if (out.code != Code::kOk) {
-    Raw raw;
-    raw.code = out.code;
-    return raw_error("name", raw, f, f, 0);
-  }
-  return out.name ? *out.name : std::string();
+  auto n = read_frame<const std::string*>("name", f,
+                                          [&](int c, std::uint32_t s, const std::string*& out) {
+                                            out = load_name(core_->slot(c, s));
+                                            return Code::kOk;
+                                          });
+  if (!n.ok()) return n.error();
+  return *n ? **n : std::string();
 }
 
 Result<Eigen::Isometry3d> FrameReader::lookup(FrameRef A, FrameRef B) {
@@ -671,89 +654,45 @@ Result<Eigen::Isometry3d> FrameReader::transform_pose(FrameRef A, FrameRef B,
 }
 
 Result<std::pair<Frame, Eigen::Isometry3d>> FrameReader::root_pose(FrameRef F) {
-  enter();
-  struct Out {
-    Code code;
+  struct RootPose {
     Frame root;
     double R[9];
     double p[3];
   };
-  Out out = internal::latch_read(*core_, [&](int c) {
-    Out o{};
-    std::uint32_t s = 0;
-    o.code = resolve(*core_, c, F, &s);
-    if (o.code != Code::kOk) return o;
+  auto X = read_frame<RootPose>("root_pose", F, [&](int c, std::uint32_t s, RootPose& out) {
     const SlotData* d = core_->slot(c, s);
     const std::int32_t r = ld(d->root);
     const SlotData* rd = r >= 0 ? core_->slot(c, static_cast<std::uint32_t>(r)) : nullptr;
-    if (rd == nullptr) {
-      o.code = Code::kTorn;
-      return o;
-    }
-    o.root = Frame{static_cast<std::uint32_t>(r), ld(rd->generation)};
-    load_root_pose(d, o.R, o.p);
-    return o;
+    if (rd == nullptr) return Code::kTorn;
+    out.root = Frame{static_cast<std::uint32_t>(r), ld(rd->generation)};
+    load_root_pose(d, out.R, out.p);
+    return Code::kOk;
   });
-  if (out.code != Code::kOk) {
-    Raw raw;
-    raw.code = out.code;
-    return raw_error("root_pose", raw, F, F, 0);
-  }
-  return std::make_pair(out.root, internal::to_isometry(out.R, out.p));
+  if (!X.ok()) return X.error();
+  return std::make_pair(X->root, internal::to_isometry(X->R, X->p));
 }
 
 Result<std::uint64_t> FrameReader::pose_version(FrameRef F) {
-  enter();
-  struct Out {
-    Code code;
-    std::uint64_t v;
-  };
-  Out out = internal::latch_read(*core_, [&](int c) {
-    std::uint32_t s = 0;
-    Code k = resolve(*core_, c, F, &s);
-    return Out{k, k == Code::kOk ? ld(core_->slot(c, s)->version) : 0};
-  });
-  if (out.code != Code::kOk) {
-    Raw raw;
-    raw.code = out.code;
-    return raw_error("pose_version", raw, F, F, 0);
-  }
-  return out.v;
+  return read_frame<std::uint64_t>("pose_version", F,
+                                   [&](int c, std::uint32_t s, std::uint64_t& v) {
+                                     v = ld(core_->slot(c, s)->version);
+                                     return Code::kOk;
+                                   });
 }
 
 Result<std::pair<Time, Time>> FrameReader::edge_time_range(FrameRef F) {
-  enter();
-  struct Out {
-    Code code;
-    Time lo, hi;
-  };
-  Out out = internal::latch_read(*core_, [&](int c) {
-    Out o{Code::kOk, 0, 0};
-    std::uint32_t s = 0;
-    o.code = resolve(*core_, c, F, &s);
-    if (o.code != Code::kOk) return o;
-    const SlotData* d = core_->slot(c, s);
-    if (ld(d->parent) < 0) {
-      o.code = Code::kNoParent;
-      return o;
-    }
-    const HistoryBlock* h = d->history.load(std::memory_order_acquire);
-    const std::uint32_t n = h ? std::min(ld(h->size), h->capacity) : 0;
-    if (n < 2) {
-      o.lo = ld(d->stamp);
-      o.hi = std::numeric_limits<Time>::max();
-    } else {
-      o.lo = ld(h->samples()[0].stamp);
-      o.hi = ld(h->samples()[n - 1].stamp);
-    }
-    return o;
-  });
-  if (out.code != Code::kOk) {
-    Raw raw;
-    raw.code = out.code;
-    return raw_error("edge_time_range", raw, F, F, 0);
-  }
-  return std::make_pair(out.lo, out.hi);
+  return read_frame<std::pair<Time, Time>>(
+      "edge_time_range", F, [&](int c, std::uint32_t s, std::pair<Time, Time>& range) {
+        const SlotData* d = core_->slot(c, s);
+        if (ld(d->parent) < 0) return Code::kNoParent;
+        const HistoryBlock* h = d->history.load(std::memory_order_acquire);
+        const std::uint32_t n = history_size(h);
+        if (n < 2)
+          range = {ld(d->stamp), std::numeric_limits<Time>::max()};
+        else
+          range = {ld(h->samples()[0].stamp), ld(h->samples()[n - 1].stamp)};
+        return Code::kOk;
+      });
 }
 
 // ------------------------------------------------------------------------------------ owner
@@ -764,6 +703,14 @@ struct Sample {
   Time stamp;
   QP X;
 };
+
+/// Exact equality, number by number (==, as std::equal: -0 equals +0).
+bool same_values(const QP& a, const QP& b) {
+  return std::equal(a.q, a.q + 4, b.q) && std::equal(a.p, a.p + 3, b.p);
+}
+bool same_values(const Sample& a, const Sample& b) {
+  return a.stamp == b.stamp && same_values(a.X, b.X);
+}
 
 /// The owner's copy of one frame.
 struct Node {
@@ -847,16 +794,34 @@ struct FrameTree::Owner {
   std::vector<Frame> moved;
   std::vector<NodeId> removed;
   std::vector<std::pair<std::uint64_t, Listener>> listeners;
+  std::vector<std::pair<std::uint64_t, Listener>> notifying;  // notify()'s snapshot buffer
   std::uint64_t next_listener = 1;
   std::uint64_t audit_cursor = 0;
   std::size_t audit_per_batch = 0;
   Stats stats;
+  // The Updater's working buffers, kept between batches (cleared, not freed).
+  std::vector<NodeId> rt_dirty, rt_batch;
+  std::vector<std::int32_t> marked, stack, path;
+  std::vector<Sample> samples;
 
   void touch(std::int32_t s) {
     if (!nodes[s].touched) {
       nodes[s].touched = true;
       touched.push_back(s);
     }
+  }
+
+  /// Calls every listener. A callback may add or remove listeners, or cause a nested update:
+  /// the listeners registered now are called, from a snapshot (in a reused buffer; a nested call
+  /// finds it taken and makes its own).
+  void notify(const FrameUpdate& u) {
+    if (listeners.empty()) return;
+    std::vector<std::pair<std::uint64_t, Listener>> snapshot;
+    snapshot.swap(notifying);
+    snapshot.assign(listeners.begin(), listeners.end());
+    for (auto& [id, l] : snapshot) l(u);
+    snapshot.clear();
+    notifying.swap(snapshot);
   }
 };
 
@@ -943,7 +908,9 @@ namespace {
 /// Owner-side operations on the master copy; kept out of the class to keep the header small.
 class Updater {
  public:
-  Updater(const graph::Graph& g, FrameTree::Owner& o) : g_(g), o_(o) {}
+  Updater(const graph::Graph& g, FrameTree::Owner& o) : g_(g), o_(o), rt_dirty_(o.rt_dirty) {
+    rt_dirty_.clear();
+  }
 
   std::int32_t slot_of(const NodeId& id) const {
     auto it = o_.by_id.find(id);
@@ -1022,18 +989,12 @@ class Updater {
     if (!parent) return !n.samples.empty() || n.stamp != 0;
     auto e = g_.rt_edge(n.id);
     const QP X = internal::from_pose(e->pose);
-    if (e->stamp != n.stamp || !std::equal(X.q, X.q + 4, n.X_PN.q) ||
-        !std::equal(X.p, X.p + 3, n.X_PN.p))
-      return true;
-    build_samples(*e, g_.rt_history(n.id), scratch_);
-    if (scratch_.size() != n.samples.size()) return true;
-    for (std::size_t i = 0; i < scratch_.size(); ++i) {
-      const Sample& a = scratch_[i];
-      const Sample& b = n.samples[i];
-      if (a.stamp != b.stamp || !std::equal(a.X.q, a.X.q + 4, b.X.q) ||
-          !std::equal(a.X.p, a.X.p + 3, b.X.p))
-        return true;
-    }
+    if (e->stamp != n.stamp || !same_values(X, n.X_PN)) return true;
+    std::vector<Sample>& want = o_.samples;
+    build_samples(*e, g_.rt_history(n.id), want);
+    if (want.size() != n.samples.size()) return true;
+    for (std::size_t i = 0; i < want.size(); ++i)
+      if (!same_values(want[i], n.samples[i])) return true;
     return false;
   }
 
@@ -1091,8 +1052,9 @@ class Updater {
   void finish() {
     // Edge refreshes may queue more (children of removed nodes): loop until none is left.
     std::unordered_set<NodeId> seen;
+    std::vector<NodeId>& batch = o_.rt_batch;
     while (!rt_dirty_.empty()) {
-      std::vector<NodeId> batch;
+      batch.clear();
       batch.swap(rt_dirty_);
       for (const NodeId& id : batch)
         if (seen.insert(id).second) refresh_edge(id);
@@ -1168,8 +1130,10 @@ class Updater {
   void recompute_world() {
     auto& nodes = o_.nodes;
     // Mark every live node under a dirty root (a node already marked has its subtree marked).
-    std::vector<std::int32_t> marked;
-    std::vector<std::int32_t> stack;
+    std::vector<std::int32_t>& marked = o_.marked;
+    std::vector<std::int32_t>& stack = o_.stack;
+    marked.clear();
+    stack.clear();
     for (std::int32_t r : o_.world_dirty_roots) {
       if (!nodes[r].live || nodes[r].world_dirty) continue;
       stack.push_back(r);
@@ -1185,7 +1149,7 @@ class Updater {
     }
     o_.world_dirty_roots.clear();
     // Compute each marked node after its parent.
-    std::vector<std::int32_t> path;
+    std::vector<std::int32_t>& path = o_.path;
     for (std::int32_t s : marked) {
       path.clear();
       for (std::int32_t x = s; x != kNone && nodes[x].world_dirty; x = nodes[x].parent)
@@ -1236,9 +1200,8 @@ class Updater {
 
   const graph::Graph& g_;
   FrameTree::Owner& o_;
-  std::vector<NodeId> rt_dirty_;
+  std::vector<NodeId>& rt_dirty_;  // o_.rt_dirty
   std::unordered_set<std::string> names_to_refresh_;
-  std::vector<Sample> scratch_;
 };
 
 // ---- publishing
@@ -1301,10 +1264,8 @@ void write_slot(SlotData* d, Node& n, int copy, std::vector<HistoryBlock*>& reti
         while (cap < need) cap *= 2;
         if (h) retire_blocks.push_back(h);
         h = HistoryBlock::create(cap);
-        fill_history(h, n.samples);
-      } else {
-        fill_history(h, n.samples);
       }
+      fill_history(h, n.samples);
     }
     d->history.store(h, std::memory_order_release);  // a new block is complete before
   }
@@ -1411,17 +1372,12 @@ void FrameTree::on_batch(const graph::ChangeBatch& b) {
       any = true;
     }
   }
-  if (!any) {
-    if (!o.listeners.empty()) {
-      FrameUpdate u;
-      u.batch = &b;
-      for (auto& [id, l] : std::vector(o.listeners)) l(u);
-    }
-    return;
-  }
   FrameUpdate u;
   u.batch = &b;
-  publish(u);
+  if (any)
+    publish(u);
+  else
+    o.notify(u);
 }
 
 void FrameTree::publish(FrameUpdate& u) {
@@ -1438,7 +1394,7 @@ void FrameTree::publish(FrameUpdate& u) {
   std::vector<const std::string*> retire_strings;
   for (std::int32_t s : o.touched) {
     Node& n = o.nodes[s];
-    const std::string want = n.live ? n.name : std::string();
+    const std::string_view want = n.live ? std::string_view(n.name) : std::string_view();
     const std::string* cur = n.pub_name;
     if (cur && *cur == want) continue;
     if (cur == nullptr && want.empty()) continue;
@@ -1502,10 +1458,7 @@ void FrameTree::publish(FrameUpdate& u) {
 
   u.moved = o.moved;
   u.removed = o.removed;
-  if (!o.listeners.empty()) {
-    auto listeners = o.listeners;
-    for (auto& [id, l] : listeners) l(u);
-  }
+  o.notify(u);
   o.moved.clear();
   o.removed.clear();
 }
@@ -1552,9 +1505,7 @@ std::vector<std::string> FrameTree::check_against_graph() const {
                     " != " + std::to_string(b.samples.size()));
     } else {
       for (std::size_t i = 0; i < a.samples.size(); ++i)
-        if (a.samples[i].stamp != b.samples[i].stamp ||
-            !std::equal(a.samples[i].X.q, a.samples[i].X.q + 4, b.samples[i].X.q) ||
-            !std::equal(a.samples[i].X.p, a.samples[i].X.p + 3, b.samples[i].X.p))
+        if (!same_values(a.samples[i], b.samples[i]))
           out.push_back(who + "sample " + std::to_string(i) + " differs: stamp " +
                         std::to_string(a.samples[i].stamp) + " vs " +
                         std::to_string(b.samples[i].stamp) + " x " +

@@ -120,12 +120,6 @@ inline Eigen::Isometry3d to_isometry(const double* R, const double* p) {
   return X;
 }
 
-inline Eigen::Isometry3d to_isometry(const QP& X) {
-  double R[9];
-  quat_to_matrix(X.q, R);
-  return to_isometry(R, X.p);
-}
-
 /// A graph pose as a QP with its quaternion normalised (a zero quaternion becomes identity).
 inline QP from_pose(const graph::Pose& pose) {
   QP X;

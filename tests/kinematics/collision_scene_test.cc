@@ -26,10 +26,16 @@ using testing::random_pose;
 using testing::ref_root_pose;
 
 std::vector<std::pair<Symbol, Value>> sphere(double r) {
-  return {{Symbol("shape"), Value("sphere")}, {Symbol("shape_radius"), Value(r)}};
+  ShapeSpec s;
+  s.kind = ShapeSpec::Kind::kSphere;
+  s.radius = r;
+  return shape_attributes(s);
 }
 std::vector<std::pair<Symbol, Value>> box(float x, float y, float z) {
-  return {{Symbol("shape"), Value("box")}, {Symbol("shape_size"), Value(graph::Vec3f{x, y, z})}};
+  ShapeSpec s;
+  s.kind = ShapeSpec::Kind::kBox;
+  s.size = Eigen::Vector3d(x, y, z);
+  return shape_attributes(s);
 }
 
 Eigen::Vector3d center(const Graph& g, NodeId n) {

@@ -18,6 +18,7 @@ using graph::GraphDelta;
 using graph::NodeId;
 using graph::Pose;
 using graph::ReplicaId;
+using testing::in_subtree;
 using testing::random_pose;
 
 /// Every answer a replica gives, in a form that compares exactly: the 16 matrix entries, or the
@@ -61,12 +62,6 @@ struct Replica {
   std::vector<std::vector<std::uint8_t>> outbox;
   std::unique_ptr<FrameTree> tree;
 };
-
-bool in_subtree(const Graph& g, NodeId root, NodeId x) {
-  for (std::optional<NodeId> c = x; c; c = g.rt_parent(*c))
-    if (*c == root) return true;
-  return false;
-}
 
 /// One random transaction: moves (concurrent re-parenting when replicas do it at once), pose
 /// samples, detaches, creations, deletions. At most one RT change per child and transaction.

@@ -16,6 +16,7 @@ using graph::Graph;
 using graph::NodeId;
 using graph::Pose;
 using graph::ReplicaId;
+using testing::in_subtree;
 using testing::iso;
 using testing::max_abs_diff;
 using testing::random_pose;
@@ -23,12 +24,6 @@ using testing::ref_lookup_at;
 using testing::ref_root_pose;
 
 constexpr double kTol = 1e-9;
-
-bool in_subtree(const Graph& g, NodeId root, NodeId x) {
-  for (std::optional<NodeId> c = x; c; c = g.rt_parent(*c))
-    if (*c == root) return true;
-  return false;
-}
 
 /// Checks every ordered pair of visible nodes: lookups by name, by id and by handle, from the
 /// owner and from a reader, against the reference.

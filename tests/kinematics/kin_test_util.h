@@ -39,6 +39,13 @@ inline Pose random_pose(Rng& rng, double extent = 2.0) {
   return p;
 }
 
+/// Is `x` in the RT subtree rooted at `root` (`root` itself included)?
+inline bool in_subtree(const Graph& g, NodeId root, NodeId x) {
+  for (std::optional<NodeId> c = x; c; c = g.rt_parent(*c))
+    if (*c == root) return true;
+  return false;
+}
+
 /// X_RN by multiplying the current edge transforms from N up to its root R.
 inline std::pair<NodeId, Eigen::Isometry3d> ref_root_pose(const Graph& g, NodeId n) {
   Eigen::Isometry3d X = Eigen::Isometry3d::Identity();

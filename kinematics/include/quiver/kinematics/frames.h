@@ -137,6 +137,10 @@ class FrameReader {
   friend class FrameTree;
   FrameReader(std::shared_ptr<internal::Core> core, bool registered);
   void enter();
+  /// enter(), then resolves `f` and runs `read(copy, slot, out)` under the latch; an error named
+  /// after the calling method `fn` if `f` does not resolve or `read` fails.
+  template <class T, class Read>
+  Result<T> read_frame(const char* fn, const FrameRef& f, Read&& read);
 
   std::shared_ptr<internal::Core> core_;
   int reader_index_ = -1;  ///< slot in the reader registry; -1 for the owner's own reader
