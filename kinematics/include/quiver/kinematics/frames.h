@@ -219,8 +219,8 @@ class FrameTree {
   /// Compares up to `frames` frames (round robin) with the graph and repairs those that differ;
   /// returns how many did. Followed graphs report every change as an event, except a few that
   /// the graph (today) raises none for: an RT edge detached and re-attached to the same parent in
-  /// one transaction, the stamp of a move that falls back to its previous parent, and a sample of
-  /// the current parent evicted from the bounded history by one of an older parent. Each batch
+  /// one transaction, and a sample of the current parent evicted from the bounded history by one
+  /// of an older parent. Each batch
   /// audits FrameTreeOptions::audit_per_batch frames, so such a frame is repaired within
   /// (frames / audit_per_batch) batches; sync() repairs everything at once.
   std::size_t audit(std::size_t frames);
