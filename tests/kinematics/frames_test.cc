@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include "kin_test_util.h"
+#include "quiver/graph/codec.h"
 #include "quiver/graph/world_file.h"
 #include "test_seed.h"
 
@@ -105,7 +106,6 @@ TEST(FramesTest, RandomTreesMatchMatrixProducts) {
 
 // Once a graph bug: a transaction that detached a child and re-attached it under the same parent
 // with a new pose raised no RT event, so no follower could see the new transform.
-// test once the graph reports the change.
 TEST(FramesTest, DetachAndReattachInOneTransaction) {
   Graph g(ReplicaId{1, 1});
   NodeId w, c;
@@ -127,6 +127,64 @@ TEST(FramesTest, DetachAndReattachInOneTransaction) {
   }
   auto diffs = tree.check_against_graph();
   EXPECT_TRUE(diffs.empty()) << diffs.front();
+}
+
+// A late sample of the parent a child had before its move can still be newer than the oldest
+// sample kept; it then evicts a sample of the current parent from the bounded history, which
+// changes what a timed lookup answers. The graph must announce that.
+TEST(FramesTest, ALateSampleOfTheOldParentEvictingACurrentOneIsAnnounced) {
+  Graph a(ReplicaId{1, 1}), b(ReplicaId{2, 1});
+  std::vector<std::vector<std::uint8_t>> from_a, from_b;
+  a.set_delta_sink([&](const graph::GraphDelta& d) { from_a.push_back(graph::encode(d)); });
+  b.set_delta_sink([&](const graph::GraphDelta& d) { from_b.push_back(graph::encode(d)); });
+  NodeId p1, p2, c;
+  {
+    auto tx = a.begin();
+    NodeId w = *tx.create_node("world", "world");
+    p1 = *tx.create_node("f", "p1");
+    p2 = *tx.create_node("f", "p2");
+    c = *tx.create_node("f", "c");
+    ASSERT_TRUE(tx.set_rt(w, p1, Pose{{1, 0, 0}, {1, 0, 0, 0}}).ok());
+    ASSERT_TRUE(tx.set_rt(w, p2, Pose{{0, 1, 0}, {1, 0, 0, 0}}).ok());
+    ASSERT_TRUE(tx.set_rt(p1, c, Pose{{0, 0, 1}, {1, 0, 0, 0}}, 1).ok());
+    ASSERT_TRUE(tx.commit().ok());
+  }
+  for (const auto& m : from_a) {
+    auto d = graph::decode(m);
+    ASSERT_TRUE(d.ok());
+    b.merge(*d);
+  }
+  // b, not yet aware of any move, samples c under p1 at t = 100.
+  {
+    auto tx = b.begin();
+    ASSERT_TRUE(tx.set_rt(p1, c, Pose{{0, 0, 5}, {1, 0, 0, 0}}, 100).ok());
+    ASSERT_TRUE(tx.commit().ok());
+  }
+  FrameTreeOptions no_audit;  // the event alone must carry the change
+  no_audit.audit_per_batch = 0;
+  FrameTree tree(a, no_audit);
+  // a moves c under p2 at t = 10 and fills the history with samples of that parent.
+  for (std::int64_t t = 10; t < 10 + static_cast<std::int64_t>(graph::kRtHistoryDepth); ++t) {
+    auto tx = a.begin();
+    ASSERT_TRUE(tx.set_rt(p2, c, Pose{{0, 0, static_cast<double>(t)}, {1, 0, 0, 0}}, t).ok());
+    ASSERT_TRUE(tx.commit().ok());
+  }
+  ASSERT_EQ(a.rt_history(c).size(), graph::kRtHistoryDepth);
+  ASSERT_EQ(a.rt_history(c).front().stamp, 10);
+  ASSERT_TRUE(tree.check_against_graph().empty());
+  const auto before = tree.lookup_at("p2", "c", 10);
+  ASSERT_TRUE(before.ok()) << before.error().message;
+  // b's sample arrives: the t = 10 sample of p2 is evicted, so t = 10 is no longer covered.
+  for (const auto& m : from_b) {
+    auto d = graph::decode(m);
+    ASSERT_TRUE(d.ok());
+    a.merge(*d);
+  }
+  ASSERT_EQ(*a.rt_parent(c), p2);
+  ASSERT_EQ(a.rt_history(c).front().stamp, 11);
+  auto diffs = tree.check_against_graph();
+  EXPECT_TRUE(diffs.empty()) << diffs.front();
+  EXPECT_FALSE(tree.lookup_at("p2", "c", 10).ok());
 }
 
 TEST(FramesTest, OnlyTheChangedSubtreeIsRecomputed) {

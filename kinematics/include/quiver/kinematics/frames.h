@@ -151,8 +151,8 @@ struct FrameTreeOptions {
   /// Subscribe to the graph and follow its changes. If false, call sync() by hand.
   bool follow = true;
   /// After every batch, compare this many frames (round robin) with the graph and repair any
-  /// difference: a safety net for graph changes that raise no event (see audit()).
-  std::size_t audit_per_batch = 4;
+  /// difference (see audit()). Off by default: the graph announces every change it makes.
+  std::size_t audit_per_batch = 0;
 };
 
 /// What one update of the FrameTree changed, for owner-thread listeners (e.g. the collision
@@ -217,12 +217,10 @@ class FrameTree {
   /// raised no event).
   void sync();
   /// Compares up to `frames` frames (round robin) with the graph and repairs those that differ;
-  /// returns how many did. Followed graphs report every change as an event, except a few that
-  /// the graph (today) raises none for: an RT edge detached and re-attached to the same parent in
-  /// one transaction, and a sample of the current parent evicted from the bounded history by one
-  /// of an older parent. Each batch
-  /// audits FrameTreeOptions::audit_per_batch frames, so such a frame is repaired within
-  /// (frames / audit_per_batch) batches; sync() repairs everything at once.
+  /// returns how many did (also counted in Stats::repairs). A followed tree needs none: the
+  /// graph reports every change as an event, and the tests hold it to that with the audit off.
+  /// It stays as a cheap check for an application that wants one (see
+  /// FrameTreeOptions::audit_per_batch); sync() rebuilds everything at once.
   std::size_t audit(std::size_t frames);
   /// Compares the table with a fresh derivation from the graph; one message per difference.
   std::vector<std::string> check_against_graph() const;
