@@ -26,42 +26,34 @@ namespace {
 
 // ------------------------------------------------------------------ the change set
 
-struct EdgeRef {
-  NodeId from, to;
-  Symbol label;
-  // By label text, not symbol index (which depends on interning order).
-  friend bool operator<(const EdgeRef& a, const EdgeRef& b) {
-    if (a.from != b.from) return a.from < b.from;
-    if (a.to != b.to) return a.to < b.to;
-    return graph::text_less(a.label, b.label);
-  }
-  friend bool operator==(const EdgeRef& a, const EdgeRef& b) = default;
-};
+// Edges of a change are graph::EdgeKey, ordered by graph::canonical_less (types by text, not by
+// symbol index, which depends on interning order).
+using EdgeMap = std::map<EdgeKey, bool, decltype(&graph::canonical_less)>;
 
 struct Changes {
   std::map<NodeId, std::string> created;  // id -> type
   std::set<NodeId> deleted;
-  std::vector<EdgeRef> added, removed;
+  std::vector<EdgeKey> added, removed;
   std::string unruled;  // first change that needs an 'allow' the grammar lacks
+  // Notes `what()` as the unruled change unless `ok` (first: an allowed change builds no message
+  // and looks nothing up) or one is noted already.
+  template <class What>
+  void need(bool ok, const What& what) {
+    if (!ok && unruled.empty()) unruled = what();
+  }
   bool structural() const { return !created.empty() || !deleted.empty() || !added.empty() || !removed.empty(); }
 };
 
-bool edge_in_pre(const Graph& g, const EdgeRef& e) {
-  if (e.label == graph::symbols::rt()) {
-    auto p = g.rt_parent(e.to);
-    return p && *p == e.from;
-  }
-  return g.has_edge(e.from, e.to, e.label);
-}
+bool edge_in_pre(const Graph& g, const EdgeKey& e) { return g.has_edge(e.from, e.to, e.type); }
 
 // System attributes ("__lock", ...) belong to the runtime, not to the domain grammar.
 bool system_attr(Symbol a) { return a.str().rfind("__", 0) == 0; }
 
 Changes extract(const Grammar& gr, const Graph& g, const std::vector<TxnOp>& ops) {
   Changes c;
-  std::map<EdgeRef, bool> state;  // edge -> present after the ops so far
+  EdgeMap state(graph::canonical_less);               // edge -> present after the ops so far
   std::map<NodeId, std::optional<NodeId>> rt_parent;  // child -> parent after the ops so far
-  auto present = [&](const EdgeRef& e) {
+  auto present = [&](const EdgeKey& e) {
     auto it = state.find(e);
     return it != state.end() ? it->second : edge_in_pre(g, e);
   };
@@ -70,10 +62,6 @@ Changes extract(const Grammar& gr, const Graph& g, const std::vector<TxnOp>& ops
     return it != rt_parent.end() ? it->second : g.rt_parent(child);
   };
   const Symbol rt = graph::symbols::rt();
-  // `ok` first: an allowed change builds no message and looks nothing up.
-  auto need = [&](bool ok, const auto& what) {
-    if (!ok && c.unruled.empty()) c.unruled = what();
-  };
   for (const TxnOp& op : ops) {
     switch (op.kind) {
       case TxnOp::Kind::kCreateNode: c.created[op.node] = op.type.str(); break;
@@ -82,25 +70,25 @@ Changes extract(const Grammar& gr, const Graph& g, const std::vector<TxnOp>& ops
         break;
       case TxnOp::Kind::kSetAttr:
       case TxnOp::Kind::kRemoveAttr:
-        need(gr.allow_attributes || system_attr(op.attr) || c.created.count(op.node), [&] {
+        c.need(gr.allow_attributes || system_attr(op.attr) || c.created.count(op.node), [&] {
           return "attribute '" + op.attr.str() + "' of " + g.name_of(op.node) +
                  " changes but the grammar has no 'allow attributes'";
         });
         break;
       case TxnOp::Kind::kInsertEdge: {
-        EdgeRef e{op.node, op.other, op.type};
-        need(gr.allow_attributes || op.attrs.empty() || !present(e), [] {
+        EdgeKey e{op.node, op.other, op.type};
+        c.need(gr.allow_attributes || op.attrs.empty() || !present(e), [] {
           return std::string("edge attributes change but the grammar has no 'allow attributes'");
         });
         state[e] = true;
         break;
       }
       case TxnOp::Kind::kDeleteEdge:
-        state[EdgeRef{op.node, op.other, op.type}] = false;
+        state[EdgeKey{op.node, op.other, op.type}] = false;
         break;
       case TxnOp::Kind::kSetEdgeAttr:
       case TxnOp::Kind::kRemoveEdgeAttr:
-        need(gr.allow_attributes || !edge_in_pre(g, EdgeRef{op.node, op.other, op.type}), [&] {
+        c.need(gr.allow_attributes || !edge_in_pre(g, EdgeKey{op.node, op.other, op.type}), [&] {
           return "edge attribute '" + op.attr.str() +
                  "' changes but the grammar has no 'allow attributes'";
         });
@@ -108,7 +96,7 @@ Changes extract(const Grammar& gr, const Graph& g, const std::vector<TxnOp>& ops
       case TxnOp::Kind::kSetRt: {
         auto old = parent_of(op.node);
         if (old && *old == op.other) {
-          need(gr.allow_rt_poses || c.created.count(op.node), [&] {
+          c.need(gr.allow_rt_poses || c.created.count(op.node), [&] {
             return "the RT pose of " + g.name_of(op.node) +
                    " changes but the grammar has no 'allow rt-poses'";
           });
@@ -116,14 +104,14 @@ Changes extract(const Grammar& gr, const Graph& g, const std::vector<TxnOp>& ops
         }
         rt_parent[op.node] = op.other;
         if (gr.allow_rt_moves) break;
-        if (old) state[EdgeRef{*old, op.node, rt}] = false;
-        state[EdgeRef{op.other, op.node, rt}] = true;
+        if (old) state[EdgeKey{*old, op.node, rt}] = false;
+        state[EdgeKey{op.other, op.node, rt}] = true;
         break;
       }
       case TxnOp::Kind::kRemoveRt: {
         auto old = parent_of(op.node);
         rt_parent[op.node] = std::nullopt;
-        if (old && !gr.allow_rt_moves) state[EdgeRef{*old, op.node, rt}] = false;
+        if (old && !gr.allow_rt_moves) state[EdgeKey{*old, op.node, rt}] = false;
         break;
       }
     }
@@ -141,9 +129,6 @@ Changes extract(const Grammar& gr, const Graph& g, const std::vector<TxnOp>& ops
 Changes extract_delta(const Grammar& gr, const Graph& g, const graph::GraphDelta& d) {
   Changes c;
   const Symbol rt = graph::symbols::rt();
-  auto need = [&](bool ok, const auto& what) {  // as in extract()
-    if (!ok && c.unruled.empty()) c.unruled = what();
-  };
   for (const auto& n : d.nodes) {
     if (n.has_header && !g.has_node(n.id) && !g.context().contains(n.id.dot)) c.created[n.id] = n.type.str();
     if (n.removed && g.has_node(n.id)) c.deleted.insert(n.id);
@@ -152,30 +137,31 @@ Changes extract_delta(const Grammar& gr, const Graph& g, const graph::GraphDelta
     const bool fresh = c.created.count(n.id) != 0;
     if (!gr.allow_attributes && !fresh && !n.removed)
       for (std::uint32_t i = n.attrs.begin; i < n.attrs.end; ++i)
-        need(system_attr(d.attrs[i].name), [&] {
+        c.need(system_attr(d.attrs[i].name), [&] {
           return "attribute '" + d.attrs[i].name.str() +
                  "' changes but the grammar has no 'allow attributes'";
         });
+    const auto old = g.rt_parent(n.id);
     for (std::uint32_t i = n.claim_added.begin; i < n.claim_added.end; ++i) {
       const graph::RtClaim& cl = d.claims[i].value;
-      auto old = g.rt_parent(n.id);
       if (old && !cl.parent.is_null() && *old == cl.parent) continue;
       if (gr.allow_rt_moves) continue;
-      if (old) c.removed.push_back(EdgeRef{*old, n.id, rt});
-      if (!cl.parent.is_null()) c.added.push_back(EdgeRef{cl.parent, n.id, rt});
+      if (old) c.removed.push_back(EdgeKey{*old, n.id, rt});
+      if (!cl.parent.is_null()) c.added.push_back(EdgeKey{cl.parent, n.id, rt});
     }
-    need(gr.allow_rt_poses || n.samples.empty() || fresh,
-         [] { return std::string("an RT pose changes but the grammar has no 'allow rt-poses'"); });
+    c.need(gr.allow_rt_poses || n.samples.empty() || fresh, [] {
+      return std::string("an RT pose changes but the grammar has no 'allow rt-poses'");
+    });
   }
   for (const auto& e : d.edges) {
     if (c.deleted.count(e.key.from) || c.deleted.count(e.key.to)) continue;
     const bool pre = g.has_edge(e.key.from, e.key.to, e.key.type);
-    EdgeRef ref{e.key.from, e.key.to, e.key.type};
+    EdgeKey ref{e.key.from, e.key.to, e.key.type};
     if (!pre && !e.added.empty()) c.added.push_back(ref);
     else if (pre && e.added.empty() && !e.removed.empty()) c.removed.push_back(ref);
     else if (pre && !gr.allow_attributes) {
       for (std::uint32_t i = e.attrs.begin; i < e.attrs.end; ++i)
-        need(d.attrs[i].added.empty(), [] {
+        c.need(d.attrs[i].added.empty(), [] {
           return std::string("edge attributes change but the grammar has no 'allow attributes'");
         });
     }
@@ -183,13 +169,14 @@ Changes extract_delta(const Grammar& gr, const Graph& g, const graph::GraphDelta
   return c;
 }
 
-std::string describe(const Graph& g, const EdgeRef& e, const std::map<NodeId, std::string>& created) {
+std::string describe(const Graph& g, const EdgeKey& e,
+                     const std::map<NodeId, std::string>& created) {
   auto name = [&](NodeId n) {
     std::string s = g.name_of(n);
     if (s.empty()) s = created.count(n) ? "new " + created.at(n) : n.to_string();
     return s;
   };
-  return name(e.from) + " -[" + e.label.str() + "]-> " + name(e.to);
+  return name(e.from) + " -[" + e.type.str() + "]-> " + name(e.to);
 }
 
 std::string describe(const Graph& g, const Changes& c) {
@@ -352,22 +339,21 @@ using Binding = std::unordered_map<std::string, NodeId>;
 std::vector<NodeId> candidates(const Graph& g, const TypeSystem& types, const std::string& var, const std::string& type,
                                const std::vector<const PatternEdge*>& edges, const Binding& b) {
   std::vector<NodeId> out;
+  bool anchored = false;
   for (const PatternEdge* e : edges) {
     if (e->negated) continue;
     if (e->to == var && b.count(e->from)) {
       for (const EdgeKey& k : g.edges_from(b.at(e->from), e->symbol)) out.push_back(k.to);
+      anchored = true;
       break;
     }
     if (e->from == var && b.count(e->to)) {
       for (const EdgeKey& k : g.edges_to(b.at(e->to), e->symbol)) out.push_back(k.from);
+      anchored = true;
       break;
     }
   }
-  if (out.empty()) {
-    bool anchored = false;
-    for (const PatternEdge* e : edges) anchored = anchored || (!e->negated && ((e->to == var && b.count(e->from)) || (e->from == var && b.count(e->to))));
-    if (!anchored) out = g.nodes();  // unanchored variable: scan (documented cost)
-  }
+  if (!anchored) out = g.nodes();  // unanchored variable: scan (documented cost)
   std::vector<NodeId> typed;
   for (NodeId n : out)
     if (types.is_a(g.type_of(n).str(), type)) typed.push_back(n);
@@ -428,7 +414,7 @@ bool eval(const Graph& g, const TypeSystem& types, const Formula& f, Binding& b)
       return false;
     case Formula::Kind::kNot: return !eval(g, types, f.kids[0], b);
     case Formula::Kind::kEdge:
-      return edge_in_pre(g, EdgeRef{b.at(f.edge.from), b.at(f.edge.to), f.edge.symbol});
+      return edge_in_pre(g, EdgeKey{b.at(f.edge.from), b.at(f.edge.to), f.edge.symbol});
     case Formula::Kind::kHas:
       return g.attr(b.at(f.var), f.attr_symbol) != nullptr;
     case Formula::Kind::kCompare: {
@@ -573,7 +559,7 @@ GrammarChecker::Impl::Attempt GrammarChecker::Impl::try_rule(const Graph& gr, co
   std::vector<NodeId> slot(n);
   std::vector<bool> bound(n, false);
   std::set<NodeId> used;
-  auto type_of = [&](NodeId id) -> std::string {
+  auto type_of = [&](NodeId id) -> const std::string& {
     auto it = c.created.find(id);
     return it != c.created.end() ? it->second : gr.type_of(id).str();
   };
@@ -635,7 +621,7 @@ GrammarChecker::Impl::Attempt GrammarChecker::Impl::try_rule(const Graph& gr, co
       auto& taken = ob.kind == Ob::kRemoved ? used_removed : used_added;
       bool any = false;
       for (std::size_t i = 0; i < pool.size(); ++i) {
-        if (taken[i] || pool[i].label != e.label) continue;
+        if (taken[i] || pool[i].type != e.label) continue;
         any = true;
         bool fb = bound[e.from], tb = bound[e.to];
         if (!bind(e.from, pool[i].from, progress)) continue;
@@ -721,11 +707,15 @@ GrammarChecker::Impl::Attempt GrammarChecker::Impl::try_rule(const Graph& gr, co
       return false;
     }
     // Everything bound: context edges present (and kept), negatives absent, precondition true.
-    auto ref = [&](const Compiled::E& e) { return EdgeRef{slot[e.from], slot[e.to], e.label}; };
-    auto removed_now = [&](const EdgeRef& e) { return std::find(c.removed.begin(), c.removed.end(), e) != c.removed.end(); };
-    auto added_now = [&](const EdgeRef& e) { return std::find(c.added.begin(), c.added.end(), e) != c.added.end(); };
+    auto ref = [&](const Compiled::E& e) { return EdgeKey{slot[e.from], slot[e.to], e.label}; };
+    auto removed_now = [&](const EdgeKey& e) {
+      return std::find(c.removed.begin(), c.removed.end(), e) != c.removed.end();
+    };
+    auto added_now = [&](const EdgeKey& e) {
+      return std::find(c.added.begin(), c.added.end(), e) != c.added.end();
+    };
     for (const auto& e : r.context) {
-      EdgeRef x = ref(e);
+      EdgeKey x = ref(e);
       bool endpoint_deleted = c.deleted.count(x.from) || c.deleted.count(x.to);
       if (!edge_in_pre(gr, x) || (!endpoint_deleted && removed_now(x))) {
         note(progress + 1, "it needs an edge " + edge_text(r, e) + " that the graph lacks");
@@ -738,7 +728,7 @@ GrammarChecker::Impl::Attempt GrammarChecker::Impl::try_rule(const Graph& gr, co
         return false;
       }
     for (const auto& e : r.neg_post) {
-      EdgeRef x = ref(e);
+      EdgeKey x = ref(e);
       if ((edge_in_pre(gr, x) && !removed_now(x)) || added_now(x)) {
         note(progress + 2, "its result forbids the edge " + edge_text(r, e));
         return false;
@@ -752,22 +742,22 @@ GrammarChecker::Impl::Attempt GrammarChecker::Impl::try_rule(const Graph& gr, co
     }
     // Forall effects: every match of each effect's left side must be rewritten too, and the
     // rule plus its effects must account for exactly the transaction's changes.
-    std::vector<EdgeRef> want_removed, want_added;
+    std::vector<EdgeKey> want_removed, want_added;
     for (const auto& e : r.removed) want_removed.push_back(ref(e));
     for (const auto& e : r.added) want_added.push_back(ref(e));
     for (const CompiledForall& cf : r.foralls) {
       Binding fb = b;
       enumerate(gr, types, cf.effect->vars, cf.guard, fb, [&](Binding& m) {
         for (const PatternEdge* e : cf.removed)
-          want_removed.push_back(EdgeRef{m.at(e->from), m.at(e->to), e->symbol});
+          want_removed.push_back(EdgeKey{m.at(e->from), m.at(e->to), e->symbol});
         for (const PatternEdge* e : cf.added)
-          want_added.push_back(EdgeRef{m.at(e->from), m.at(e->to), e->symbol});
+          want_added.push_back(EdgeKey{m.at(e->from), m.at(e->to), e->symbol});
         return true;
       });
     }
-    auto same = [](std::vector<EdgeRef> a, std::vector<EdgeRef> b) {
-      std::sort(a.begin(), a.end());
-      std::sort(b.begin(), b.end());
+    auto same = [](std::vector<EdgeKey> a, std::vector<EdgeKey> b) {
+      std::sort(a.begin(), a.end(), graph::canonical_less);
+      std::sort(b.begin(), b.end(), graph::canonical_less);
       return a == b;
     };
     if (!same(want_removed, c.removed) || !same(want_added, c.added)) {
@@ -800,8 +790,8 @@ Status GrammarChecker::check(const Graph& gr, const std::vector<TxnOp>& ops, Rul
     return make_error(ErrorCode::kRefused, "grammar '" + g.name + "': " + c.unruled);
   if (!c.structural()) return {};
   std::vector<std::string> rl, al;
-  for (const auto& e : c.removed) rl.push_back(e.label.str());
-  for (const auto& e : c.added) al.push_back(e.label.str());
+  for (const auto& e : c.removed) rl.push_back(e.type.str());
+  for (const auto& e : c.added) al.push_back(e.type.str());
   std::vector<int> candidates;
   if (auto it = impl_->by_signature.find(signature(rl, al, c.deleted.size(), c.created.size())); it != impl_->by_signature.end())
     candidates = it->second;
@@ -831,8 +821,8 @@ Status GrammarChecker::check(const Graph& gr, const std::vector<TxnOp>& ops, Rul
   if (!closest) {
     int best = -1;
     std::multiset<std::string> mine;
-    for (const auto& e : c.removed) mine.insert("-" + e.label.str());
-    for (const auto& e : c.added) mine.insert("+" + e.label.str());
+    for (const auto& e : c.removed) mine.insert("-" + e.type.str());
+    for (const auto& e : c.added) mine.insert("+" + e.type.str());
     for (const Compiled& r : impl_->rules) {
       int score = 0;
       for (const auto& e : r.removed) score += mine.count("-" + e.label.str()) ? 2 : 0;
@@ -928,9 +918,10 @@ std::vector<Violation> GrammarChecker::violations_around(const Graph& gr, const 
     const Constraint& con = *cc.con;
     for (NodeId anchor : anchors) {
       if (!gr.has_node(anchor)) continue;
+      const std::string& anchor_type = gr.type_of(anchor).str();
       for (std::size_t i = 0; i < con.forbid.nodes.size(); ++i) {
         const PatternNode& pv = con.forbid.nodes[i];
-        if (!types.is_a(gr.type_of(anchor).str(), pv.type)) continue;
+        if (!types.is_a(anchor_type, pv.type)) continue;
         Binding b;
         b[pv.var] = anchor;
         enumerate(gr, types, cc.rest[i], cc.guard, b, [&](Binding& m) {

@@ -13,7 +13,7 @@ namespace quiver::agents {
 void TypeSystem::declare(const std::string& type, const std::string& base) { parent_[type] = base; }
 
 bool TypeSystem::is_a(std::string_view type, std::string_view base) const {
-  std::string t(type);
+  std::string_view t = type;
   for (int guard = 0; guard < 1000; ++guard) {
     if (t == base) return true;
     auto it = parent_.find(t);

@@ -47,12 +47,17 @@ class TypeSystem {
  public:
   /// Declares `type` (optionally as a subtype of `base`, which must already exist).
   void declare(const std::string& type, const std::string& base = {});
-  bool known(std::string_view type) const { return parent_.count(std::string(type)) != 0; }
+  bool known(std::string_view type) const { return parent_.find(type) != parent_.end(); }
   /// True if `type` is `base` or inherits from it.
   bool is_a(std::string_view type, std::string_view base) const;
 
  private:
-  std::unordered_map<std::string, std::string> parent_;
+  // Looked up by string_view (no temporary strings on the check path).
+  struct TextHash {
+    using is_transparent = void;
+    std::size_t operator()(std::string_view s) const { return std::hash<std::string_view>{}(s); }
+  };
+  std::unordered_map<std::string, std::string, TextHash, std::equal_to<>> parent_;
 };
 
 struct PatternNode {
