@@ -5,6 +5,7 @@
 #include <iostream>
 #include <nlohmann/json.hpp>
 
+#include "bench_stats.h"
 #include "bench_util.h"
 #include "commands.h"
 #include "quiver/graph/codec.h"
@@ -95,7 +96,7 @@ void run_crdt_bench(const CrdtBench& b) {
   j["batch"] = b.batch;
   j["local_ops_per_s"] = static_cast<long>(b.updates / local_s);
   j["remote_apply_ops_per_s"] = static_cast<long>(b.updates / remote_s);
-  j["bytes_per_update"] = std::round(100.0 * total_bytes / b.updates) / 100.0;
+  j["bytes_per_update"] = round_to(static_cast<double>(total_bytes) / b.updates, 2);
   j["state_bytes"] = state.size();
   j["replicas_equal"] = same;
   if (b.events) j["events"] = true;

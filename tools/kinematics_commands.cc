@@ -16,6 +16,7 @@
 #include <thread>
 #include <vector>
 
+#include "bench_stats.h"
 #include "bench_util.h"
 #include "commands.h"
 #include "quiver/graph/graph.h"
@@ -322,7 +323,7 @@ void run_transform_bench(const TransformBench& b) {
     ModeResult m = run_mode(b, interpolated, b.threads);
     j["lookups_per_s"] = static_cast<long>(m.rate);
     j["lookups_per_cpu_s"] = static_cast<long>(m.cpu_rate);
-    j["check_x"] = std::round(m.check_x * 1e9) / 1e9;
+    j["check_x"] = round_to(m.check_x, 9);
     if (b.threads > 1 || b.writer_hz > 0) {
       j["threads"] = b.threads;
       j["writer_hz"] = b.writer_hz;
@@ -330,7 +331,7 @@ void run_transform_bench(const TransformBench& b) {
       if (b.threads > 1) {
         ModeResult one = run_mode(b, interpolated, 1);
         j["one_reader_lookups_per_s"] = static_cast<long>(one.rate);
-        j["scaling"] = std::round(100.0 * m.rate / one.rate) / 100.0;
+        j["scaling"] = round_to(m.rate / one.rate, 2);
       }
     }
     if (b.handles) j["handles"] = true;
@@ -406,9 +407,9 @@ void run_scene_bench(const SceneBench& b) {
     j["bench"] = "scene";
     j["objects"] = n;
     j["moves"] = b.moves;
-    j["build_ms"] = std::round(build_s * 1e5) / 100.0;
-    j["scene_update_us"] = std::round(scene_s / b.moves * 1e6 * 1000) / 1000.0;
-    j["move_total_us"] = std::round(total_s / b.moves * 1e6 * 1000) / 1000.0;
+    j["build_ms"] = round_to(build_s * 1e3, 2);
+    j["scene_update_us"] = round_to(scene_s / b.moves * 1e6, 3);
+    j["move_total_us"] = round_to(total_s / b.moves * 1e6, 3);
     j["objects_updated"] = after.objects_updated - before.objects_updated;
     j["full_rebuilds"] = after.full_rebuilds - before.full_rebuilds;
     std::cout << j.dump() << std::endl;

@@ -154,9 +154,9 @@ bool Replicator::peer_alive(const PeerId& peer) const {
   return it != peers_.end() && it->second.info.alive;
 }
 
-bool Replicator::all_peers_hold(const PeerId& origin, std::uint64_t seq) const {
+bool Replicator::all_peers_hold(const PeerId& origin, std::uint64_t lo, std::uint64_t hi) const {
   for (const auto& [id, p] : peers_)
-    if (p.info.alive && !p.applied.contains(origin, seq)) return false;
+    if (p.info.alive && !p.applied.includes(origin, lo, hi)) return false;
   return true;
 }
 
@@ -354,17 +354,9 @@ void Replicator::evict_front() {
 void Replicator::trim_buffer() {
   // Drop what every live peer already holds: acknowledged by their summaries. No allocation per
   // entry, so a large buffer does not stall the thread.
-  std::vector<const Peer*> live;
-  for (const auto& [id, p] : peers_)
-    if (p.info.alive) live.push_back(&p);
-  if (live.empty()) return;
-  auto acked = [&](const Buffered& e) {
-    for (const Peer* p : live)
-      if (!p->applied.includes(e.origin, e.lo, e.hi)) return false;
-    return true;
-  };
+  if (live_peer_count() == 0) return;
   for (auto it = buffer_.begin(); it != buffer_.end();) {
-    if (!acked(*it)) {
+    if (!all_peers_hold(it->origin, it->lo, it->hi)) {
       ++it;
       continue;
     }

@@ -199,6 +199,8 @@ struct Graph::Impl {
   void set_alive(NodeRec* r, bool alive, Symbol type, const std::string& name);
   void index_claim_entry(const RtClaim& c, int delta);
   bool insert_sample(NodeRec* r, const RtSample& s);
+  // insert_sample(), and on success the sample goes out in the delta being built.
+  bool record_sample(NodeRec* child, const RtSample& s);
   /// Removes every trace of a dead node: attributes, incident edges, claims, samples.
   void kill_record(NodeRec* r);
   void gc_candidates_sweep();

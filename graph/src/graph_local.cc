@@ -249,11 +249,8 @@ void Graph::Impl::local_write_edge_attr(EdgeRec* e, Symbol name, const Value* v)
 void Graph::Impl::local_set_rt(NodeRec* parent, NodeRec* child, const Pose& pose, std::int64_t stamp) {
   if (rt_dirty) recompute_rt(nullptr);
   if (child->rt_parent == parent) {
-    RtSample s{stamp, mint(), child->rt_epoch, pose};
-    if (!insert_sample(child, s)) return;  // older than every kept sample: nobody would keep it
-    auto& op = out_node(child->id, kSamples);
-    out.samples.push_back(s);
-    op.samples.end = u32(out.samples.size());
+    // A sample older than every kept one is dropped: nobody would keep it.
+    record_sample(child, RtSample{stamp, mint(), child->rt_epoch, pose});
     return;
   }
   RtClaim c;
@@ -283,14 +280,15 @@ void Graph::Impl::local_set_rt(NodeRec* parent, NodeRec* child, const Pose& pose
   op.claim_added.end = u32(out.claims.size());
   claim_updated(child);
   // The move's own pose is the first sample of its epoch, so history covers it too.
-  if (parent) {
-    RtSample s{stamp, mint(), d, pose};
-    if (insert_sample(child, s)) {
-      auto& sop = out_node(child->id, kSamples);
-      out.samples.push_back(s);
-      sop.samples.end = u32(out.samples.size());
-    }
-  }
+  if (parent) record_sample(child, RtSample{stamp, mint(), d, pose});
+}
+
+bool Graph::Impl::record_sample(NodeRec* child, const RtSample& s) {
+  if (!insert_sample(child, s)) return false;
+  auto& op = out_node(child->id, kSamples);
+  out.samples.push_back(s);
+  op.samples.end = u32(out.samples.size());
+  return true;
 }
 
 void Graph::Impl::local_remove_rt(NodeRec* child) {

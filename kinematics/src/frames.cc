@@ -4,6 +4,7 @@
 #include "quiver/kinematics/frames.h"
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <limits>
 #include <stdexcept>
@@ -103,9 +104,7 @@ std::uint64_t hash_name(std::string_view s) { return mix64(fnv1a64(s)); }
 std::uint64_t hash_id(const NodeId& id) { return mix64(hash_value(id.dot) + 0x51ed27ULL); }
 
 std::uint32_t pow2_at_least(std::uint64_t n) {
-  std::uint32_t c = 16;
-  while (c < n) c <<= 1;
-  return c;
+  return static_cast<std::uint32_t>(std::bit_ceil(std::max<std::uint64_t>(n, 16)));
 }
 
 // ------------------------------------------------------------------------------------ reads
@@ -800,7 +799,8 @@ struct FrameTree::Owner {
   std::size_t audit_per_batch = 0;
   Stats stats;
   // The Updater's working buffers, kept between batches (cleared, not freed).
-  std::vector<NodeId> rt_dirty, rt_batch;
+  std::vector<NodeId> rt_dirty;
+  std::unordered_set<NodeId> rt_seen;
   std::vector<std::int32_t> marked, stack, path;
   std::vector<Sample> samples;
 
@@ -983,11 +983,10 @@ class Updater {
   bool differs(std::int32_t s) {
     const Node& n = o_.nodes[s];
     if (!g_.has_node(n.id)) return true;
-    auto parent = g_.rt_parent(n.id);
-    const std::int32_t ps = parent ? slot_of(*parent) : kNone;
-    if (ps != n.parent || (parent && ps == kNone)) return true;
-    if (!parent) return !n.samples.empty() || n.stamp != 0;
-    auto e = g_.rt_edge(n.id);
+    const auto e = g_.rt_edge(n.id);  // none exactly when the node has no parent
+    const std::int32_t ps = e ? slot_of(e->parent) : kNone;
+    if (ps != n.parent || (e && ps == kNone)) return true;
+    if (!e) return !n.samples.empty() || n.stamp != 0;
     const QP X = internal::from_pose(e->pose);
     if (e->stamp != n.stamp || !same_values(X, n.X_PN)) return true;
     std::vector<Sample>& want = o_.samples;
@@ -1025,8 +1024,8 @@ class Updater {
   void refresh_edge(const NodeId& id) {
     if (!g_.has_node(id)) return;
     std::int32_t s = ensure(id);
-    auto parent = g_.rt_parent(id);
-    std::int32_t ps = parent ? ensure(*parent) : kNone;
+    const auto e = g_.rt_edge(id);  // none exactly when the node has no parent
+    std::int32_t ps = e ? ensure(e->parent) : kNone;
     Node& n = o_.nodes[s];
     if (ps != n.parent) {
       unlink(s);
@@ -1034,7 +1033,6 @@ class Updater {
       if (ps != kNone) o_.nodes[ps].children.push_back(s);
     }
     if (ps != kNone) {
-      auto e = g_.rt_edge(id);
       n.X_PN = internal::from_pose(e->pose);
       n.stamp = e->stamp;
       build_samples(*e, g_.rt_history(id), n.samples);
@@ -1050,15 +1048,12 @@ class Updater {
 
   /// Applies queued edge and name refreshes, then recomputes the dirty root poses.
   void finish() {
-    // Edge refreshes may queue more (children of removed nodes): loop until none is left.
-    std::unordered_set<NodeId> seen;
-    std::vector<NodeId>& batch = o_.rt_batch;
-    while (!rt_dirty_.empty()) {
-      batch.clear();
-      batch.swap(rt_dirty_);
-      for (const NodeId& id : batch)
-        if (seen.insert(id).second) refresh_edge(id);
-    }
+    // Each queued child once, in queue order (refresh_edge() queues nothing more).
+    std::unordered_set<NodeId>& seen = o_.rt_seen;
+    seen.clear();
+    for (const NodeId& id : rt_dirty_)
+      if (seen.insert(id).second) refresh_edge(id);
+    rt_dirty_.clear();
     refresh_names();
     recompute_world();
   }
@@ -1260,8 +1255,7 @@ void write_slot(SlotData* d, Node& n, int copy, std::vector<HistoryBlock*>& reti
       if (h) st(h->size, 0u);
     } else {
       if (h == nullptr || h->capacity < need) {
-        std::uint32_t cap = 4;
-        while (cap < need) cap *= 2;
+        const auto cap = static_cast<std::uint32_t>(std::max<std::size_t>(4, std::bit_ceil(need)));
         if (h) retire_blocks.push_back(h);
         h = HistoryBlock::create(cap);
       }

@@ -134,11 +134,11 @@ class Simulation {
     return result_;
   }
 
-  void transmit(int from, int to, std::span<const std::uint8_t> frame) {
-    auto shared = std::make_shared<const std::vector<std::uint8_t>>(frame.begin(), frame.end());
+  // Sends one encoded frame (shared by every copy in flight) to agent `to`, or to all if -1.
+  void transmit(int from, int to, std::shared_ptr<const std::vector<std::uint8_t>> shared) {
     auto one = [&](int d) {
       ++result_.messages;
-      result_.bytes += frame.size();
+      result_.bytes += shared->size();
       if (!agents_[d].up || agents_[d].group != agents_[from].group || net_rng_.chance(faults_.loss)) {
         ++result_.dropped;
         return;
@@ -476,13 +476,10 @@ class Simulation {
 };
 
 void Endpoint::send(const agents::Envelope& e) {
-  std::vector<std::uint8_t> frame = agents::encode_frame(e);
-  if (e.to.is_null()) {
-    sim_->transmit(index_, -1, frame);
-    return;
-  }
-  int d = sim_->index_of(e.to);
-  if (d >= 0) sim_->transmit(index_, d, frame);
+  const int d = e.to.is_null() ? -1 : sim_->index_of(e.to);
+  if (d < 0 && !e.to.is_null()) return;  // no such agent: nothing to encode
+  sim_->transmit(index_, d,
+                 std::make_shared<const std::vector<std::uint8_t>>(agents::encode_frame(e)));
 }
 
 }  // namespace

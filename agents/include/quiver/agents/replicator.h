@@ -107,7 +107,11 @@ class Replicator {
   /// True if `peer` is currently heard from.
   bool peer_alive(const PeerId& peer) const;
   /// True if every live peer has told us (in its last summary) that it holds (origin, seq).
-  bool all_peers_hold(const PeerId& origin, std::uint64_t seq) const;
+  bool all_peers_hold(const PeerId& origin, std::uint64_t seq) const {
+    return all_peers_hold(origin, seq, seq);
+  }
+  /// The same for every sequence number of origin in [lo, hi].
+  bool all_peers_hold(const PeerId& origin, std::uint64_t lo, std::uint64_t hi) const;
   /// The last sequence number this replica published.
   std::uint64_t last_seq() const { return seq_; }
   /// The (origin, seq) pairs whose effects this replica holds.
