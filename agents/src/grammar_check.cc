@@ -534,6 +534,9 @@ struct GrammarChecker::Impl {
   // Checks `c` against the named rule with the claimed binding (no search).
   Status verify_claim(const Graph& gr, const Changes& c, const std::string& rule,
                       const std::vector<std::pair<std::string, NodeId>>& binding) const;
+  // violations_around(), over every constraint or only those named `only`.
+  std::vector<Violation> violations_around(const Graph& gr, const std::vector<NodeId>& anchors,
+                                           const std::string* only) const;
 };
 
 GrammarChecker::GrammarChecker(Grammar g) : impl_(std::make_unique<Impl>()) {
@@ -909,13 +912,30 @@ std::string Violation::to_string(const Graph& g) const {
 }
 
 std::vector<Violation> GrammarChecker::violations_around(const Graph& gr, const std::vector<NodeId>& anchors) const {
-  const TypeSystem& types = impl_->g.types;
+  return impl_->violations_around(gr, anchors, nullptr);
+}
+
+bool GrammarChecker::still_violated(const Graph& gr, const Violation& v) const {
+  // Every binding over v's nodes maps some variable to its first node, so a search anchored
+  // there alone finds them all (and so reports the same smallest one). A deleted node matches
+  // nothing.
+  if (v.binding.empty()) return false;
+  for (const Violation& w : impl_->violations_around(gr, {v.binding.front().second}, &v.constraint))
+    if (w == v) return true;
+  return false;
+}
+
+std::vector<Violation> GrammarChecker::Impl::violations_around(const Graph& gr,
+                                                               const std::vector<NodeId>& anchors,
+                                                               const std::string* only) const {
+  const TypeSystem& types = g.types;
   // A violation is identified by its constraint and its set of nodes; of the bindings that
   // produce it (symmetric patterns give several), the smallest is reported, so every replica
   // reports the same one whatever order it found them in.
   std::map<std::pair<std::string, std::vector<NodeId>>, Violation> found;
-  for (const CompiledConstraint& cc : impl_->constraints) {
+  for (const CompiledConstraint& cc : constraints) {
     const Constraint& con = *cc.con;
+    if (only != nullptr && con.name != *only) continue;
     for (NodeId anchor : anchors) {
       if (!gr.has_node(anchor)) continue;
       const std::string& anchor_type = gr.type_of(anchor).str();

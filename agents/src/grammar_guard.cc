@@ -79,16 +79,7 @@ void GrammarGuard::on_changes(const graph::ChangeBatch& b) {
       ++it;
       continue;
     }
-    const auto& [constraint, binding] = *it;
-    bool still = false;
-    for (const auto& [var, id] : binding) still = still || g_.has_node(id);
-    if (still) {
-      std::vector<NodeId> ids;
-      for (const auto& [var, id] : binding) ids.push_back(id);
-      still = false;
-      for (const Violation& v : checker_.violations_around(g_, ids))
-        if (v.constraint == constraint && v.binding == binding) still = true;
-    }
+    const bool still = checker_.still_violated(g_, Violation{it->first, it->second});
     it = still ? std::next(it) : open_.erase(it);
   }
   for (const Violation& v : checker_.violations_around(g_, anchors)) {
@@ -109,11 +100,7 @@ void GrammarGuard::tick() {
       if (c.name == v.constraint) con = &c;
     if (!con) continue;
     // Still there? Then delete the oldest edge of the match.
-    std::vector<NodeId> ids;
-    for (const auto& [var, id] : v.binding) ids.push_back(id);
-    bool present = false;
-    for (const Violation& w : checker_.violations_around(g_, ids)) present = present || w == v;
-    if (!present) continue;
+    if (!checker_.still_violated(g_, v)) continue;
     auto at = [&](const std::string& var) {
       for (const auto& [x, id] : v.binding)
         if (x == var) return id;

@@ -46,12 +46,14 @@ void swap_remove(std::vector<T>& v, const T& x) {
   }
 }
 std::vector<AttrValue> register_values(const crdt::DotFun<Value>& reg) {
+  // Winner first: the registers' own order (crdt::entry_less), descending.
+  std::vector<const crdt::Entry<Value>*> entries;
+  for (const auto& e : reg) entries.push_back(&e);
+  std::sort(entries.begin(), entries.end(),
+            [](const auto* a, const auto* b) { return crdt::entry_less(*b, *a); });
   std::vector<AttrValue> out;
-  for (const auto& e : reg) out.push_back(AttrValue{e.value, e.dot, e.fence});
-  std::sort(out.begin(), out.end(), [](const AttrValue& a, const AttrValue& b) {
-    if (a.fence != b.fence) return a.fence > b.fence;
-    return crdt::lamport_less(b.dot, a.dot);
-  });
+  out.reserve(entries.size());
+  for (const auto* e : entries) out.push_back(AttrValue{e->value, e->dot, e->fence});
   return out;
 }
 }  // namespace

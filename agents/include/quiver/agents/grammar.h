@@ -178,6 +178,9 @@ class GrammarChecker {
   std::vector<Violation> violations_around(const graph::Graph& g, const std::vector<graph::NodeId>& anchors) const;
   /// Every violation in the graph (a full scan, for tests and start-up).
   std::vector<Violation> all_violations(const graph::Graph& g) const;
+  /// True if `v` is still a violation of `g`, exactly as violations_around() would report it
+  /// (searching only its own constraint, from one of its nodes).
+  bool still_violated(const graph::Graph& g, const Violation& v) const;
 
  private:
   struct Impl;
