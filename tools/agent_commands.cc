@@ -7,8 +7,8 @@
 
 #include "commands.h"
 #include "dds_options.h"
-#include "quiver/agents/agent.h"
-#include "quiver/agents/grammar_guard.h"
+#include "quiver/agents/dds/agent.h"
+#include "quiver/agents/grammar/grammar_guard.h"
 #include "quiver/graph/world_file.h"
 #include "quiver/rng.h"
 #include "quiver/sim/workload.h"

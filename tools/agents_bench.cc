@@ -10,9 +10,9 @@
 
 #include "bench_stats.h"
 #include "commands.h"
-#include "quiver/agents/agent.h"
-#include "quiver/agents/grammar.h"
-#include "quiver/agents/locks.h"
+#include "quiver/agents/dds/agent.h"
+#include "quiver/agents/grammar/grammar.h"
+#include "quiver/agents/locks/locks.h"
 #include "quiver/rng.h"
 #include "quiver/sim/simulator.h"
 

@@ -17,7 +17,7 @@
 #include "bench_stats.h"
 #include "commands.h"
 #include "dds_options.h"
-#include "quiver/agents/agent.h"
+#include "quiver/agents/dds/agent.h"
 #include "quiver/graph/graph.h"
 #include "quiver/rng.h"
 #include "subprocess.h"

@@ -7,8 +7,8 @@
 #include <sstream>
 #include <string>
 
-#include "quiver/agents/agent.h"
-#include "quiver/agents/dds_transport.h"
+#include "quiver/agents/dds/agent.h"
+#include "quiver/agents/dds/dds_transport.h"
 #include "quiver/result.h"
 
 namespace quiver::tools {

@@ -7,9 +7,9 @@
 #include <optional>
 #include <queue>
 
-#include "quiver/agents/frame_codec.h"
-#include "quiver/agents/grammar_guard.h"
-#include "quiver/agents/locks.h"
+#include "quiver/agents/replication/frame_codec.h"
+#include "quiver/agents/grammar/grammar_guard.h"
+#include "quiver/agents/locks/locks.h"
 #include "quiver/rng.h"
 
 namespace quiver::sim {

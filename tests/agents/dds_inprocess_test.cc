@@ -6,7 +6,7 @@
 #include <future>
 #include <thread>
 
-#include "quiver/agents/agent.h"
+#include "quiver/agents/dds/agent.h"
 #include "quiver/rng.h"
 #include "quiver/sim/workload.h"
 #include "test_seed.h"

@@ -1,8 +1,8 @@
-#include "quiver/agents/grammar.h"
+#include "quiver/agents/grammar/grammar.h"
 
 #include <gtest/gtest.h>
 
-#include "quiver/agents/grammar_guard.h"
+#include "quiver/agents/grammar/grammar_guard.h"
 #include "quiver/graph/codec.h"
 
 namespace quiver::agents {

@@ -1,4 +1,4 @@
-#include "quiver/agents/locks.h"
+#include "quiver/agents/locks/locks.h"
 
 #include <gtest/gtest.h>
 

@@ -1,4 +1,4 @@
-#include "quiver/agents/replicator.h"
+#include "quiver/agents/replication/replicator.h"
 
 #include <gtest/gtest.h>
 

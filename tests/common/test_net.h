@@ -8,8 +8,8 @@
 #include <string>
 #include <vector>
 
-#include "quiver/agents/frame_codec.h"
-#include "quiver/agents/replicator.h"
+#include "quiver/agents/replication/frame_codec.h"
+#include "quiver/agents/replication/replicator.h"
 
 namespace quiver::agents {
 

@@ -11,8 +11,8 @@
 #include <iterator>
 
 #include "fuzz_targets.h"
-#include "quiver/agents/frame_codec.h"
-#include "quiver/agents/replicator.h"
+#include "quiver/agents/replication/frame_codec.h"
+#include "quiver/agents/replication/replicator.h"
 #include "quiver/graph/codec.h"
 #include "quiver/rng.h"
 #include "quiver/sim/workload.h"

@@ -4,8 +4,8 @@
 #include <cstdlib>
 #include <string_view>
 
-#include "quiver/agents/grammar.h"
-#include "quiver/agents/replicator.h"
+#include "quiver/agents/grammar/grammar.h"
+#include "quiver/agents/replication/replicator.h"
 #include "quiver/graph/codec.h"
 #include "quiver/graph/graph.h"
 #include "quiver/graph/world_file.h"

@@ -15,7 +15,7 @@
 #include <string>
 #include <vector>
 
-#include "quiver/agents/replicator.h"
+#include "quiver/agents/replication/replicator.h"
 #include "quiver/sim/workload.h"
 
 namespace quiver::sim {

@@ -9,7 +9,7 @@
 #include <variant>
 #include <vector>
 
-#include "quiver/agents/transport.h"
+#include "quiver/agents/replication/transport.h"
 #include "quiver/crdt/causal_context.h"
 
 namespace quiver::agents {

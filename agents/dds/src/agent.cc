@@ -1,4 +1,4 @@
-#include "quiver/agents/agent.h"
+#include "quiver/agents/dds/agent.h"
 
 #include <chrono>
 #include <random>

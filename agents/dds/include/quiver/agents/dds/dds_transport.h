@@ -22,8 +22,8 @@
 #include <memory>
 #include <string>
 
-#include "quiver/agents/messages.h"
-#include "quiver/agents/transport.h"
+#include "quiver/agents/replication/messages.h"
+#include "quiver/agents/replication/transport.h"
 #include "quiver/result.h"
 
 namespace quiver::agents {

@@ -6,7 +6,7 @@
 #include <set>
 #include <sstream>
 
-#include "quiver/agents/grammar.h"
+#include "quiver/agents/grammar/grammar.h"
 
 namespace quiver::agents {
 

@@ -1,4 +1,4 @@
-#include "quiver/agents/dds_transport.h"
+#include "quiver/agents/dds/dds_transport.h"
 
 #include <dds/dds.h>
 

@@ -31,7 +31,7 @@
 #include <unordered_set>
 #include <vector>
 
-#include "quiver/agents/replicator.h"
+#include "quiver/agents/replication/replicator.h"
 #include "quiver/graph/graph.h"
 
 namespace quiver::agents {

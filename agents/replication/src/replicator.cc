@@ -1,8 +1,8 @@
-#include "quiver/agents/replicator.h"
+#include "quiver/agents/replication/replicator.h"
 
 #include <algorithm>
 
-#include "quiver/agents/frame_codec.h"
+#include "quiver/agents/replication/frame_codec.h"
 #include "quiver/graph/codec.h"
 
 namespace quiver::agents {

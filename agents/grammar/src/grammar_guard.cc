@@ -1,4 +1,4 @@
-#include "quiver/agents/grammar_guard.h"
+#include "quiver/agents/grammar/grammar_guard.h"
 
 #include <algorithm>
 

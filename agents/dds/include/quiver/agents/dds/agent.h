@@ -13,8 +13,8 @@
 #include <string>
 #include <vector>
 
-#include "quiver/agents/dds_transport.h"
-#include "quiver/agents/replicator.h"
+#include "quiver/agents/dds/dds_transport.h"
+#include "quiver/agents/replication/replicator.h"
 #include "quiver/graph/graph.h"
 
 namespace quiver::agents {

@@ -11,7 +11,7 @@
 #include <string>
 #include <vector>
 
-#include "quiver/agents/grammar.h"
+#include "quiver/agents/grammar/grammar.h"
 #include "quiver/graph/graph.h"
 
 namespace quiver::agents {

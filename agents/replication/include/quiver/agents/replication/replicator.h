@@ -25,8 +25,8 @@
 #include <unordered_map>
 #include <vector>
 
-#include "quiver/agents/messages.h"
-#include "quiver/agents/transport.h"
+#include "quiver/agents/replication/messages.h"
+#include "quiver/agents/replication/transport.h"
 #include "quiver/crdt/causal_context.h"
 #include "quiver/graph/graph.h"
 #include "quiver/hash.h"

@@ -7,7 +7,7 @@
 #include <span>
 #include <vector>
 
-#include "quiver/agents/messages.h"
+#include "quiver/agents/replication/messages.h"
 #include "quiver/result.h"
 
 namespace quiver::agents {

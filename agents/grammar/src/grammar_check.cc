@@ -12,7 +12,7 @@
 #include <set>
 #include <unordered_map>
 
-#include "quiver/agents/grammar.h"
+#include "quiver/agents/grammar/grammar.h"
 
 namespace quiver::agents {
 

@@ -1,4 +1,4 @@
-#include "quiver/agents/frame_codec.h"
+#include "quiver/agents/replication/frame_codec.h"
 
 #include "quiver/crdt/context_codec.h"
 #include "quiver/wire.h"
