@@ -27,7 +27,12 @@ namespace {
 constexpr std::uint8_t kMagic0 = 'Q';
 constexpr std::uint8_t kMagic1 = 'G';
 // Message flags.
-constexpr std::uint64_t kImplicitDots = 1, kSortedNodes = 2, kFenced = 4, kClaim = 8;
+constexpr std::uint64_t kImplicitDots = 1, kSortedNodes = 2, kFenced = 4, kClaim = 8, kSeq = 16;
+constexpr std::uint64_t kAllFlags = 31;
+// Decoded symbols not yet in the process's table are provisional (this bit set, the low bits
+// index the message's table) until the whole message has been read and checked: a message that
+// fails adds nothing to the table.
+constexpr std::uint32_t kProvisional = 0x80000000u;
 // Node op flags.
 constexpr std::uint64_t kHdr = 1, kRemoved = 2, kClaims = 4, kSamples = 8, kReplicaSwitch = 16;
 // Edge op flags.
@@ -51,9 +56,14 @@ class Encoder {
     w_.u8(static_cast<std::uint8_t>(d_.kind));
     plan_dots();
     for (const auto& e : d_.values) fenced_ = fenced_ || e.fence != 0;
+    const bool seq = d_.seq_lo != 0;
     std::uint64_t flags = (implicit_ ? kImplicitDots : 0) | (sorted_ ? kSortedNodes : 0) | (fenced_ ? kFenced : 0) |
-                          (d_.rule.empty() ? 0 : kClaim);
+                          (d_.rule.empty() ? 0 : kClaim) | (seq ? kSeq : 0);
     w_.varint(flags);
+    if (seq) {
+      w_.varint(d_.seq_lo);
+      w_.varint(d_.seq_hi - d_.seq_lo);
+    }
     w_.varint(replicas_.size());
     for (const ReplicaId& r : replicas_) {
       w_.fixed64(r.agent);
@@ -397,7 +407,14 @@ class Decoder {
     if (r_.ok() && kind != 1 && kind != 2) return fail(ErrorCode::kMalformed, "kind", "unknown message kind " + std::to_string(kind));
     d_.kind = static_cast<GraphDelta::Kind>(kind);
     std::uint64_t flags = r_.varint("flags");
-    if (flags & ~std::uint64_t{15}) return fail(ErrorCode::kMalformed, "flags", "unknown flag bits");
+    if (flags & ~kAllFlags) return fail(ErrorCode::kMalformed, "flags", "unknown flag bits");
+    if (flags & kSeq) {
+      d_.seq_lo = r_.varint("sequence interval");
+      std::uint64_t len = r_.varint("sequence interval length");
+      if (r_.ok() && (d_.seq_lo == 0 || len > crdt::kMaxCounter - d_.seq_lo))
+        return fail(ErrorCode::kMalformed, "sequence interval", "invalid sequence numbers");
+      d_.seq_hi = d_.seq_lo + len;
+    }
     const bool claim = flags & kClaim;
     implicit_ = flags & kImplicitDots;
     sorted_ = flags & kSortedNodes;
@@ -414,11 +431,19 @@ class Decoder {
     d_.origin = replicas_[0];
     std::uint64_t nsym = r_.count("symbol count", lim_.max_table, 1);
     symbols_.resize(nsym);
-    for (auto& s : symbols_) {
+    symbols::rt();  // interned before any lookup, so "RT" is never provisional
+    names_.resize(nsym);
+    for (std::size_t i = 0; i < nsym; ++i) {
       std::string_view name = r_.string("symbol", lim_.max_name_bytes);
       if (!r_.ok()) return r_.error();
       if (name.empty()) return fail(ErrorCode::kMalformed, "symbol", "empty symbol");
-      s = Symbol(name);
+      if (!valid_utf8(name)) return fail(ErrorCode::kMalformed, "symbol", "a name is not valid UTF-8");
+      names_[i] = name;
+      symbols_[i] = Symbol::find(name);
+      if (symbols_[i].is_null()) {
+        symbols_[i] = Symbol::from_index(kProvisional | static_cast<std::uint32_t>(i));
+        provisional_ = true;
+      }
     }
     std::uint64_t nranges = r_.count("context range count", UINT32_MAX, 3);
     for (std::uint64_t i = 0; i < nranges && r_.ok(); ++i) {
@@ -426,12 +451,14 @@ class Decoder {
       std::uint64_t lo = r_.varint("context lo");
       std::uint64_t len = r_.varint("context length");
       if (!r_.ok()) break;
-      if (lo == 0 || lo + len < lo) return fail(ErrorCode::kMalformed, "context range", "invalid counter range");
+      if (lo == 0 || lo > crdt::kMaxCounter || len > crdt::kMaxCounter - lo)
+        return fail(ErrorCode::kMalformed, "context range", "invalid counter range");
       d_.context.add_range(*rep, lo, lo + len);
     }
     if (implicit_) next_implicit_ = r_.varint("first implicit dot");
     else base_ = r_.varint("dot base");
-    if (implicit_ && r_.ok() && next_implicit_ == 0) return fail(ErrorCode::kMalformed, "first implicit dot", "counter 0");
+    if (implicit_ && r_.ok() && (next_implicit_ == 0 || next_implicit_ > crdt::kMaxCounter))
+      return fail(ErrorCode::kMalformed, "first implicit dot", "invalid counter");
 
     std::uint64_t nnodes = r_.count("node count", UINT32_MAX, 2);
     d_.nodes.reserve(nnodes);
@@ -444,13 +471,14 @@ class Decoder {
     for (std::uint64_t i = 0; i < nedges && r_.ok(); ++i) edge();
     if (claim && r_.ok()) {
       d_.rule = std::string(r_.string("claimed rule", lim_.max_name_bytes));
-      if (r_.ok() && d_.rule.empty()) return fail(ErrorCode::kMalformed, "claimed rule", "empty rule name");
+      if (r_.ok() && (d_.rule.empty() || !valid_utf8(d_.rule)))
+        return fail(ErrorCode::kMalformed, "claimed rule", "empty or not UTF-8");
       std::uint64_t nb = r_.count("claim binding count", lim_.max_table, 2);
       for (std::uint64_t i = 0; i < nb && r_.ok(); ++i) {
         std::string var(r_.string("claim variable", lim_.max_name_bytes));
         NodeId id = node_ref("claim node");
-        if (r_.ok() && (var.empty() || id.is_null()))
-          return fail(ErrorCode::kMalformed, "claim binding", "empty variable or null node");
+        if (r_.ok() && (var.empty() || !valid_utf8(var) || id.is_null()))
+          return fail(ErrorCode::kMalformed, "claim binding", "empty or non-UTF-8 variable, or null node");
         d_.binding.emplace_back(std::move(var), id);
       }
     }
@@ -458,6 +486,9 @@ class Decoder {
     if (!r_.ok()) return r_.error();
     if (!r_.at_end())
       return fail(ErrorCode::kMalformed, "end", std::to_string(r_.remaining()) + " trailing bytes after the message");
+    if (d_.kind == GraphDelta::Kind::kDelta)
+      if (Status s = check_delta(); !s.ok()) return s;
+    if (provisional_) return intern_names();
     return {};
   }
 
@@ -485,26 +516,33 @@ class Decoder {
     }
     return symbols_[i];
   }
+  void check_counter(std::uint64_t c, const char* field) {
+    if (r_.ok() && c == 0) r_.fail(ErrorCode::kMalformed, field, "dot counter 0");
+    if (r_.ok() && c > crdt::kMaxCounter)
+      r_.fail(ErrorCode::kMalformed, field, "counter " + std::to_string(c) + " exceeds the limit 2^53-1");
+  }
   Dot dot(const char* field) {
     const ReplicaId* rep = replica(field);
     std::uint64_t c = r_.varint(field);
-    if (r_.ok() && c == 0) r_.fail(ErrorCode::kMalformed, field, "dot counter 0");
+    check_counter(c, field);
     return Dot{*rep, c};
   }
   NodeId node_ref(const char* field) {
     std::uint64_t c = r_.varint(field);
     if (!r_.ok() || c == 0) return NodeId{};
+    check_counter(c, field);
     const ReplicaId* rep = replica(field);
     return NodeId{Dot{*rep, c}};
   }
   Dot origin_dot(const char* field) {
     if (implicit_) {
-      if (next_implicit_ == UINT64_MAX) r_.fail(ErrorCode::kMalformed, field, "implicit dot counter overflows");
+      check_counter(next_implicit_, field);
       return Dot{d_.origin, next_implicit_++};
     }
     std::uint64_t off = r_.varint(field);
-    if (r_.ok() && base_ + off < base_) r_.fail(ErrorCode::kMalformed, field, "dot offset overflows");
-    if (r_.ok() && base_ + off == 0) r_.fail(ErrorCode::kMalformed, field, "dot counter 0");
+    if (r_.ok() && off > crdt::kMaxCounter - std::min(base_, crdt::kMaxCounter))
+      r_.fail(ErrorCode::kMalformed, field, "dot offset overflows");
+    check_counter(base_ + off, field);
     return Dot{d_.origin, base_ + off};
   }
   Dot entry_dot(const char* field) { return implicit_ ? origin_dot(field) : dot(field); }
@@ -594,17 +632,15 @@ class Decoder {
       std::int64_t delta = r_.svarint("node counter delta");
       n.id = NodeId{Dot{prev.dot.replica, prev.dot.counter + static_cast<std::uint64_t>(delta)}};
     }
-    if (r_.ok() && n.id.dot.counter == 0) {
-      r_.fail(ErrorCode::kMalformed, "node id", "node counter 0");
-      return;
-    }
+    check_counter(n.id.dot.counter, "node id");
+    if (!r_.ok()) return;
     n.has_header = flags & kHdr;
     n.removed = flags & kRemoved;
     if (n.has_header) {
       n.type = symbol("node type");
       n.name = std::string(r_.string("node name", lim_.max_name_bytes));
-      if (r_.ok() && n.name.empty()) {
-        r_.fail(ErrorCode::kMalformed, "node name", "a node name is empty");
+      if (r_.ok() && (n.name.empty() || !valid_utf8(n.name) || n.name.find('~') != std::string::npos)) {
+        r_.fail(ErrorCode::kMalformed, "node name", "a node name is empty, not UTF-8 or holds the reserved '~'");
         return;
       }
     }
@@ -723,10 +759,8 @@ class Decoder {
         }
         prev += v >> 1;
       }
-      if (r_.ok() && prev == 0) {
-        r_.fail(ErrorCode::kMalformed, "keep dot", "dot counter 0");
-        return;
-      }
+      check_counter(prev, "keep dot");
+      if (!r_.ok()) return;
       d_.keep.push_back(Dot{cur, prev});
     }
   }
@@ -738,11 +772,62 @@ class Decoder {
     return &replicas_[i];
   }
 
+  // A delta is one replica's change: it changes something, and every dot it adds (values,
+  // claims, samples, edge existence, node creations) and every range of its context is its
+  // origin's, each added dot inside that context. Removed dots may be anyone's.
+  Status check_delta() {
+    if (d_.nodes.empty() && d_.edges.empty())
+      return fail(ErrorCode::kMalformed, "delta", "a delta that changes nothing");
+    Status bad;
+    d_.context.for_each_range([&](const ReplicaId& rep, std::uint64_t, std::uint64_t) {
+      if (bad.ok() && !(rep == d_.origin))
+        bad = make_error(ErrorCode::kMalformed, "graph delta: its context names dots of " + rep.to_string() +
+                                                    ", not of its origin " + d_.origin.to_string());
+    });
+    if (!bad.ok()) return bad;
+    auto own = [&](const Dot& x, const char* what) {
+      if (!bad.ok()) return;
+      if (!(x.replica == d_.origin))
+        bad = make_error(ErrorCode::kMalformed, std::string("graph delta: ") + what + " " + x.to_string() +
+                                                    " is not a dot of its origin " + d_.origin.to_string());
+      else if (!d_.context.contains(x))
+        bad = make_error(ErrorCode::kMalformed,
+                         std::string("graph delta: ") + what + " " + x.to_string() + " lies outside its context");
+    };
+    for (const Dot& x : d_.added) own(x, "edge dot");
+    for (const auto& e : d_.values) own(e.dot, "value dot");
+    for (const auto& e : d_.claims) own(e.dot, "RT claim dot");
+    for (const auto& x : d_.samples) own(x.dot, "RT sample dot");
+    for (const auto& n : d_.nodes)
+      if (n.has_header) own(n.id.dot, "created node");
+    return bad;
+  }
+
+  // After a successful read: the new names enter the table, and the provisional symbols in the
+  // delta are replaced by them.
+  Status intern_names() {
+    for (std::size_t i = 0; i < symbols_.size(); ++i) {
+      if (!(symbols_[i].index() & kProvisional)) continue;
+      auto s = Symbol::make(names_[i]);
+      if (!s.ok()) return fail(ErrorCode::kTooLarge, "symbol", s.error().message);
+      symbols_[i] = *s;
+    }
+    auto real = [&](Symbol& s) {
+      if (s.index() & kProvisional) s = symbols_[s.index() & ~kProvisional];
+    };
+    for (auto& n : d_.nodes) real(n.type);
+    for (auto& a : d_.attrs) real(a.name);
+    for (auto& e : d_.edges) real(e.key.type);
+    return {};
+  }
+
   wire::Reader r_;
   GraphDelta& d_;
   const DecodeLimits& lim_;
   std::vector<ReplicaId> replicas_;
   std::vector<Symbol> symbols_;
+  std::vector<std::string_view> names_;  // the message's table, viewing the input
+  bool provisional_ = false;
   bool implicit_ = false;
   bool sorted_ = false;
   bool fenced_ = false;

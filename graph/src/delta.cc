@@ -5,6 +5,7 @@ namespace quiver::graph {
 void GraphDelta::clear() {
   kind = Kind::kDelta;
   origin = ReplicaId{};
+  seq_lo = seq_hi = 0;
   context.clear();
   nodes.clear();
   edges.clear();

@@ -98,6 +98,15 @@ void Graph::Impl::erase_node_record_if_empty(NodeRec* r) {
   if (r->is_empty_placeholder() && r->rt_children.empty()) nodes.erase(r->id);
 }
 
+namespace {
+const NodeRec* name_winner(const crdt::SmallVec<NodeRec*, 1>& v) {
+  const NodeRec* best = nullptr;
+  for (const NodeRec* r : v)
+    if (best == nullptr || crdt::lamport_less(r->id.dot, best->id.dot)) best = r;
+  return best;
+}
+}  // namespace
+
 void Graph::Impl::set_alive(NodeRec* r, bool alive, Symbol type, const std::string& name) {
   if (r->alive == alive) return;
   if (alive) {
@@ -105,19 +114,25 @@ void Graph::Impl::set_alive(NodeRec* r, bool alive, Symbol type, const std::stri
     r->type = type;
     r->name = name;
     ++alive_count;
-    by_name[r->name].push_back(r);
+    auto& sakes = by_name[r->name];
+    // An earlier namesake takes the name from the node that held it: that one is renamed.
+    const NodeRec* holder = sakes.empty() ? nullptr : name_winner(sakes);
+    sakes.push_back(r);
+    if (holder && name_winner(sakes) == r) touch_renamed(const_cast<NodeRec*>(holder));
     by_type[r->type].insert(r);
   } else {
     r->alive = false;
     --alive_count;
     auto it = by_name.find(r->name);
     if (it != by_name.end()) {
+      const bool held = name_winner(it->second) == r;
       for (NodeRec** p = it->second.begin(); p != it->second.end(); ++p)
         if (*p == r) {
           it->second.swap_erase(p);
           break;
         }
       if (it->second.empty()) by_name.erase(it);
+      else if (held) touch_renamed(const_cast<NodeRec*>(name_winner(it->second)));  // the name passes on
     }
     auto tt = by_type.find(r->type);
     if (tt != by_type.end()) {
@@ -217,6 +232,16 @@ void Graph::Impl::touch_edge(const EdgeRec& e) {
   tracker.touch_edge(e.key, was);
 }
 
+void Graph::Impl::touch_edge_version(const EdgeRec& e) {
+  if (!tracker.enabled) return;
+  touch_edge(e);
+  tracker.touch_edge(e.key, false)->version_changed = true;
+}
+
+void Graph::Impl::touch_renamed(NodeRec* r) {
+  if (tracker.enabled) tracker.touch_node(r->id, r->alive, r->type)->renamed = true;
+}
+
 void Graph::Impl::touch_edge_attr(const EdgeRec& e, Symbol name) {
   if (!tracker.enabled) return;
   touch_edge(e);
@@ -238,23 +263,38 @@ void Graph::Impl::finish_tracking(bool local, ReplicaId origin,
   for (auto& t : tracker.nodes()) {
     const NodeRec* r = find_node(t.id);
     bool now = r && r->alive;
-    if (!t.was_alive && now) b.nodes.push_back(NodeChange{t.id, ChangeKind::kCreated, r->type, std::move(t.attrs)});
-    else if (t.was_alive && !now) b.nodes.push_back(NodeChange{t.id, ChangeKind::kDeleted, t.type, {}});
-    else if (now && !t.attrs.empty())
-      b.nodes.push_back(NodeChange{t.id, ChangeKind::kUpdated, r->type, std::move(t.attrs)});
+    if (!t.was_alive && now) {
+      NodeChange c{t.id, ChangeKind::kCreated, r->type, {}, false};
+      for (const AttrSlot& a : r->attrs) c.attrs.push_back(a.name);  // all of them, whenever they came
+      b.nodes.push_back(std::move(c));
+    } else if (t.was_alive && !now) {
+      b.nodes.push_back(NodeChange{t.id, ChangeKind::kDeleted, t.type, {}, false});
+    } else if (now && (!t.attrs.empty() || t.renamed)) {
+      b.nodes.push_back(NodeChange{t.id, ChangeKind::kUpdated, r->type, std::move(t.attrs), t.renamed});
+    }
   }
   for (auto& t : tracker.edges()) {
     bool now;
+    const EdgeRec* e = nullptr;
     if (t.key.type == symbols::rt()) {
       const NodeRec* c = find_node(t.key.to);
       now = c && c->alive && c->rt_parent && c->rt_parent->id == t.key.from;
     } else {
-      const EdgeRec* e = find_edge(t.key);
+      e = find_edge(t.key);
       now = e && edge_visible(*e);
     }
-    if (!t.was_visible && now) b.edges.push_back(EdgeChange{t.key, ChangeKind::kCreated, std::move(t.attrs)});
-    else if (t.was_visible && !now) b.edges.push_back(EdgeChange{t.key, ChangeKind::kDeleted, {}});
-    else if (now && !t.attrs.empty()) b.edges.push_back(EdgeChange{t.key, ChangeKind::kUpdated, std::move(t.attrs)});
+    if (!t.was_visible && now) {
+      EdgeChange c{t.key, ChangeKind::kCreated, {}};
+      if (e)
+        for (const AttrSlot& a : e->attrs) c.attrs.push_back(a.name);
+      else
+        c.attrs.push_back(symbols::pose());
+      b.edges.push_back(std::move(c));
+    } else if (t.was_visible && !now) {
+      b.edges.push_back(EdgeChange{t.key, ChangeKind::kDeleted, {}});
+    } else if (now && (!t.attrs.empty() || t.version_changed)) {
+      b.edges.push_back(EdgeChange{t.key, ChangeKind::kUpdated, std::move(t.attrs)});
+    }
   }
   tracker.reset();
   tracker.enabled = false;
@@ -282,15 +322,6 @@ std::vector<NodeId> Graph::nodes() const {
   std::sort(out.begin(), out.end());
   return out;
 }
-
-namespace {
-const NodeRec* name_winner(const crdt::SmallVec<NodeRec*, 1>& v) {
-  const NodeRec* best = nullptr;
-  for (const NodeRec* r : v)
-    if (best == nullptr || crdt::lamport_less(r->id.dot, best->id.dot)) best = r;
-  return best;
-}
-}  // namespace
 
 std::optional<NodeId> Graph::find_node(std::string_view name) const {
   auto it = impl_->by_name.find(std::string(name));

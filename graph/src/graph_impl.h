@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <functional>
+#include <map>
 #include <string>
 #include <unordered_map>
 #include <unordered_set>
@@ -79,15 +80,17 @@ class ChangeTracker {
     bool was_alive;
     Symbol type;
     std::vector<Symbol> attrs;
+    bool renamed = false;
   };
   struct EdgeTouch {
     EdgeKey key;
     bool was_visible;
     std::vector<Symbol> attrs;
+    bool version_changed = false;  // a symbolic edge's existence dots changed (re-insert)
   };
   NodeTouch* touch_node(NodeId id, bool was_alive, Symbol type) {
     auto [it, fresh] = node_index_.try_emplace(id, nodes_.size());
-    if (fresh) nodes_.push_back(NodeTouch{id, was_alive, type, {}});
+    if (fresh) nodes_.push_back(NodeTouch{id, was_alive, type, {}, false});
     return &nodes_[it->second];
   }
   bool node_was_alive(NodeId id, bool current) const {
@@ -96,7 +99,7 @@ class ChangeTracker {
   }
   EdgeTouch* touch_edge(const EdgeKey& key, bool was_visible) {
     auto [it, fresh] = edge_index_.try_emplace(key, edges_.size());
-    if (fresh) edges_.push_back(EdgeTouch{key, was_visible, {}});
+    if (fresh) edges_.push_back(EdgeTouch{key, was_visible, {}, false});
     return &edges_[it->second];
   }
   bool edge_touched(const EdgeKey& key) const { return edge_index_.count(key) != 0; }
@@ -140,9 +143,14 @@ struct Graph::Impl {
   std::size_t rt_skips = 0;  // claims not applied as written in the last full derivation
   Dot rt_max_order;          // greatest winning claim dot applied so far
 
-  // Local dot minting: counters are Lamport clocks (never below anything seen).
-  std::uint64_t next_counter = 0;   // last counter handed out
-  std::uint64_t published_max = 0;  // last counter covered by a committed delta
+  // Local dot minting: counters are Lamport clocks (never below anything seen, up to
+  // crdt::kClockCeiling), and never above crdt::kMaxCounter.
+  std::uint64_t next_counter = 0;  // last counter handed out
+  // Counters handed out as node ids by open transactions -> the transaction holding them. A
+  // commit publishes every unpublished counter below its own except these.
+  std::map<std::uint64_t, std::uint64_t> reserved;
+  std::uint64_t next_transaction = 0;
+  std::size_t open_transactions = 0;  // transactions holding uncommitted changes
 
   // Output of local commits.
   GraphDelta out;
@@ -218,6 +226,10 @@ struct Graph::Impl {
     if (tracker.enabled) add_unique(tracker.touch_node(r->id, r->alive, r->type)->attrs, name);
   }
   void touch_edge(const EdgeRec& e);
+  /// A symbolic edge's existence dots changed while it stays visible (a re-insert).
+  void touch_edge_version(const EdgeRec& e);
+  /// After r joined or left the namesakes of its name: the node whose visible name changed.
+  void touch_renamed(NodeRec* r);
   void touch_edge_attr(const EdgeRec& e, Symbol name);
   void touch_incident_edges(NodeRec* r);
   /// Builds and delivers the change batch; returns it (for tests).
@@ -243,7 +255,13 @@ struct Graph::Impl {
   void after_merge(const GraphDelta& d, bool full_gc);
 
   // ---- local changes (graph_local.cc) ----
+  /// The next dot. @pre can_mint(1).
   Dot mint();
+  /// True if `n` more dots fit below crdt::kMaxCounter.
+  bool can_mint(std::uint64_t n) const;
+  /// Publishes every own counter in [1, next_counter] not yet in the context and not reserved
+  /// by another open transaction: into the context and the outgoing delta's context.
+  void publish_own_dots(CommitInfo& info);
   GraphDelta::NodeOp& out_node(NodeId id, int section);
   GraphDelta::EdgeOp& out_edge(const EdgeKey& key);
   void local_write_attr(NodeRec* r, Symbol name, Value v);

@@ -1,7 +1,10 @@
 // Local changes: transactions, dot minting and delta recording.
 
 #include <algorithm>
+#include <unordered_map>
 #include <unordered_set>
+
+#include "quiver/graph/limits.h"
 
 #include "graph_impl.h"
 
@@ -22,8 +25,39 @@ Error not_found(const char* fn, NodeId id) {
 // ---------------------------------------------------------------- recording
 
 Dot Graph::Impl::mint() {
-  next_counter = std::max(next_counter, ctx.max_counter_overall()) + 1;
+  next_counter = std::max(next_counter, std::min(ctx.max_counter_overall(), crdt::kClockCeiling)) + 1;
   return Dot{self, next_counter};
+}
+
+bool Graph::Impl::can_mint(std::uint64_t n) const {
+  const std::uint64_t base = std::max(next_counter, std::min(ctx.max_counter_overall(), crdt::kClockCeiling));
+  return n <= crdt::kMaxCounter - base;
+}
+
+void Graph::Impl::publish_own_dots(CommitInfo& info) {
+  const std::uint64_t lo = ctx.contiguous(self) + 1, hi = next_counter;
+  if (lo > hi) return;
+  auto publish = [&](std::uint64_t a, std::uint64_t b) {
+    ctx.add_range(self, a, b);
+    out.context.add_range(self, a, b);
+    if (info.first_counter == 0 || a < info.first_counter) info.first_counter = a;
+    info.last_counter = std::max(info.last_counter, b);
+  };
+  if (reserved.empty() && ctx.max_counter(self) < lo) {  // the usual case: one range
+    publish(lo, hi);
+    return;
+  }
+  // Segments between counters other open transactions hold, minus what earlier commits published.
+  crdt::CausalContext todo;
+  std::uint64_t a = lo;
+  for (auto it = reserved.lower_bound(lo); a <= hi; ++it) {
+    const bool last = it == reserved.end() || it->first > hi;
+    const std::uint64_t b = last ? hi : it->first - 1;
+    if (a <= b) todo.add_range(self, a, b);
+    if (last) break;
+    a = it->first + 1;
+  }
+  todo.minus(ctx).for_each_range([&](const ReplicaId&, std::uint64_t x, std::uint64_t y) { publish(x, y); });
 }
 
 GraphDelta::NodeOp& Graph::Impl::out_node(NodeId id, int section) {
@@ -172,7 +206,7 @@ void Graph::Impl::local_delete_node(NodeRec* r) {
 
 void Graph::Impl::local_insert_edge(const EdgeKey& key, const std::vector<std::pair<Symbol, Value>>& attrs) {
   EdgeRec& e = edge_record(key);
-  touch_edge(e);
+  touch_edge_version(e);
   Dot d = mint();
   GraphDelta::EdgeOp op;
   op.key = key;
@@ -227,6 +261,8 @@ void Graph::Impl::record_edge_removal(EdgeRec& e) {
 
 void Graph::Impl::local_delete_edge(EdgeRec* e) {
   touch_edge(*e);
+  // A re-insert in the same transaction turns this into an update: its removed attributes count.
+  for (const AttrSlot& a : e->attrs) touch_edge_attr(*e, a.name);
   record_edge_removal(*e);
   erase_edge_record(e);
 }
@@ -299,77 +335,185 @@ void Graph::Impl::local_remove_rt(NodeRec* child) {
 
 // ---------------------------------------------------------------- Transaction
 
-Transaction::Transaction(Graph* g) : graph_(g), epoch_(g->impl_->epoch) {}
+/// A transaction's bookkeeping: what it created, deleted and moved so far, for O(1) checks.
+struct Transaction::Book {
+  std::uint64_t id = 0;        // owner tag of the counters it reserved
+  std::uint64_t epoch = 0;     // the graph's epoch its view was taken at
+  bool open = false;           // counted in Graph::Impl::open_transactions
+  std::uint64_t bytes = 0;     // estimated encoding of the delta
+  std::vector<const void*> hints;             // node records found while validating, per op
+  std::vector<std::uint64_t> reserved;        // counters handed out as node ids
+  std::unordered_map<NodeId, std::string> created;  // -> name
+  std::unordered_set<NodeId> deleted;
+  std::unordered_set<std::string> names;      // names taken by create_node
+  std::unordered_map<EdgeKey, bool> edges;    // symbolic edges inserted (true) or deleted here
+  std::unordered_map<NodeId, std::optional<NodeId>> parent;  // RT parent after this txn's moves
+  std::unordered_set<NodeId> parents;         // nodes that gained an RT child here
+};
+
+namespace {
+// Rough encoded size of one change, for the delta size limit.
+std::uint64_t op_bytes(std::string_view a, std::string_view b = {}) { return 24 + a.size() + b.size(); }
+std::uint64_t attrs_bytes(const std::vector<std::pair<Symbol, Value>>& attrs) {
+  std::uint64_t n = 0;
+  for (const auto& [k, v] : attrs) n += 16 + k.str().size() + v.payload_bytes();
+  return n;
+}
+}  // namespace
+
+Transaction::Transaction(Graph* g) : graph_(g), book_(std::make_unique<Book>()) {
+  book_->id = ++g->impl_->next_transaction;
+  book_->epoch = g->impl_->epoch;
+}
 Transaction::Transaction(Transaction&&) noexcept = default;
-Transaction& Transaction::operator=(Transaction&&) noexcept = default;
-Transaction::~Transaction() = default;
+Transaction& Transaction::operator=(Transaction&& o) noexcept {
+  if (this != &o) {
+    if (book_) release();
+    graph_ = o.graph_;
+    ops_ = std::move(o.ops_);
+    book_ = std::move(o.book_);
+  }
+  return *this;
+}
+Transaction::~Transaction() {
+  if (book_) release();
+}
 
 Transaction Graph::begin() { return Transaction(this); }
+bool Graph::transaction_open() const { return impl_->open_transactions > 0; }
+
+void Transaction::release() {
+  Graph::Impl& g = *graph_->impl_;
+  for (std::uint64_t c : book_->reserved) g.reserved.erase(c);
+  book_->reserved.clear();
+  if (book_->open) {
+    book_->open = false;
+    --g.open_transactions;
+  }
+}
+
+TxnOp& Transaction::record(TxnOp op) {
+  if (!book_->open) {
+    book_->open = true;
+    ++graph_->impl_->open_transactions;
+  }
+  ops_.push_back(std::move(op));
+  return ops_.back();
+}
+
+Status Transaction::add_bytes(const char* fn, std::uint64_t n) {
+  if (book_->bytes + n > limits::kMaxDeltaBytes)
+    return make_error(ErrorCode::kTooLarge, std::string(fn) + ": the transaction would encode to about " +
+                                                std::to_string(book_->bytes + n) + " bytes (the limit is " +
+                                                std::to_string(limits::kMaxDeltaBytes) + "); commit it in parts");
+  book_->bytes += n;
+  return {};
+}
 
 bool Transaction::node_usable(NodeId id) const {
-  if (std::find(deleted_.begin(), deleted_.end(), id) != deleted_.end()) return false;
-  if (graph_->has_node(id)) return true;
-  return std::find(created_.begin(), created_.end(), id) != created_.end();
+  if (book_->deleted.count(id)) return false;
+  return graph_->has_node(id) || book_->created.count(id) != 0;
+}
+
+bool Transaction::edge_usable(NodeId from, NodeId to, Symbol type) const {
+  if (!node_usable(from) || !node_usable(to)) return false;
+  auto it = book_->edges.find(EdgeKey{from, to, type});
+  if (it != book_->edges.end()) return it->second;
+  return graph_->has_edge(from, to, type);
+}
+
+Status Transaction::check_attrs(const char* fn, const std::vector<std::pair<Symbol, Value>>& attrs) const {
+  for (const auto& [k, v] : attrs) {
+    if (k.is_null()) return make_error(ErrorCode::kInvalidArgument, std::string(fn) + ": an attribute name is empty");
+    if (Status s = check_name(std::string(fn) + ": the attribute name", k.str()); !s.ok()) return s;
+    if (Status s = check_value(std::string(fn) + ": attribute '" + k.str() + "'", v); !s.ok()) return s;
+  }
+  return {};
 }
 
 Result<NodeId> Transaction::create_node(std::string_view type, std::string_view name,
                                         std::vector<std::pair<Symbol, Value>> attrs) {
-  if (type.empty()) return make_error(ErrorCode::kInvalidArgument, "create_node(): the type is empty");
-  if (name.empty()) return make_error(ErrorCode::kInvalidArgument, "create_node(): the name is empty");
+  if (Status s = check_name("create_node(): the type", type); !s.ok()) return s.error();
+  if (Status s = check_name("create_node(): the name", name); !s.ok()) return s.error();
   if (name.find('~') != std::string_view::npos)
-    return make_error(ErrorCode::kInvalidArgument,
-                      "create_node(): name '" + std::string(name) + "' contains '~' (reserved)");
+    return make_error(ErrorCode::kInvalidArgument, "create_node(): name " + quote_name(name) + " contains '~' (reserved)");
   auto taken = graph_->find_node(name);
-  bool taken_now = taken && std::find(deleted_.begin(), deleted_.end(), *taken) == deleted_.end();
-  if (taken_now || std::find(created_names_.begin(), created_names_.end(), name) != created_names_.end())
-    return make_error(ErrorCode::kAlreadyExists, "create_node(): the name '" + std::string(name) + "' is taken");
-  for (const auto& [k, v] : attrs)
-    if (k.is_null()) return make_error(ErrorCode::kInvalidArgument, "create_node(): an attribute name is empty");
-  NodeId id{graph_->impl_->mint()};
+  const bool taken_now = taken && !book_->deleted.count(*taken);
+  if (taken_now || book_->names.count(std::string(name)))
+    return make_error(ErrorCode::kAlreadyExists, "create_node(): the name " + quote_name(name) + " is taken");
+  if (Status s = check_attrs("create_node()", attrs); !s.ok()) return s.error();
+  auto type_symbol = Symbol::make(type);
+  if (!type_symbol.ok()) return make_error(type_symbol.error().code, "create_node(): " + type_symbol.error().message);
+  Graph::Impl& g = *graph_->impl_;
+  if (!g.can_mint(1)) return make_error(ErrorCode::kTooLarge, "create_node(): this replica's counter space is exhausted");
+  if (Status s = add_bytes("create_node()", op_bytes(type, name) + attrs_bytes(attrs)); !s.ok()) return s.error();
+  NodeId id{g.mint()};
+  g.reserved.emplace(id.dot.counter, book_->id);
+  book_->reserved.push_back(id.dot.counter);
   TxnOp op{};
   op.kind = TxnOp::Kind::kCreateNode;
   op.node = id;
-  op.type = Symbol(type);
+  op.type = *type_symbol;
   op.name = std::string(name);
   op.attrs = std::move(attrs);
-  ops_.push_back(std::move(op));
-  created_.push_back(id);
-  created_names_.emplace_back(name);
+  record(std::move(op));
+  book_->created.emplace(id, std::string(name));
+  book_->names.emplace(name);
   return id;
 }
 
 Status Transaction::delete_node(NodeId id) {
   if (!node_usable(id)) return not_found("delete_node()", id);
+  if (Status s = add_bytes("delete_node()", op_bytes({})); !s.ok()) return s;
   TxnOp op{};
   op.kind = TxnOp::Kind::kDeleteNode;
   op.node = id;
-  ops_.push_back(std::move(op));
-  deleted_.push_back(id);
+  record(std::move(op));
+  book_->deleted.insert(id);
   return {};
 }
 
+Status Transaction::set(NodeId id, std::string_view attr, Value value) {
+  auto a = Symbol::make(attr);
+  if (!a.ok()) return make_error(a.error().code, "set(): " + a.error().message);
+  return set(id, *a, std::move(value));
+}
+
 Status Transaction::set(NodeId id, Symbol attr, Value value) {
-  const NodeRec* rec = deleted_.empty() ? graph_->impl_->visible_node(id) : nullptr;
+  const NodeRec* rec = book_->deleted.empty() ? graph_->impl_->visible_node(id) : nullptr;
   if (rec == nullptr && !node_usable(id)) return not_found("set()", id);
   if (attr.is_null()) return make_error(ErrorCode::kInvalidArgument, "set(): the attribute name is empty");
-  hints_.resize(ops_.size());
-  hints_.push_back(rec);
-  TxnOp& op = ops_.emplace_back();
+  if (Status s = check_name("set(): the attribute name", attr.str()); !s.ok()) return s;
+  if (Status s = check_value("set(): attribute '" + attr.str() + "'", value); !s.ok()) return s;
+  if (Status s = add_bytes("set()", op_bytes(attr.str()) + value.payload_bytes()); !s.ok()) return s;
+  book_->hints.resize(ops_.size());
+  book_->hints.push_back(rec);
+  TxnOp op{};
   op.kind = TxnOp::Kind::kSetAttr;
   op.node = id;
   op.attr = attr;
   op.value = std::move(value);
+  record(std::move(op));
   return {};
 }
 
 Status Transaction::remove_attr(NodeId id, Symbol attr) {
   if (!node_usable(id)) return not_found("remove_attr()", id);
+  if (attr.is_null()) return make_error(ErrorCode::kInvalidArgument, "remove_attr(): the attribute name is empty");
+  if (Status s = add_bytes("remove_attr()", op_bytes(attr.str())); !s.ok()) return s;
   TxnOp op{};
   op.kind = TxnOp::Kind::kRemoveAttr;
   op.node = id;
   op.attr = attr;
-  ops_.push_back(std::move(op));
+  record(std::move(op));
   return {};
+}
+
+Status Transaction::insert_edge(NodeId from, NodeId to, std::string_view type,
+                                std::vector<std::pair<Symbol, Value>> attrs) {
+  auto t = Symbol::make(type);
+  if (!t.ok()) return make_error(t.error().code, "insert_edge(): " + t.error().message);
+  return insert_edge(from, to, *t, std::move(attrs));
 }
 
 Status Transaction::insert_edge(NodeId from, NodeId to, Symbol type, std::vector<std::pair<Symbol, Value>> attrs) {
@@ -381,52 +525,54 @@ Status Transaction::insert_edge(NodeId from, NodeId to, Symbol type, std::vector
   if (type.is_null()) return make_error(ErrorCode::kInvalidArgument, "insert_edge(): the edge type is empty");
   if (type == symbols::rt())
     return make_error(ErrorCode::kInvalidArgument, "insert_edge(): type 'RT' is reserved; use set_rt()");
+  if (Status s = check_name("insert_edge(): the edge type", type.str()); !s.ok()) return s;
+  if (Status s = check_attrs("insert_edge()", attrs); !s.ok()) return s;
+  if (Status s = add_bytes("insert_edge()", op_bytes(type.str()) + attrs_bytes(attrs)); !s.ok()) return s;
   TxnOp op{};
   op.kind = TxnOp::Kind::kInsertEdge;
   op.node = from;
   op.other = to;
   op.type = type;
   op.attrs = std::move(attrs);
-  ops_.push_back(std::move(op));
+  record(std::move(op));
+  book_->edges[EdgeKey{from, to, type}] = true;
   return {};
 }
 
-namespace {
-bool pending_edge(const std::vector<TxnOp>& ops, NodeId from, NodeId to, Symbol type) {
-  bool present = false;
-  for (const TxnOp& op : ops) {
-    if (op.node != from || op.other != to || op.type != type) continue;
-    if (op.kind == TxnOp::Kind::kInsertEdge) present = true;
-    if (op.kind == TxnOp::Kind::kDeleteEdge) present = false;
-  }
-  return present;
-}
-}  // namespace
-
 Status Transaction::delete_edge(NodeId from, NodeId to, Symbol type) {
   if (type == symbols::rt()) {
-    auto p = graph_->rt_parent(to);
+    bool known = false;
+    std::optional<NodeId> p;
+    if (auto it = book_->parent.find(to); it != book_->parent.end()) {
+      known = true;
+      p = it->second;
+    }
+    if (!known) p = graph_->rt_parent(to);
     if (!p || *p != from)
       return make_error(ErrorCode::kNotFound, "delete_edge(): no RT edge " + from.to_string() + " -> " + to.to_string());
     return remove_rt(to);
   }
-  bool exists = graph_->has_edge(from, to, type) || pending_edge(ops_, from, to, type);
-  if (!exists || !node_usable(from) || !node_usable(to))
+  if (!edge_usable(from, to, type))
     return make_error(ErrorCode::kNotFound, "delete_edge(): no edge " + EdgeKey{from, to, type}.to_string());
+  if (Status s = add_bytes("delete_edge()", op_bytes(type.str())); !s.ok()) return s;
   TxnOp op{};
   op.kind = TxnOp::Kind::kDeleteEdge;
   op.node = from;
   op.other = to;
   op.type = type;
-  ops_.push_back(std::move(op));
+  record(std::move(op));
+  book_->edges[EdgeKey{from, to, type}] = false;
   return {};
 }
 
 Status Transaction::set_edge_attr(const EdgeKey& key, Symbol attr, Value value) {
-  bool exists = graph_->has_edge(key.from, key.to, key.type) || pending_edge(ops_, key.from, key.to, key.type);
-  if (!exists || key.type == symbols::rt())
+  if (key.type == symbols::rt() || !edge_usable(key.from, key.to, key.type))
     return make_error(ErrorCode::kNotFound, "set_edge_attr(): no edge " + key.to_string());
   if (attr.is_null()) return make_error(ErrorCode::kInvalidArgument, "set_edge_attr(): the attribute name is empty");
+  if (Status s = check_name("set_edge_attr(): the attribute name", attr.str()); !s.ok()) return s;
+  if (Status s = check_value("set_edge_attr(): attribute '" + attr.str() + "'", value); !s.ok()) return s;
+  if (Status s = add_bytes("set_edge_attr()", op_bytes(attr.str(), key.type.str()) + value.payload_bytes()); !s.ok())
+    return s;
   TxnOp op{};
   op.kind = TxnOp::Kind::kSetEdgeAttr;
   op.node = key.from;
@@ -434,37 +580,45 @@ Status Transaction::set_edge_attr(const EdgeKey& key, Symbol attr, Value value) 
   op.type = key.type;
   op.attr = attr;
   op.value = std::move(value);
-  ops_.push_back(std::move(op));
+  record(std::move(op));
   return {};
 }
 
 Status Transaction::remove_edge_attr(const EdgeKey& key, Symbol attr) {
-  bool exists = graph_->has_edge(key.from, key.to, key.type) || pending_edge(ops_, key.from, key.to, key.type);
-  if (!exists) return make_error(ErrorCode::kNotFound, "remove_edge_attr(): no edge " + key.to_string());
+  if (key.type == symbols::rt() || !edge_usable(key.from, key.to, key.type))
+    return make_error(ErrorCode::kNotFound, "remove_edge_attr(): no edge " + key.to_string());
+  if (attr.is_null()) return make_error(ErrorCode::kInvalidArgument, "remove_edge_attr(): the attribute name is empty");
+  if (Status s = add_bytes("remove_edge_attr()", op_bytes(attr.str(), key.type.str())); !s.ok()) return s;
   TxnOp op{};
   op.kind = TxnOp::Kind::kRemoveEdgeAttr;
   op.node = key.from;
   op.other = key.to;
   op.type = key.type;
   op.attr = attr;
-  ops_.push_back(std::move(op));
+  record(std::move(op));
   return {};
 }
 
-std::optional<NodeId> Transaction::pending_parent(NodeId child, bool* known) const {
-  *known = false;
-  std::optional<NodeId> p;
-  for (const TxnOp& op : ops_) {
-    if (op.node != child) continue;
-    if (op.kind == TxnOp::Kind::kSetRt) {
-      *known = true;
-      p = op.other;
-    } else if (op.kind == TxnOp::Kind::kRemoveRt) {
-      *known = true;
-      p.reset();
-    }
+Status Transaction::cycle_check(NodeId parent, NodeId child) const {
+  // A child with no RT children (in the replica or gained in this transaction) cannot be an
+  // ancestor of its new parent: building a chain top-down never walks it.
+  const NodeRec* c = graph_->impl_->visible_node(child);
+  const bool has_children = (c != nullptr && !c->rt_children.empty()) || book_->parents.count(child) != 0;
+  if (!has_children) return {};
+  auto name = [&](NodeId n) {
+    auto it = book_->created.find(n);
+    return "'" + (it != book_->created.end() ? it->second : graph_->name_of(n)) + "'";
+  };
+  std::optional<NodeId> x = parent;
+  for (std::size_t steps = 0; x; ++steps) {
+    if (*x == child)
+      return make_error(ErrorCode::kRefused, "set_rt(): putting " + name(child) + " under " + name(parent) +
+                                                 " would close a cycle");
+    if (steps > graph_->node_count() + ops_.size()) break;
+    auto it = book_->parent.find(*x);
+    x = it != book_->parent.end() ? it->second : graph_->rt_parent(*x);
   }
-  return p;
+  return {};
 }
 
 Status Transaction::set_rt(NodeId parent, NodeId child, const Pose& X_PC, std::int64_t stamp) {
@@ -473,21 +627,8 @@ Status Transaction::set_rt(NodeId parent, NodeId child, const Pose& X_PC, std::i
   if (parent == child)
     return make_error(ErrorCode::kInvalidArgument, "set_rt(): a node cannot be its own RT parent (" +
                                                        child.to_string() + ")");
-  // Walk up from the parent through pending moves and the current tree: reaching the child
-  // means the move would close a cycle.
-  bool any_pending = false;
-  for (const TxnOp& op : ops_) any_pending = any_pending || op.kind == TxnOp::Kind::kSetRt || op.kind == TxnOp::Kind::kRemoveRt;
-  std::optional<NodeId> x = parent;
-  for (std::size_t steps = 0; x; ++steps) {
-    if (*x == child)
-      return make_error(ErrorCode::kRefused, "set_rt(): putting " + graph_->name_of(child) + " under " +
-                                                 graph_->name_of(parent) + " would close a cycle");
-    if (steps > graph_->node_count() + ops_.size()) break;
-    bool known = false;
-    std::optional<NodeId> next;
-    if (any_pending) next = pending_parent(*x, &known);
-    x = known ? next : graph_->rt_parent(*x);
-  }
+  if (Status s = cycle_check(parent, child); !s.ok()) return s;
+  if (Status s = add_bytes("set_rt()", 2 * sizeof(Pose) + 48); !s.ok()) return s;
   TxnOp op{};
   op.kind = TxnOp::Kind::kSetRt;
   op.node = child;
@@ -495,27 +636,62 @@ Status Transaction::set_rt(NodeId parent, NodeId child, const Pose& X_PC, std::i
   op.pose = X_PC;
   op.stamp = stamp;
   op.type = symbols::rt();
-  ops_.push_back(std::move(op));
+  record(std::move(op));
+  book_->parent[child] = parent;
+  book_->parents.insert(parent);
   return {};
 }
 
 Status Transaction::remove_rt(NodeId child) {
   if (!node_usable(child)) return not_found("remove_rt()", child);
+  if (Status s = add_bytes("remove_rt()", 2 * sizeof(Pose) + 48); !s.ok()) return s;
   TxnOp op{};
   op.kind = TxnOp::Kind::kRemoveRt;
   op.node = child;
   op.type = symbols::rt();
-  ops_.push_back(std::move(op));
+  record(std::move(op));
+  book_->parent[child] = std::nullopt;
   return {};
 }
 
 void Transaction::abort() {
+  release();
   ops_.clear();
-  hints_.clear();
-  epoch_ = graph_->impl_->epoch;
-  created_.clear();
-  deleted_.clear();
-  created_names_.clear();
+  Graph* g = graph_;
+  book_ = std::make_unique<Book>();
+  book_->id = ++g->impl_->next_transaction;
+  book_->epoch = g->impl_->epoch;
+}
+
+Status Transaction::revalidate() const {
+  // Replays every change on a fresh view of the replica: the same checks, in the same order.
+  Transaction t(graph_);
+  for (const TxnOp& op : ops_) {
+    Status s;
+    switch (op.kind) {
+      case TxnOp::Kind::kCreateNode: {
+        auto taken = graph_->find_node(op.name);
+        if ((taken && !t.book_->deleted.count(*taken)) || t.book_->names.count(op.name))
+          s = make_error(ErrorCode::kAlreadyExists, "create_node(): the name " + quote_name(op.name) + " is taken");
+        t.book_->created.emplace(op.node, op.name);
+        t.book_->names.insert(op.name);
+        break;
+      }
+      case TxnOp::Kind::kDeleteNode: s = t.delete_node(op.node); break;
+      case TxnOp::Kind::kSetAttr: s = t.set(op.node, op.attr, op.value); break;
+      case TxnOp::Kind::kRemoveAttr: s = t.remove_attr(op.node, op.attr); break;
+      case TxnOp::Kind::kInsertEdge: s = t.insert_edge(op.node, op.other, op.type, op.attrs); break;
+      case TxnOp::Kind::kDeleteEdge: s = t.delete_edge(op.node, op.other, op.type); break;
+      case TxnOp::Kind::kSetEdgeAttr: s = t.set_edge_attr(EdgeKey{op.node, op.other, op.type}, op.attr, op.value); break;
+      case TxnOp::Kind::kRemoveEdgeAttr: s = t.remove_edge_attr(EdgeKey{op.node, op.other, op.type}, op.attr); break;
+      case TxnOp::Kind::kSetRt: s = t.set_rt(op.other, op.node, op.pose, op.stamp); break;
+      case TxnOp::Kind::kRemoveRt: s = t.remove_rt(op.node); break;
+    }
+    if (!s.ok())
+      return make_error(s.error().code, "commit(): a change no longer applies (another commit or a merge came first): " +
+                                            s.error().message);
+  }
+  return {};
 }
 
 Result<CommitInfo> Transaction::commit() {
@@ -523,15 +699,25 @@ Result<CommitInfo> Transaction::commit() {
   CommitInfo info;
   info.ops = ops_.size();
   if (ops_.empty()) return info;
+  auto refuse = [&](Error e) -> Result<CommitInfo> {
+    g.out.rule.clear();
+    g.out.binding.clear();
+    abort();
+    return e;
+  };
+  // Another commit or a merge since this transaction's calls: check them again.
+  const bool stale = book_->epoch != g.epoch;
+  if (stale)
+    if (Status s = revalidate(); !s.ok()) return refuse(s.error());
   if (g.validator) {
     Status s = g.validator(*graph_, ops_);  // may annotate g.out with the rule it matched
-    if (!s.ok()) {
-      g.out.rule.clear();
-      g.out.binding.clear();
-      abort();
-      return s.error();
-    }
+    if (!s.ok()) return refuse(s.error());
   }
+  // Every dot this commit may mint must fit below the counter limit: refuse rather than wrap.
+  std::uint64_t dots = 0;
+  for (const TxnOp& op : ops_) dots += 2 + op.attrs.size();
+  if (!g.can_mint(dots))
+    return refuse(make_error(ErrorCode::kTooLarge, "commit(): this replica's counter space is exhausted"));
   // Attribute writes on distinct registers commute: order each run of them by register so the
   // delta groups writes per node (smaller encoding, fewer node records touched).
   std::vector<std::uint32_t>& order = g.commit_order;
@@ -550,19 +736,20 @@ Result<CommitInfo> Transaction::commit() {
     i = j + 1;
   }
   // Records found while validating are still valid if nothing merged or committed since.
-  const bool hints_valid = epoch_ == g.epoch;
-  hints_.resize(ops_.size());
+  std::vector<const void*>& hints = book_->hints;
+  hints.resize(ops_.size());
   ++g.epoch;
   g.begin_tracking();
   if (g.out.nodes.empty() && g.out.edges.empty()) {
     g.out.kind = GraphDelta::Kind::kDelta;
     g.out.origin = g.self;
   }
-  const std::uint64_t first = g.published_max + 1;
+  // This transaction's node ids are about to be published: no longer reserved.
+  for (std::uint64_t c : book_->reserved) g.reserved.erase(c);
+  book_->reserved.clear();
   for (std::uint32_t k : order) {
     TxnOp& op = ops_[k];
-    NodeRec* n = hints_valid && hints_[k] ? const_cast<NodeRec*>(static_cast<const NodeRec*>(hints_[k]))
-                                          : g.find_node(op.node);
+    NodeRec* n = !stale && hints[k] ? const_cast<NodeRec*>(static_cast<const NodeRec*>(hints[k])) : g.find_node(op.node);
     bool alive = n && n->alive;
     switch (op.kind) {
       case TxnOp::Kind::kCreateNode:
@@ -600,17 +787,13 @@ Result<CommitInfo> Transaction::commit() {
         break;
     }
   }
-  if (g.next_counter >= first) {
-    g.ctx.add_range(g.self, first, g.next_counter);
-    g.out.context.add_range(g.self, first, g.next_counter);
-    g.published_max = g.next_counter;
-    info.first_counter = first;
-    info.last_counter = g.next_counter;
-  }
-  // The local context also covers every dot this delta removed (they were ours to see already).
+  // A commit whose changes all turned out to be no-ops publishes nothing (a delta always changes
+  // something); counters it skipped go out with the next commit that does.
+  const bool changed = !g.out.nodes.empty() || !g.out.edges.empty();
+  if (changed) g.publish_own_dots(info);
   if (g.rt_dirty) g.recompute_rt(nullptr);
   abort();  // the transaction is spent
-  if (g.sink && !g.out.empty()) g.sink(g.out);
+  if (g.sink && changed) g.sink(g.out);
   g.out.clear();
   g.finish_tracking(true, g.self, nullptr);
   return info;

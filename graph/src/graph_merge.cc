@@ -94,9 +94,14 @@ void Graph::Impl::merge_ops(const GraphDelta& d) {
       e = &edge_record(op.key);
     }
     touch_edge(*e);
-    for (std::uint32_t i = op.removed.begin; i < op.removed.end; ++i) e->exists.erase(d.removed[i]);
+    bool version = false;
+    for (std::uint32_t i = op.removed.begin; i < op.removed.end; ++i) version |= e->exists.erase(d.removed[i]);
     for (std::uint32_t i = op.added.begin; i < op.added.end; ++i)
-      if (!ctx.contains(d.added[i])) e->exists.insert(d.added[i]);
+      if (!ctx.contains(d.added[i]) && !e->exists.contains(d.added[i])) {
+        e->exists.insert(d.added[i]);
+        version = true;
+      }
+    if (version) touch_edge_version(*e);
     for (std::uint32_t i = op.attrs.begin; i < op.attrs.end; ++i)
       if (merge_register(e->attrs, d, d.attrs[i])) touch_edge_attr(*e, d.attrs[i].name);
     if (e->exists.empty() && e->attrs.empty()) erase_edge_record(e);
@@ -184,6 +189,7 @@ void Graph::Impl::merge_state(const GraphDelta& s) {
     crdt::DotSet kept;
     for (const Dot& x : e.exists)
       if (!removed_there(x)) kept.insert(x);
+    if (kept.size() != e.exists.size()) touch_edge_version(e);
     e.exists = kept;
     for (AttrSlot& slot : e.attrs)
       if (slot.reg.erase_if([&](const crdt::Entry<Value>& en) { return removed_there(en.dot); }) > 0)

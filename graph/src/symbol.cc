@@ -4,39 +4,45 @@
 #include <atomic>
 #include <memory>
 #include <mutex>
+#include <shared_mutex>
+#include <stdexcept>
 #include <string>
 #include <unordered_map>
 
+#include "quiver/graph/limits.h"
 #include "quiver/hash.h"
 
 namespace quiver::graph {
 namespace {
 
 // Chunked, append-only storage: readers index without a lock because chunks never move and a
-// string is fully constructed before its index is published.
+// string is fully constructed before its index is published. The name -> index map is read under
+// a shared lock, so a lookup allocates nothing and readers never wait for
+// each other; only a new name takes the exclusive lock.
 class Interner {
  public:
   static constexpr std::uint32_t kChunkBits = 12;
   static constexpr std::uint32_t kChunkSize = 1u << kChunkBits;
-  static constexpr std::uint32_t kMaxChunks = 4096;
+  static constexpr std::uint32_t kMaxChunks = (limits::kMaxSymbols + 1 + kChunkSize - 1) / kChunkSize;
 
-  Interner() { intern(""); }
+  Interner() { (void)add_locked(""); }
 
-  std::uint32_t intern(std::string_view s) {
-    std::lock_guard<std::mutex> lock(mu_);
-    auto it = index_.find(std::string(s));
-    if (it != index_.end()) return it->second;
-    std::uint32_t id = size_.load(std::memory_order_relaxed);
-    std::uint32_t chunk = id >> kChunkBits;
-    if (chunk >= kMaxChunks) std::abort();  // 16M distinct names: a runaway caller
-    if (!chunks_[chunk]) chunks_[chunk] = std::make_unique<std::array<Slot, kChunkSize>>();
-    Slot& slot = (*chunks_[chunk])[id & (kChunkSize - 1)];
-    slot.text = std::string(s);
-    slot.hash = mix64(fnv1a64(s));
-    index_.emplace(std::string(s), id);
-    size_.store(id + 1, std::memory_order_release);
-    return id;
+  std::uint32_t find(std::string_view s) const {
+    std::shared_lock<std::shared_mutex> lock(mu_);
+    auto it = index_.find(s);
+    return it == index_.end() ? 0 : it->second;
   }
+
+  Result<std::uint32_t> intern(std::string_view s) {
+    if (std::uint32_t id = find(s)) return id;
+    std::unique_lock<std::shared_mutex> lock(mu_);
+    auto it = index_.find(s);
+    if (it != index_.end()) return it->second;
+    return add_locked(s);
+  }
+
+  std::size_t count() const { return size_.load(std::memory_order_acquire) - 1; }
+
   const std::string& str(std::uint32_t id) const {
     static const std::string kBad = "<bad-symbol>";
     if (id >= size_.load(std::memory_order_acquire)) return kBad;
@@ -48,14 +54,38 @@ class Interner {
   }
 
  private:
-  std::mutex mu_;
-  std::unordered_map<std::string, std::uint32_t> index_;
+  Result<std::uint32_t> add_locked(std::string_view s) {
+    std::uint32_t id = size_.load(std::memory_order_relaxed);
+    if (id > limits::kMaxSymbols || text_bytes_ + s.size() > limits::kMaxSymbolBytes)
+      return make_error(ErrorCode::kTooLarge,
+                        "the table of names is full (" + std::to_string(id - 1) + " names, " +
+                            std::to_string(text_bytes_) + " bytes; limits " + std::to_string(limits::kMaxSymbols) +
+                            " and " + std::to_string(limits::kMaxSymbolBytes) + "): cannot add " + quote_name(s));
+    std::uint32_t chunk = id >> kChunkBits;
+    if (!chunks_[chunk]) chunks_[chunk] = std::make_unique<std::array<Slot, kChunkSize>>();
+    Slot& slot = (*chunks_[chunk])[id & (kChunkSize - 1)];
+    slot.text = std::string(s);
+    slot.hash = mix64(fnv1a64(s));
+    text_bytes_ += s.size();
+    index_.emplace(std::string_view(slot.text), id);
+    size_.store(id + 1, std::memory_order_release);
+    return id;
+  }
+
+  struct ViewHash {
+    std::size_t operator()(std::string_view s) const { return fnv1a64(s); }
+  };
   struct Slot {
     std::string text;
     std::uint64_t hash = 0;
   };
+
+  mutable std::shared_mutex mu_;
+  // Keys view the slots' text, which never moves: no second copy of every name.
+  std::unordered_map<std::string_view, std::uint32_t, ViewHash> index_;
   std::array<std::unique_ptr<std::array<Slot, kChunkSize>>, kMaxChunks> chunks_;
   std::atomic<std::uint32_t> size_{0};
+  std::uint64_t text_bytes_ = 0;
 };
 
 Interner& interner() {
@@ -65,7 +95,26 @@ Interner& interner() {
 
 }  // namespace
 
-Symbol::Symbol(std::string_view name) : index_(name.empty() ? 0 : interner().intern(name)) {}
+Symbol::Symbol(std::string_view name) {
+  if (name.empty()) return;
+  auto id = interner().intern(name);
+  if (!id.ok()) throw std::length_error("Symbol(): " + id.error().message);
+  index_ = *id;
+}
+
+Result<Symbol> Symbol::make(std::string_view name) {
+  if (name.empty()) return Symbol();
+  auto id = interner().intern(name);
+  if (!id.ok()) return id.error();
+  return from_index(*id);
+}
+
+Symbol Symbol::find(std::string_view name) {
+  if (name.empty()) return Symbol();
+  return from_index(interner().find(name));
+}
+
+std::size_t Symbol::interned_count() { return interner().count(); }
 
 const std::string& Symbol::str() const { return interner().str(index_); }
 std::uint64_t Symbol::stable_hash() const { return interner().hash(index_); }

@@ -187,6 +187,11 @@ class Simulation {
     agents::ReplicatorOptions opt = cfg_.replicator;
     opt.name = "agent" + std::to_string(i);
     a.replicator = std::make_unique<agents::Replicator>(*a.graph, *a.endpoint, opt);
+    a.replicator->on_error([this, i](const Error& e) {
+      const std::string line = "agent" + std::to_string(i) + " rejected: " + e.to_string();
+      if (result_.first_rejection.empty()) result_.first_rejection = "t=" + std::to_string(now_) + "ns " + line;
+      note(line);
+    });
     a.replicator->start(now_);
     if (rooms_grammar_)
       a.guard = std::make_unique<agents::GrammarGuard>(
@@ -504,6 +509,7 @@ std::string SimResult::to_json() const {
   j["converged"] = converged;
   j["invariant_violations"] = invariant_violations;
   if (!first_violation.empty()) j["first_violation"] = first_violation;
+  if (!first_rejection.empty()) j["first_rejection"] = first_rejection;
   j["digest"] = digest;
   j["messages"] = messages;
   j["bytes"] = bytes;

@@ -11,6 +11,15 @@
 
 namespace quiver::crdt {
 
+/// The greatest counter (of a dot or a sequence number) Quiver produces or accepts: 2^53 - 1, so
+/// that every counter is also exact as a JSON number. Decoders refuse anything above it, and a
+/// replica refuses to mint beyond it rather than wrap.
+inline constexpr std::uint64_t kMaxCounter = (std::uint64_t{1} << 53) - 1;
+/// Lamport clocks follow counters seen from others only up to this ceiling: a peer that publishes
+/// counters near kMaxCounter cannot exhaust anyone else's counter space (its later writes may then
+/// win over ours, but ours keep flowing). 2^52 counters take over a century at a billion per second.
+inline constexpr std::uint64_t kClockCeiling = std::uint64_t{1} << 52;
+
 /// A replica is one incarnation of one agent. An agent restarted without durable state comes
 /// back under a new incarnation, so it can never mint a dot it minted before.
 struct ReplicaId {

@@ -2,8 +2,9 @@
 /// @file
 /// Binary codec for GraphDelta (deltas, delta intervals, states and context diffs).
 ///
-/// Format version 1 (all integers little-endian varints unless noted):
+/// Format version 2 (all integers little-endian varints unless noted):
 ///   magic "QG", version u8, kind u8 (1 delta, 2 state), flags varint
+///   [if flags & kSeq: sequence interval lo, hi - lo]
 ///   replica table: n, then n × (agent fixed64, incarnation varint); index 0 is the origin
 ///   symbol table: n, then n × string (attribute names, node and edge types)
 ///   context: n ranges × (replica index, lo, hi - lo)
@@ -11,25 +12,33 @@
 ///   nodes: n × node op; edges: n × edge op; [state: keep list]
 /// See codec.cc for the per-op layout. Decoding is bounds-checked throughout; any malformed,
 /// truncated or oversized input yields an Error naming the field and byte offset, and nothing
-/// is produced.
+/// is produced (not even a new entry in the process's table of names).
+///
+/// Beyond the syntax, a decoded message is checked against the limits table (limits.h) and the
+/// meaning of its kind: every counter is at most crdt::kMaxCounter; names are non-empty UTF-8
+/// within limits::kMaxNameBytes (node names without '~'); a delta (kDelta) changes something,
+/// and every dot it adds, and every range of its context, is its origin's (a replica can only
+/// mint its own dots), each added dot inside the context.
 
 #include <cstdint>
 #include <span>
 #include <vector>
 
 #include "quiver/graph/delta.h"
+#include "quiver/graph/limits.h"
 #include "quiver/result.h"
 
 namespace quiver::graph {
 
-/// Limits applied while decoding untrusted bytes.
+/// Limits applied while decoding untrusted bytes: the table's (limits.h), tightened only by
+/// tests.
 struct DecodeLimits {
-  std::uint64_t max_value_bytes = 64ull << 20;  ///< one attribute value
-  std::uint64_t max_name_bytes = 4096;          ///< a symbol or node name
-  std::uint64_t max_table = 1u << 16;           ///< replicas or symbols per message
+  std::uint64_t max_value_bytes = limits::kMaxValueBytes;  ///< one attribute value
+  std::uint64_t max_name_bytes = limits::kMaxNameBytes;    ///< a symbol or node name
+  std::uint64_t max_table = limits::kMaxTable;             ///< replicas or symbols per message
 };
 
-inline constexpr std::uint8_t kCodecVersion = 1;
+inline constexpr std::uint8_t kCodecVersion = 2;
 
 /// Appends the encoding of `d` to `out`.
 void encode(const GraphDelta& d, std::vector<std::uint8_t>& out);

@@ -58,6 +58,11 @@ struct GraphDelta {
 
   Kind kind = Kind::kDelta;
   ReplicaId origin;
+  /// The protocol's sequence numbers this payload carries (kDelta: the origin's delta interval
+  /// [seq_lo, seq_hi]; 0: unbound). Binding them into the payload means a payload cannot be
+  /// replayed under another interval.
+  std::uint64_t seq_lo = 0;
+  std::uint64_t seq_hi = 0;
   crdt::CausalContext context;
   std::vector<NodeOp> nodes;
   std::vector<EdgeOp> edges;

@@ -50,16 +50,25 @@ struct AttrValue {
 enum class ChangeKind : std::uint8_t { kCreated, kUpdated, kDeleted };
 const char* to_string(ChangeKind k);
 
+/// A node created, deleted or updated. Updated means: the values of some attributes changed
+/// (what attr_values() returns: a write, a removal, a concurrent value arriving or going), or its
+/// visible name changed (an earlier namesake arrived, or the one that held the name left).
 struct NodeChange {
   NodeId id;
   ChangeKind kind;
   Symbol type;
-  std::vector<Symbol> attrs;  ///< attribute names whose visible value changed (kUpdated)
+  /// kCreated: every attribute the node has; kUpdated: those whose values changed.
+  std::vector<Symbol> attrs;
+  bool renamed = false;  ///< kUpdated: name_of() now returns something else
 };
+/// An edge created, deleted or updated. A symbolic edge is updated when its attributes' values
+/// or its version (edge_version(): a re-insert) changed; an RT edge when its current transform
+/// or the pose history of its current move changed (attrs then holds "pose"). An RT edge that
+/// changes parent is deleted under the old parent and created under the new one.
 struct EdgeChange {
   EdgeKey key;  ///< RT edges appear with type symbols::rt(), from parent to child.
   ChangeKind kind;
-  std::vector<Symbol> attrs;  ///< for RT edges: "pose" when the transform changed
+  std::vector<Symbol> attrs;  ///< kCreated: every attribute; kUpdated: those that changed
 };
 /// Everything one commit or one merge changed in the visible graph.
 struct ChangeBatch {
@@ -109,18 +118,32 @@ struct TxnOp {
 /// What a commit published.
 struct CommitInfo {
   std::size_t ops = 0;
-  std::uint64_t first_counter = 0;  ///< dots minted or skipped: [first_counter, last_counter]
+  /// The lowest and highest counter of the dots this commit published (minted, or skipped by
+  /// transactions that were abandoned); counters reserved by other open transactions may lie
+  /// between them. Both 0 when nothing was published.
+  std::uint64_t first_counter = 0;
   std::uint64_t last_counter = 0;
 };
 
 /// Batches local changes into one delta. Each call validates against the replica (plus the
-/// transaction's own earlier changes) and returns an error without recording anything if the
-/// change is invalid. `commit()` applies everything atomically, fires events and hands the delta
-/// to the graph's delta sink. A transaction not committed is discarded.
+/// transaction's own earlier changes) and the limits table (limits.h), and returns an error
+/// without recording anything if the change is invalid. `commit()` applies everything
+/// atomically, fires events and hands the delta to the graph's delta sink. A transaction not
+/// committed is discarded.
+///
+/// Several transactions of one graph may be open at once and commit in any order: a node id
+/// handed out by create_node() is reserved until its transaction commits or is discarded, and a
+/// transaction whose view went stale (another commit or a merge happened since its calls) is
+/// validated again at commit: if any of its changes no longer applies (a node it writes was
+/// deleted, a name it takes was taken, a move now closes a cycle), commit() refuses the whole
+/// transaction with an error naming the change, as if it had run after the other one.
+///
+/// Threading: used on the graph's owner thread only.
 class Transaction {
  public:
   Transaction(Transaction&&) noexcept;
   Transaction& operator=(Transaction&&) noexcept;
+  /// Discards the changes (and releases the node ids it reserved) unless committed.
   ~Transaction();
 
   /// Creates a node; its id is known at once. Fails if `name` is taken or empty.
@@ -129,12 +152,13 @@ class Transaction {
   /// Deletes a node with its attributes, its incident edges and its RT edges.
   Status delete_node(NodeId id);
   Status set(NodeId id, Symbol attr, Value value);
-  Status set(NodeId id, std::string_view attr, Value value) { return set(id, Symbol(attr), std::move(value)); }
+  Status set(NodeId id, std::string_view attr, Value value);
   Status remove_attr(NodeId id, Symbol attr);
   /// Inserts (or re-inserts, replacing its attributes) a symbolic edge. No self-loops. The type
   /// "RT" is reserved for set_rt().
   Status insert_edge(NodeId from, NodeId to, Symbol type, std::vector<std::pair<Symbol, Value>> attrs = {});
-  Status insert_edge(NodeId from, NodeId to, std::string_view type) { return insert_edge(from, to, Symbol(type)); }
+  Status insert_edge(NodeId from, NodeId to, std::string_view type,
+                     std::vector<std::pair<Symbol, Value>> attrs = {});
   Status delete_edge(NodeId from, NodeId to, Symbol type);
   Status set_edge_attr(const EdgeKey& key, Symbol attr, Value value);
   Status remove_edge_attr(const EdgeKey& key, Symbol attr);
@@ -145,7 +169,11 @@ class Transaction {
   /// Detaches `child` from its RT parent.
   Status remove_rt(NodeId child);
 
+  /// Applies the changes as one delta. @returns what was published, or the error of the check
+  /// that refused it (validators, a stale view that no longer applies, an exhausted counter
+  /// space); a refused transaction changes nothing.
   Result<CommitInfo> commit();
+  /// Discards the changes made so far; the transaction can be used again.
   void abort();
 
   bool empty() const { return ops_.empty(); }
@@ -155,18 +183,20 @@ class Transaction {
 
  private:
   friend class Graph;
+  struct Book;
   explicit Transaction(Graph* g);
   bool node_usable(NodeId id) const;
-  std::optional<NodeId> pending_parent(NodeId child, bool* known) const;
+  bool edge_usable(NodeId from, NodeId to, Symbol type) const;
+  Status check_attrs(const char* fn, const std::vector<std::pair<Symbol, Value>>& attrs) const;
+  Status cycle_check(NodeId parent, NodeId child) const;
+  Status add_bytes(const char* fn, std::uint64_t n);
+  TxnOp& record(TxnOp op);
+  Status revalidate() const;
+  void release();
 
   Graph* graph_;
   std::vector<TxnOp> ops_;
-  // Node records looked up while validating, reused at commit if nothing changed in between.
-  std::vector<const void*> hints_;
-  std::uint64_t epoch_ = 0;
-  std::vector<NodeId> created_;
-  std::vector<NodeId> deleted_;
-  std::vector<std::string> created_names_;
+  std::unique_ptr<Book> book_;
 };
 
 /// Options fixed at construction.
@@ -237,6 +267,10 @@ class Graph {
 
   // ---- Local writes ----
   Transaction begin();
+  /// True while a transaction of this graph holds uncommitted changes. Library code that writes
+  /// on its own (lock claims, grammar repairs) checks it, so that it never commits inside a
+  /// caller's transaction.
+  bool transaction_open() const;
 
   // ---- Replication ----
   /// Joins a delta (kDelta) or a state / context diff (kState). `delta` must come from the

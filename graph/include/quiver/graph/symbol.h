@@ -10,13 +10,25 @@
 #include <string>
 #include <string_view>
 
+#include "quiver/result.h"
+
 namespace quiver::graph {
 
 class Symbol {
  public:
   Symbol() = default;
   /// Interns `name` (thread-safe). The empty string is the null symbol.
+  /// @throws std::length_error when the process's table of names is full
+  ///         (limits::kMaxSymbols names or limits::kMaxSymbolBytes of text); make() reports that
+  ///         as a value instead.
   explicit Symbol(std::string_view name);
+  /// Interns `name`, or kTooLarge when the table is full. Thread-safe.
+  static Result<Symbol> make(std::string_view name);
+  /// The symbol of an already interned name, or the null symbol: never adds to the table.
+  /// Thread-safe, allocation-free.
+  static Symbol find(std::string_view name);
+  /// How many names this process has interned (the null symbol excluded).
+  static std::size_t interned_count();
   static Symbol from_index(std::uint32_t index) {
     Symbol s;
     s.index_ = index;

@@ -79,6 +79,7 @@ struct SimResult {
   bool converged = false;
   std::uint64_t invariant_violations = 0;
   std::string first_violation;
+  std::string first_rejection;  ///< the first frame or message a replica refused, and why
   std::string digest;
   std::uint64_t messages = 0;  ///< frames handed to the network, per destination
   std::uint64_t bytes = 0;
