@@ -109,6 +109,8 @@ const NodeRec* name_winner(const crdt::SmallVec<NodeRec*, 1>& v) {
 
 void Graph::Impl::set_alive(NodeRec* r, bool alive, Symbol type, const std::string& name) {
   if (r->alive == alive) return;
+  touch_rt(r);  // its RT edges appear or go with it
+  for (const NodeRec* c : r->rt_children) touch_rt(c);
   if (alive) {
     r->alive = true;
     r->type = type;
@@ -118,7 +120,7 @@ void Graph::Impl::set_alive(NodeRec* r, bool alive, Symbol type, const std::stri
     // An earlier namesake takes the name from the node that held it: that one is renamed.
     const NodeRec* holder = sakes.empty() ? nullptr : name_winner(sakes);
     sakes.push_back(r);
-    if (holder && name_winner(sakes) == r) touch_renamed(const_cast<NodeRec*>(holder));
+    if (holder && name_winner(sakes) == r) touch_renamed(const_cast<NodeRec*>(holder), holder->name);
     by_type[r->type].insert(r);
   } else {
     r->alive = false;
@@ -132,7 +134,10 @@ void Graph::Impl::set_alive(NodeRec* r, bool alive, Symbol type, const std::stri
           break;
         }
       if (it->second.empty()) by_name.erase(it);
-      else if (held) touch_renamed(const_cast<NodeRec*>(name_winner(it->second)));  // the name passes on
+      else if (held) {  // the name passes on to the earliest remaining namesake
+        NodeRec* heir = const_cast<NodeRec*>(name_winner(it->second));
+        touch_renamed(heir, heir->name + "~" + heir->id.to_string());
+      }
     }
     auto tt = by_type.find(r->type);
     if (tt != by_type.end()) {
@@ -158,18 +163,13 @@ bool Graph::Impl::insert_sample(NodeRec* r, const RtSample& s) {
   if (pos != h.end() && pos->dot == s.dot) return false;
   for (const RtSample& x : h)
     if (x.dot == s.dot) return false;
-  bool evicted_current = false;
+  touch_rt(r);
   if (h.size() >= kRtHistoryDepth) {
     if (pos == h.begin()) return false;  // older than everything kept
-    evicted_current = h.front().epoch == r->rt_epoch;
     h.erase(h.begin());
     pos = std::lower_bound(h.begin(), h.end(), s, sample_less);
   }
   h.insert(pos, s);
-  if (r->rt_parent && (s.epoch == r->rt_epoch || evicted_current) && tracker.enabled) {
-    auto* t = tracker.touch_edge(EdgeKey{r->rt_parent->id, r->id, symbols::rt()}, true);
-    add_unique(t->attrs, symbols::pose());
-  }
   return true;
 }
 
@@ -179,10 +179,8 @@ void Graph::Impl::kill_record(NodeRec* r) {
   touch_incident_edges(r);
   if (r->alive) set_alive(r, false, {}, {});
   // RT edges in which r takes part.
-  if (tracker.enabled) {
-    if (r->rt_parent) tracker.touch_edge(EdgeKey{r->rt_parent->id, id, symbols::rt()}, true);
-    for (NodeRec* c : r->rt_children) tracker.touch_edge(EdgeKey{id, c->id, symbols::rt()}, true);
-  }
+  touch_rt(r);
+  for (NodeRec* c : r->rt_children) touch_rt(c);
   for (NodeRec* c : r->rt_children) c->rt_parent = nullptr;
   r->rt_children.clear();
   if (r->rt_parent) {
@@ -221,6 +219,21 @@ void Graph::Impl::gc_candidates_sweep() {
 
 // ---------------------------------------------------------------- events
 
+RtView Graph::Impl::rt_view(const NodeRec& r) const {
+  RtView v;
+  if (!r.alive || r.rt_parent == nullptr) return v;
+  RtEdge e = current_rt(r);
+  v.parent = e.parent;
+  v.epoch = e.epoch;
+  v.pose = e.pose;
+  v.stamp = e.stamp;
+  Hasher h(7);
+  for (const RtSample& s : r.history)
+    if (s.epoch == r.rt_epoch) h.i64(s.stamp).u64(s.dot.replica.agent).u64(s.dot.replica.incarnation).u64(s.dot.counter);
+  v.history = h.h64();
+  return v;
+}
+
 void Graph::Impl::touch_edge(const EdgeRec& e) {
   if (!tracker.enabled || tracker.edge_touched(e.key)) return;
   bool was = !e.exists.empty();
@@ -232,20 +245,49 @@ void Graph::Impl::touch_edge(const EdgeRec& e) {
   tracker.touch_edge(e.key, was);
 }
 
+std::uint64_t register_fingerprint(const AttrList& attrs, Symbol name) {
+  const AttrSlot* s = find_slot(attrs, name);
+  if (s == nullptr) return 0;
+  std::uint64_t fp = s->reg.size();
+  for (const auto& e : s->reg) fp += mix64(hash_value(e.dot) ^ (e.fence * 0x9e3779b97f4a7c15ULL));
+  return fp;
+}
+
+std::uint64_t dots_fingerprint(const crdt::DotSet& dots) {
+  std::uint64_t fp = dots.size();
+  for (const Dot& d : dots) fp += mix64(hash_value(d));
+  return fp;
+}
+
 void Graph::Impl::touch_edge_version(const EdgeRec& e) {
   if (!tracker.enabled) return;
   touch_edge(e);
-  tracker.touch_edge(e.key, false)->version_changed = true;
+  auto* t = tracker.touch_edge(e.key, false);
+  if (!t->version_saved) {
+    t->version_saved = true;
+    t->version_before = dots_fingerprint(e.exists);
+  }
 }
 
-void Graph::Impl::touch_renamed(NodeRec* r) {
-  if (tracker.enabled) tracker.touch_node(r->id, r->alive, r->type)->renamed = true;
+void Graph::Impl::touch_renamed(NodeRec* r, std::string before) {
+  if (!tracker.enabled) return;
+  auto* t = tracker.touch_node(r->id, r->alive, r->type);
+  if (!t->name_saved) {
+    t->name_saved = true;
+    t->name_before = std::move(before);
+  }
+}
+
+std::string Graph::Impl::visible_name(const NodeRec& r) const {
+  auto it = by_name.find(r.name);
+  if (it == by_name.end() || it->second.size() == 1 || name_winner(it->second) == &r) return r.name;
+  return r.name + "~" + r.id.to_string();
 }
 
 void Graph::Impl::touch_edge_attr(const EdgeRec& e, Symbol name) {
   if (!tracker.enabled) return;
   touch_edge(e);
-  add_unique(tracker.touch_edge(e.key, false)->attrs, name);
+  save_attr(tracker.touch_edge(e.key, false)->attrs, name, e.attrs);
 }
 
 void Graph::Impl::touch_incident_edges(NodeRec* r) {
@@ -269,31 +311,41 @@ void Graph::Impl::finish_tracking(bool local, ReplicaId origin,
       b.nodes.push_back(std::move(c));
     } else if (t.was_alive && !now) {
       b.nodes.push_back(NodeChange{t.id, ChangeKind::kDeleted, t.type, {}, false});
-    } else if (now && (!t.attrs.empty() || t.renamed)) {
-      b.nodes.push_back(NodeChange{t.id, ChangeKind::kUpdated, r->type, std::move(t.attrs), t.renamed});
+    } else if (now) {
+      NodeChange c{t.id, ChangeKind::kUpdated, r->type, {}, false};
+      for (const auto& [name, fp] : t.attrs)
+        if (register_fingerprint(r->attrs, name) != fp) c.attrs.push_back(name);
+      c.renamed = t.name_saved && visible_name(*r) != t.name_before;
+      if (!c.attrs.empty() || c.renamed) b.nodes.push_back(std::move(c));
     }
   }
   for (auto& t : tracker.edges()) {
-    bool now;
-    const EdgeRec* e = nullptr;
-    if (t.key.type == symbols::rt()) {
-      const NodeRec* c = find_node(t.key.to);
-      now = c && c->alive && c->rt_parent && c->rt_parent->id == t.key.from;
-    } else {
-      e = find_edge(t.key);
-      now = e && edge_visible(*e);
-    }
+    const EdgeRec* e = find_edge(t.key);
+    const bool now = e && edge_visible(*e);
     if (!t.was_visible && now) {
       EdgeChange c{t.key, ChangeKind::kCreated, {}};
-      if (e)
-        for (const AttrSlot& a : e->attrs) c.attrs.push_back(a.name);
-      else
-        c.attrs.push_back(symbols::pose());
+      for (const AttrSlot& a : e->attrs) c.attrs.push_back(a.name);
       b.edges.push_back(std::move(c));
     } else if (t.was_visible && !now) {
       b.edges.push_back(EdgeChange{t.key, ChangeKind::kDeleted, {}});
-    } else if (now && (!t.attrs.empty() || t.version_changed)) {
-      b.edges.push_back(EdgeChange{t.key, ChangeKind::kUpdated, std::move(t.attrs)});
+    } else if (now) {
+      EdgeChange c{t.key, ChangeKind::kUpdated, {}};
+      for (const auto& [name, fp] : t.attrs)
+        if (register_fingerprint(e->attrs, name) != fp) c.attrs.push_back(name);
+      const bool version = t.version_saved && dots_fingerprint(e->exists) != t.version_before;
+      if (!c.attrs.empty() || version) b.edges.push_back(std::move(c));
+    }
+  }
+  for (const auto& [child, before] : tracker.rt_before()) {
+    const NodeRec* c = find_node(child);
+    const RtView after = c ? rt_view(*c) : RtView{};
+    if (after == before) continue;
+    if (before.parent != after.parent) {
+      if (!before.parent.is_null()) b.edges.push_back(EdgeChange{EdgeKey{before.parent, child, symbols::rt()}, ChangeKind::kDeleted, {}});
+      if (!after.parent.is_null())
+        b.edges.push_back(EdgeChange{EdgeKey{after.parent, child, symbols::rt()}, ChangeKind::kCreated, {symbols::pose()}});
+    } else if (!after.parent.is_null()) {
+      b.edges.push_back(EdgeChange{EdgeKey{after.parent, child, symbols::rt()}, ChangeKind::kUpdated, {symbols::pose()}});
     }
   }
   tracker.reset();
@@ -352,10 +404,7 @@ Symbol Graph::type_of(NodeId id) const {
 
 std::string Graph::name_of(NodeId id) const {
   const NodeRec* r = impl_->visible_node(id);
-  if (r == nullptr) return {};
-  auto it = impl_->by_name.find(r->name);
-  if (it == impl_->by_name.end() || it->second.size() == 1 || name_winner(it->second) == r) return r->name;
-  return r->name + "~" + r->id.to_string();
+  return r == nullptr ? std::string() : impl_->visible_name(*r);
 }
 
 std::vector<NodeId> Graph::namesakes(std::string_view name) const {

@@ -63,7 +63,21 @@ struct EdgeRec {
   AttrList attrs;
 };
 
-/// Collects what a commit or merge changed, to produce a ChangeBatch.
+/// What a reader sees of a child's RT edge: its parent, its current transform, and the history
+/// of its current move (as a fingerprint).
+struct RtView {
+  NodeId parent;  // null: no visible RT edge
+  Dot epoch;
+  Pose pose;
+  std::int64_t stamp = 0;
+  std::uint64_t history = 0;
+  bool operator==(const RtView&) const = default;
+};
+
+/// Collects what a commit or merge changed, to produce a ChangeBatch. Node and symbolic edge
+/// changes are noted as they happen; RT edges are compared as a whole: the view of every child
+/// whose kinematic state may change is saved before its first change in the batch, and
+/// compared with its view at the end.
 class ChangeTracker {
  public:
   bool enabled = false;
@@ -73,24 +87,29 @@ class ChangeTracker {
     nodes_.clear();
     edge_index_.clear();
     edges_.clear();
-    rt_touched_.clear();
+    rt_before_.clear();
   }
+  // Attributes are compared by a fingerprint of their register (its dots and fences: a dot's
+  // value never changes), saved before the first change in the batch.
+  using AttrBefore = std::vector<std::pair<Symbol, std::uint64_t>>;
   struct NodeTouch {
     NodeId id;
     bool was_alive;
     Symbol type;
-    std::vector<Symbol> attrs;
-    bool renamed = false;
+    AttrBefore attrs;
+    bool name_saved = false;  // its visible name may change: name_before holds the old one
+    std::string name_before;
   };
   struct EdgeTouch {
     EdgeKey key;
     bool was_visible;
-    std::vector<Symbol> attrs;
-    bool version_changed = false;  // a symbolic edge's existence dots changed (re-insert)
+    AttrBefore attrs;
+    bool version_saved = false;  // its existence dots may change: version_before fingerprints them
+    std::uint64_t version_before = 0;
   };
   NodeTouch* touch_node(NodeId id, bool was_alive, Symbol type) {
     auto [it, fresh] = node_index_.try_emplace(id, nodes_.size());
-    if (fresh) nodes_.push_back(NodeTouch{id, was_alive, type, {}, false});
+    if (fresh) nodes_.push_back(NodeTouch{id, was_alive, type, {}, false, {}});
     return &nodes_[it->second];
   }
   bool node_was_alive(NodeId id, bool current) const {
@@ -99,28 +118,34 @@ class ChangeTracker {
   }
   EdgeTouch* touch_edge(const EdgeKey& key, bool was_visible) {
     auto [it, fresh] = edge_index_.try_emplace(key, edges_.size());
-    if (fresh) edges_.push_back(EdgeTouch{key, was_visible, {}, false});
+    if (fresh) edges_.push_back(EdgeTouch{key, was_visible, {}, false, 0});
     return &edges_[it->second];
   }
   bool edge_touched(const EdgeKey& key) const { return edge_index_.count(key) != 0; }
-  void touch_rt_pose(NodeId child) { rt_touched_.insert(child); }
+  /// True if `child`'s RT view was already saved in this batch.
+  bool rt_saved(NodeId child) const { return rt_before_.count(child) != 0; }
+  void save_rt(NodeId child, const RtView& v) { rt_before_.emplace(child, v); }
 
   std::vector<NodeTouch>& nodes() { return nodes_; }
   std::vector<EdgeTouch>& edges() { return edges_; }
-  std::unordered_set<NodeId>& rt_touched() { return rt_touched_; }
+  const std::unordered_map<NodeId, RtView>& rt_before() const { return rt_before_; }
 
  private:
   std::unordered_map<NodeId, std::size_t> node_index_;
   std::vector<NodeTouch> nodes_;
   std::unordered_map<EdgeKey, std::size_t> edge_index_;
   std::vector<EdgeTouch> edges_;
-  std::unordered_set<NodeId> rt_touched_;
+  std::unordered_map<NodeId, RtView> rt_before_;
 };
 
-inline void add_unique(std::vector<Symbol>& v, Symbol s) {
-  for (Symbol x : v)
+/// Fingerprints of a register and of a set of existence dots, for change detection.
+std::uint64_t register_fingerprint(const AttrList& attrs, Symbol name);
+std::uint64_t dots_fingerprint(const crdt::DotSet& dots);
+
+inline void save_attr(ChangeTracker::AttrBefore& v, Symbol s, const AttrList& attrs) {
+  for (const auto& [x, fp] : v)
     if (x == s) return;
-  v.push_back(s);
+  v.emplace_back(s, register_fingerprint(attrs, s));
 }
 
 struct Graph::Impl {
@@ -222,16 +247,25 @@ struct Graph::Impl {
   void touch_node(NodeRec* r) {
     if (tracker.enabled) tracker.touch_node(r->id, r->alive, r->type);
   }
+  /// Call before changing the register `name` of r.
   void touch_attr(NodeRec* r, Symbol name) {
-    if (tracker.enabled) add_unique(tracker.touch_node(r->id, r->alive, r->type)->attrs, name);
+    if (tracker.enabled) save_attr(tracker.touch_node(r->id, r->alive, r->type)->attrs, name, r->attrs);
   }
   void touch_edge(const EdgeRec& e);
-  /// A symbolic edge's existence dots changed while it stays visible (a re-insert).
+  /// Call before changing a symbolic edge's existence dots (a re-insert changes its version).
   void touch_edge_version(const EdgeRec& e);
-  /// After r joined or left the namesakes of its name: the node whose visible name changed.
-  void touch_renamed(NodeRec* r);
+  /// r's visible name may change; `before` is the name it had.
+  void touch_renamed(NodeRec* r, std::string before);
+  /// Call before changing the register `name` of an edge.
   void touch_edge_attr(const EdgeRec& e, Symbol name);
+  /// What name_of() returns for a visible node.
+  std::string visible_name(const NodeRec& r) const;
   void touch_incident_edges(NodeRec* r);
+  /// Saves r's RT view before the batch changes it (a no-op after the first call per batch).
+  void touch_rt(const NodeRec* r) {
+    if (tracker.enabled && !tracker.rt_saved(r->id)) tracker.save_rt(r->id, rt_view(*r));
+  }
+  RtView rt_view(const NodeRec& r) const;
   /// Builds and delivers the change batch; returns it (for tests).
   void finish_tracking(bool local, ReplicaId origin, const std::vector<std::pair<NodeRec*, NodeRec*>>* rt_before);
 
@@ -251,7 +285,7 @@ struct Graph::Impl {
   void merge_state(const GraphDelta& s);
   /// Adds what `d` adds and removes what it removes under its keys (phases shared by both).
   void merge_ops(const GraphDelta& d);
-  bool merge_register(AttrList& attrs, const GraphDelta& d, const GraphDelta::AttrOp& a);
+  void merge_register(AttrList& attrs, const GraphDelta& d, const GraphDelta::AttrOp& a);
   void after_merge(const GraphDelta& d, bool full_gc);
 
   // ---- local changes (graph_local.cc) ----

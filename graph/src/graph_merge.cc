@@ -12,11 +12,10 @@
 
 namespace quiver::graph {
 
-bool Graph::Impl::merge_register(AttrList& attrs, const GraphDelta& d, const GraphDelta::AttrOp& a) {
+void Graph::Impl::merge_register(AttrList& attrs, const GraphDelta& d, const GraphDelta::AttrOp& a) {
   AttrSlot* slot = find_slot(attrs, a.name);
-  bool changed = false;
   if (slot)
-    for (std::uint32_t i = a.removed.begin; i < a.removed.end; ++i) changed |= slot->reg.erase(d.removed[i]);
+    for (std::uint32_t i = a.removed.begin; i < a.removed.end; ++i) slot->reg.erase(d.removed[i]);
   for (std::uint32_t i = a.added.begin; i < a.added.end; ++i) {
     const auto& e = d.values[i];
     if (ctx.contains(e.dot)) continue;
@@ -24,13 +23,9 @@ bool Graph::Impl::merge_register(AttrList& attrs, const GraphDelta& d, const Gra
       attrs.push_back(AttrSlot{a.name, {}});
       slot = &attrs.back();
     }
-    if (slot->reg.find(e.dot) == nullptr) {
-      slot->reg.insert(e.dot, e.value, e.fence);
-      changed = true;
-    }
+    slot->reg.insert(e.dot, e.value, e.fence);
   }
   if (slot && slot->reg.empty()) attrs.erase(attrs.begin() + (slot - attrs.data()));
-  return changed;
 }
 
 void Graph::Impl::merge_ops(const GraphDelta& d) {
@@ -49,7 +44,8 @@ void Graph::Impl::merge_ops(const GraphDelta& d) {
         if (a.added.empty()) continue;
         r = &node_record(op.id);
       }
-      if (merge_register(r->attrs, d, a)) touch_attr(r, a.name);
+      touch_attr(r, a.name);
+      merge_register(r->attrs, d, a);
     }
     if (!op.claim_removed.empty() || !op.claim_added.empty()) {
       if (r == nullptr && !op.claim_added.empty()) r = &node_record(op.id);
@@ -94,16 +90,14 @@ void Graph::Impl::merge_ops(const GraphDelta& d) {
       e = &edge_record(op.key);
     }
     touch_edge(*e);
-    bool version = false;
-    for (std::uint32_t i = op.removed.begin; i < op.removed.end; ++i) version |= e->exists.erase(d.removed[i]);
+    if (!op.removed.empty() || !op.added.empty()) touch_edge_version(*e);
+    for (std::uint32_t i = op.removed.begin; i < op.removed.end; ++i) e->exists.erase(d.removed[i]);
     for (std::uint32_t i = op.added.begin; i < op.added.end; ++i)
-      if (!ctx.contains(d.added[i]) && !e->exists.contains(d.added[i])) {
-        e->exists.insert(d.added[i]);
-        version = true;
-      }
-    if (version) touch_edge_version(*e);
-    for (std::uint32_t i = op.attrs.begin; i < op.attrs.end; ++i)
-      if (merge_register(e->attrs, d, d.attrs[i])) touch_edge_attr(*e, d.attrs[i].name);
+      if (!ctx.contains(d.added[i])) e->exists.insert(d.added[i]);
+    for (std::uint32_t i = op.attrs.begin; i < op.attrs.end; ++i) {
+      touch_edge_attr(*e, d.attrs[i].name);
+      merge_register(e->attrs, d, d.attrs[i]);
+    }
     if (e->exists.empty() && e->attrs.empty()) erase_edge_record(e);
     gc_candidates.push_back(op.key.from);
     gc_candidates.push_back(op.key.to);
@@ -159,10 +153,12 @@ void Graph::Impl::merge_state(const GraphDelta& s) {
       touched = true;
     }
     for (AttrSlot& slot : r.attrs) {
-      if (slot.reg.erase_if([&](const crdt::Entry<Value>& e) { return removed_there(e.dot); }) > 0) {
-        touch_attr(&r, slot.name);
-        touched = true;
-      }
+      bool any = false;
+      for (const auto& e : slot.reg) any = any || removed_there(e.dot);
+      if (!any) continue;
+      touch_attr(&r, slot.name);
+      slot.reg.erase_if([&](const crdt::Entry<Value>& e) { return removed_there(e.dot); });
+      touched = true;
     }
     r.attrs.erase(std::remove_if(r.attrs.begin(), r.attrs.end(), [](const AttrSlot& a) { return a.reg.empty(); }),
                   r.attrs.end());
@@ -186,14 +182,15 @@ void Graph::Impl::merge_state(const GraphDelta& s) {
       for (const auto& en : slot.reg) hit = hit || removed_there(en.dot);
     if (!hit) continue;
     touch_edge(e);
+    touch_edge_version(e);
     crdt::DotSet kept;
     for (const Dot& x : e.exists)
       if (!removed_there(x)) kept.insert(x);
-    if (kept.size() != e.exists.size()) touch_edge_version(e);
     e.exists = kept;
-    for (AttrSlot& slot : e.attrs)
-      if (slot.reg.erase_if([&](const crdt::Entry<Value>& en) { return removed_there(en.dot); }) > 0)
-        touch_edge_attr(e, slot.name);
+    for (AttrSlot& slot : e.attrs) {
+      touch_edge_attr(e, slot.name);
+      slot.reg.erase_if([&](const crdt::Entry<Value>& en) { return removed_there(en.dot); });
+    }
     e.attrs.erase(std::remove_if(e.attrs.begin(), e.attrs.end(), [](const AttrSlot& a) { return a.reg.empty(); }),
                   e.attrs.end());
     if (e.exists.empty() && e.attrs.empty()) emptied.push_back(&e);

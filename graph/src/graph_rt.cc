@@ -21,17 +21,7 @@ bool Graph::Impl::would_cycle(const NodeRec* parent, const NodeRec* child) const
 
 void Graph::Impl::recompute_rt(std::vector<std::pair<NodeId, NodeId>>*) {
   rt_dirty = false;
-  struct Old {
-    NodeRec* child;
-    NodeRec* parent;
-    Dot epoch;
-    std::int64_t base_stamp;
-    Pose base_pose;
-  };
-  std::vector<Old> old;
-  old.reserve(claimants.size());
-  for (NodeRec* c : claimants)
-    old.push_back(Old{c, c->rt_parent, c->rt_epoch, c->rt_base_stamp, c->rt_base_pose});
+  for (NodeRec* c : claimants) touch_rt(c);
   for (NodeRec* c : claimants)
     if (c->rt_parent) c->rt_parent->rt_children.clear();
   for (NodeRec* c : claimants) {
@@ -85,41 +75,17 @@ void Graph::Impl::recompute_rt(std::vector<std::pair<NodeId, NodeId>>*) {
     }
   }
 
-  if (!tracker.enabled) return;
-  for (const Old& o : old) {
-    NodeRec* c = o.child;
-    if (o.parent == c->rt_parent) {
-      // Same parent: the pose changed if the epoch did, or if the same epoch now comes with
-      // another base (a move that fell back to the parent it had keeps that epoch but brings
-      // the pose the child had when it was made).
-      const bool pose_changed = !(o.epoch == c->rt_epoch) || o.base_stamp != c->rt_base_stamp ||
-                                !(o.base_pose == c->rt_base_pose);
-      if (c->rt_parent && pose_changed) {
-        auto* t = tracker.touch_edge(EdgeKey{c->rt_parent->id, c->id, symbols::rt()}, true);
-        add_unique(t->attrs, symbols::pose());
-      }
-      continue;
-    }
-    if (o.parent) tracker.touch_edge(EdgeKey{o.parent->id, c->id, symbols::rt()}, true);
-    // "pose" makes a detach-and-reattach within one change an update rather than nothing.
-    if (c->rt_parent)
-      add_unique(tracker.touch_edge(EdgeKey{c->rt_parent->id, c->id, symbols::rt()}, false)->attrs, symbols::pose());
-  }
 }
 
 void Graph::Impl::link_rt(NodeRec* c, NodeRec* parent) {
   if (c->rt_parent == parent) return;
+  touch_rt(c);
   if (c->rt_parent) {
     auto& sib = c->rt_parent->rt_children;
     sib.erase(std::find(sib.begin(), sib.end(), c));
-    if (tracker.enabled) tracker.touch_edge(EdgeKey{c->rt_parent->id, c->id, symbols::rt()}, true);
   }
   c->rt_parent = parent;
-  if (parent) {
-    parent->rt_children.push_back(c);
-    if (tracker.enabled)
-      add_unique(tracker.touch_edge(EdgeKey{parent->id, c->id, symbols::rt()}, false)->attrs, symbols::pose());
-  }
+  if (parent) parent->rt_children.push_back(c);
 }
 
 void Graph::Impl::sync_claimant(NodeRec* c) {
@@ -134,6 +100,7 @@ void Graph::Impl::sync_claimant(NodeRec* c) {
 }
 
 void Graph::Impl::claim_updated(NodeRec* c) {
+  touch_rt(c);
   sync_claimant(c);
   const auto* w = winner(c->claim);
   if (rt_dirty || rt_skips != 0 || w == nullptr || !c->alive || !crdt::lamport_less(rt_max_order, w->dot)) {
@@ -149,15 +116,11 @@ void Graph::Impl::claim_updated(NodeRec* c) {
       return;
     }
   }
-  Dot old_epoch = c->rt_epoch;
-  NodeRec* old_parent = c->rt_parent;
   link_rt(c, p);
   c->rt_epoch = w->dot;
   c->rt_base_pose = cl.pose;
   c->rt_base_stamp = cl.stamp;
   rt_max_order = w->dot;
-  if (tracker.enabled && p && p == old_parent && !(old_epoch == c->rt_epoch))
-    add_unique(tracker.touch_edge(EdgeKey{p->id, c->id, symbols::rt()}, true)->attrs, symbols::pose());
 }
 
 RtEdge Graph::Impl::current_rt(const NodeRec& r) const {

@@ -92,6 +92,8 @@ void GrammarGuard::on_changes(const graph::ChangeBatch& b) {
 }
 
 void GrammarGuard::tick() {
+  // Library code never commits inside a caller's transaction: repairs wait for the next tick.
+  if (g_.transaction_open()) return;
   std::vector<Violation> work;
   work.swap(to_repair_);
   for (const Violation& v : work) {

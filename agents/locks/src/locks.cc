@@ -160,6 +160,10 @@ bool LockManager::holds(NodeId root) const {
 }
 
 Status LockManager::write_claim(NodeId root, const LockClaim& c) {
+  // Library code never commits inside a caller's transaction.
+  if (g_.transaction_open())
+    return make_error(ErrorCode::kRefused, "a transaction is open on this graph: claim or release locks before begin() "
+                                           "or after commit(), never inside a transaction");
   auto tx = g_.begin();
   Status s = tx.set(root, lock_attr(), encode_claim(c));
   if (!s.ok()) return s;
@@ -170,6 +174,9 @@ Status LockManager::write_claim(NodeId root, const LockClaim& c) {
 
 Status LockManager::acquire(NodeId root, std::int64_t priority) {
   if (!g_.has_node(root)) return make_error(ErrorCode::kNotFound, "acquire(): node " + root.to_string() + " does not exist");
+  if (g_.transaction_open())
+    return make_error(ErrorCode::kRefused, "acquire(): a transaction is open on this graph; acquire locks before begin() "
+                                           "or after commit(), never inside a transaction");
   refresh(root);
   std::uint64_t max_epoch = 0;
   if (auto it = seen_.find(root); it != seen_.end()) max_epoch = it->second.max_epoch;
@@ -195,6 +202,9 @@ Status LockManager::acquire(NodeId root, std::int64_t priority) {
 Status LockManager::release(NodeId root) {
   auto m = mine_.find(root);
   if (m == mine_.end()) return make_error(ErrorCode::kNotFound, "release(): no claim on " + root.to_string());
+  if (g_.transaction_open())
+    return make_error(ErrorCode::kRefused, "release(): a transaction is open on this graph; release locks before "
+                                           "begin() or after commit(), never inside a transaction");
   std::uint64_t max_epoch = m->second.epoch;
   if (auto it = seen_.find(root); it != seen_.end())
     max_epoch = std::max(max_epoch, it->second.max_epoch);
@@ -225,7 +235,7 @@ void LockManager::tick() {
   for (auto& [root, m] : mine_) {
     auto w = winner(root);
     bool ours = w && w->holder == g_.replica() && w->epoch == m.epoch;
-    if (ours && now - m.renewed_at > opt_.lease_ns / 3) {
+    if (ours && now - m.renewed_at > opt_.lease_ns / 3 && !g_.transaction_open()) {
       m.renewed_at = now;
       (void)write_claim(root, LockClaim{m.epoch, m.priority, g_.replica(), opt_.lease_ns, false});
     }
