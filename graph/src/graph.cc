@@ -3,6 +3,7 @@
 #include <algorithm>
 
 #include "graph_impl.h"
+#include "quiver/graph/limits.h"
 
 namespace quiver::graph {
 
@@ -254,9 +255,11 @@ std::uint64_t register_fingerprint(const AttrList& attrs, Symbol name) {
 }
 
 std::uint64_t dots_fingerprint(const crdt::DotSet& dots) {
-  std::uint64_t fp = dots.size();
-  for (const Dot& d : dots) fp += mix64(hash_value(d));
-  return fp;
+  // What edge_version() shows: the greatest existence dot.
+  Dot best;
+  for (const Dot& d : dots)
+    if (best.is_null() || crdt::lamport_less(best, d)) best = d;
+  return best.is_null() ? 0 : mix64(hash_value(best));
 }
 
 void Graph::Impl::touch_edge_version(const EdgeRec& e) {
@@ -589,9 +592,17 @@ void Graph::set_delta_sink(std::function<void(const GraphDelta&)> sink) { impl_-
 void Graph::set_commit_validator(CommitValidator v) { impl_->validator = std::move(v); }
 void Graph::set_fence_provider(FenceProvider f) { impl_->fence_of = std::move(f); }
 void Graph::set_merge_observer(MergeObserver o) { impl_->merge_observer = std::move(o); }
-void Graph::annotate_commit(std::string rule, std::vector<std::pair<std::string, NodeId>> binding) {
+Status Graph::annotate_commit(std::string rule, std::vector<std::pair<std::string, NodeId>> binding) {
+  if (Status s = check_name("annotate_commit(): the rule name", rule); !s.ok()) return s;
+  if (binding.size() > limits::kMaxTable)
+    return make_error(ErrorCode::kTooLarge, "annotate_commit(): " + std::to_string(binding.size()) + " variables");
+  for (const auto& [var, id] : binding) {
+    if (Status s = check_name("annotate_commit(): a variable name", var); !s.ok()) return s;
+    if (id.is_null()) return make_error(ErrorCode::kInvalidArgument, "annotate_commit(): variable '" + var + "' is bound to no node");
+  }
   impl_->out.rule = std::move(rule);
   impl_->out.binding = std::move(binding);
+  return {};
 }
 
 Graph::SubscriptionId Graph::subscribe(ChangeCallback cb) {

@@ -138,7 +138,8 @@ class ChangeTracker {
   std::unordered_map<NodeId, RtView> rt_before_;
 };
 
-/// Fingerprints of a register and of a set of existence dots, for change detection.
+/// Fingerprints of a register and of an edge's version (its greatest existence dot), for change
+/// detection.
 std::uint64_t register_fingerprint(const AttrList& attrs, Symbol name);
 std::uint64_t dots_fingerprint(const crdt::DotSet& dots);
 

@@ -310,7 +310,7 @@ TEST(GrammarGuardTest, DeltasCarryTheirRuleAndReceiversVerifyIt) {
     auto tx = rogue.begin();
     ASSERT_TRUE(tx.delete_edge(*rogue.find_node("robot"), *rogue.find_node("speaking"), Symbol("is")).ok());
     ASSERT_TRUE(tx.insert_edge(*rogue.find_node("person"), *rogue.find_node("answer"), Symbol("got")).ok());
-    rogue.annotate_commit("finishSpeaking", {{"r", *rogue.find_node("robot")}, {"s", *rogue.find_node("speaking")}});
+    (void)rogue.annotate_commit("finishSpeaking", {{"r", *rogue.find_node("robot")}, {"s", *rogue.find_node("speaking")}});
     ASSERT_TRUE(tx.commit().ok());
   }
   b.merge(*graph::decode(rw.back()));

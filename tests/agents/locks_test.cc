@@ -196,3 +196,28 @@ TEST(LocksTest, TwoAgentsNeedingTwoScopesDoNotDeadlock) {
 
 }  // namespace
 }  // namespace quiver::agents
+
+namespace quiver::agents {
+namespace {
+
+// Library code never commits inside a caller's transaction: acquire() and release() refuse while
+// one is open (the claim would otherwise be committed in the middle of it), renewals wait.
+TEST(LocksTest, NeverCommitsInsideACallersTransaction) {
+  LockNet n(2);
+  graph::Graph& g = *n.net.nodes[0].g;
+  const std::size_t published = n.net.nodes[0].rep->last_seq();
+  auto tx = g.begin();
+  ASSERT_TRUE(tx.set(n.person, "seen", Value(true)).ok());
+  Status s = n.locks[0]->acquire(n.arm, 5);
+  ASSERT_FALSE(s.ok());
+  EXPECT_EQ(s.error().code, ErrorCode::kRefused);
+  EXPECT_NE(s.error().message.find("transaction is open"), std::string::npos) << s.error().message;
+  EXPECT_EQ(n.net.nodes[0].rep->last_seq(), published) << "nothing was committed";
+  ASSERT_TRUE(tx.commit().ok());
+  EXPECT_TRUE(n.locks[0]->acquire(n.arm, 5).ok()) << "after the commit it goes through";
+  n.advance(100'000'000);
+  EXPECT_TRUE(n.locks[0]->holds(n.arm));
+}
+
+}  // namespace
+}  // namespace quiver::agents

@@ -69,7 +69,7 @@ std::vector<std::vector<std::uint8_t>> delta_corpus(Rng& rng) {
   for (int i = 0; i < 40; ++i) churn.step(g, rng, i);
   auto some = g.nodes();
   if (!some.empty()) {  // a delta carrying a rule claim
-    g.annotate_commit("someRule", {{"x", some.front()}, {"y", some.back()}});
+    (void)g.annotate_commit("someRule", {{"x", some.front()}, {"y", some.back()}});
     auto tx = g.begin();
     (void)tx.set(some.front(), "claimed", graph::Value(true));
     (void)tx.commit();

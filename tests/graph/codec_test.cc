@@ -159,3 +159,53 @@ TEST(CodecTest, SteadyWritesCostFewBytes) {
 
 }  // namespace
 }  // namespace quiver::graph
+
+namespace quiver::graph {
+namespace {
+
+// A delta of replica 3 creating one node whose id is the dot (3, counter).
+GraphDelta node_at(std::uint64_t counter) {
+  GraphDelta d;
+  d.kind = GraphDelta::Kind::kDelta;
+  d.origin = ReplicaId{3, 1};
+  d.context.add_range(d.origin, counter, counter);
+  GraphDelta::NodeOp op;
+  op.id = NodeId{Dot{d.origin, counter}};
+  op.has_header = true;
+  op.type = Symbol("thing");
+  op.name = "far" + std::to_string(counter % 1000);
+  d.nodes.push_back(op);
+  return d;
+}
+
+TEST(CodecTest, CountersBeyondTheLimitAreRefused) {
+  for (std::uint64_t c : {crdt::kMaxCounter, crdt::kMaxCounter + 1, std::uint64_t{UINT64_MAX}}) {
+    auto r = decode(encode(node_at(c)));
+    if (c <= crdt::kMaxCounter) {
+      EXPECT_TRUE(r.ok()) << r.error().to_string();
+    } else {
+      ASSERT_FALSE(r.ok()) << "counter " << c << " accepted";
+      EXPECT_NE(r.error().message.find("counter"), std::string::npos) << r.error().message;
+    }
+  }
+}
+
+// A peer that publishes a counter near the limit cannot exhaust this replica's counter space:
+// its clock follows others only up to crdt::kClockCeiling, and every later delta still decodes.
+TEST(CodecTest, ARemoteCounterNearTheLimitDoesNotExhaustOurs) {
+  testing::Peer b(2);
+  b.g.merge(*decode(encode(node_at(crdt::kMaxCounter - 1))));
+  for (int i = 0; i < 100; ++i) {
+    auto tx = b.g.begin();
+    ASSERT_TRUE(tx.create_node("thing", "n" + std::to_string(i)).ok());
+    auto c = tx.commit();
+    ASSERT_TRUE(c.ok()) << c.error().to_string();
+    EXPECT_LE(c->last_counter, crdt::kClockCeiling + 1000);
+  }
+  testing::Peer c(4);
+  c.receive_all(b);
+  EXPECT_EQ(c.g.node_count(), 100u) << "every delta decoded";
+}
+
+}  // namespace
+}  // namespace quiver::graph

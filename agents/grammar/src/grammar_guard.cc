@@ -31,13 +31,10 @@ GrammarGuard::~GrammarGuard() {
 
 graph::Graph::CommitValidator GrammarGuard::validator() {
   return [this](const graph::Graph& g, const std::vector<graph::TxnOp>& ops) -> Status {
-    if (repairing_) {
-      g_.annotate_commit("repair", {});  // the documented exception: receivers know it is one
-      return {};
-    }
+    if (repairing_) return g_.annotate_commit("repair", {});  // the documented exception: receivers know it is one
     RuleMatch m;
     Status s = checker_.check(g, ops, &m);
-    if (s.ok() && !m.rule.empty()) g_.annotate_commit(std::move(m.rule), std::move(m.binding));
+    if (s.ok() && !m.rule.empty()) return g_.annotate_commit(std::move(m.rule), std::move(m.binding));
     return s;
   };
 }

@@ -7,6 +7,7 @@
 #include <sstream>
 
 #include "quiver/agents/grammar/grammar.h"
+#include "quiver/graph/limits.h"
 
 namespace quiver::agents {
 
@@ -187,6 +188,10 @@ class Parser {
   }
   std::string ident(const std::string& what) {
     if (peek().kind != Token::kIdent) fail(what, peek());
+    // Rule, variable, type and label names travel in deltas: the limits table bounds them.
+    if (peek().text.size() > graph::limits::kMaxNameBytes)
+      fail_at(peek().loc, "a name of " + std::to_string(peek().text.size()) + " bytes (the limit is " +
+                              std::to_string(graph::limits::kMaxNameBytes) + ")");
     return take().text;
   }
 

@@ -293,7 +293,8 @@ class Graph {
   void set_commit_validator(CommitValidator v);
   /// Attaches a rule claim to the delta of the next (or in-progress) commit; typically called by
   /// a commit validator that matched the transaction to a rule.
-  void annotate_commit(std::string rule, std::vector<std::pair<std::string, NodeId>> binding);
+  /// @returns kInvalidArgument / kTooLarge if a name breaks the limits table (nothing attached).
+  Status annotate_commit(std::string rule, std::vector<std::pair<std::string, NodeId>> binding);
   /// Called at the start of every merge with the state before it and the incoming fragment.
   using MergeObserver = std::function<void(const Graph& before, const GraphDelta& incoming)>;
   void set_merge_observer(MergeObserver o);
