@@ -10,6 +10,7 @@
 #include "commands.h"
 #include "quiver/graph/codec.h"
 #include "quiver/graph/graph.h"
+#include "quiver/graph/world_file.h"
 #include "quiver/rng.h"
 
 namespace quiver::tools {
@@ -104,6 +105,92 @@ void run_crdt_bench(const CrdtBench& b) {
   if (!same) set_exit_code(1);
 }
 
+struct LoadBench {
+  int frames = 100'000;
+  int runs = 5;
+};
+
+// One transaction that builds an RT chain of `frames` frames (each a new node under the last),
+// committed and encoded; a second replica decodes and merges it; then the same chain as a JSON
+// world file is loaded into a third. Medians over runs, in milliseconds.
+void run_load_bench(const LoadBench& b) {
+  using namespace graph;
+  std::vector<double> build_ms, commit_ms, merge_ms, world_ms;
+  std::size_t bytes = 0;
+  bool same = true;
+  std::string world;
+  {
+    nlohmann::json w;
+    w["quiver_world"] = 1;
+    nlohmann::json nodes = nlohmann::json::array(), rts = nlohmann::json::array();
+    for (int i = 0; i < b.frames; ++i) {
+      nodes.push_back({{"name", "f" + std::to_string(i)}, {"type", "frame"}});
+      if (i > 0)
+        rts.push_back({{"parent", "f" + std::to_string(i - 1)}, {"child", "f" + std::to_string(i)},
+                       {"translation", {0.01, 0, 0}}, {"rotation", {1, 0, 0, 0}}});
+    }
+    w["nodes"] = std::move(nodes);
+    w["rt"] = std::move(rts);
+    world = w.dump();
+  }
+  for (int run = 0; run < b.runs; ++run) {
+    Graph a(ReplicaId{0xA, 1}), r(ReplicaId{0xB, 1}), wg(ReplicaId{0xC, 1});
+    std::vector<std::uint8_t> delta;
+    a.set_delta_sink([&](const GraphDelta& d) { encode(d, delta); });
+    auto t0 = Clock::now();
+    auto tx = a.begin();
+    NodeId prev = *tx.create_node("frame", "f0");
+    Pose step;
+    step.translation = {0.01, 0, 0};
+    for (int i = 1; i < b.frames; ++i) {
+      NodeId n = *tx.create_node("frame", "f" + std::to_string(i));
+      if (!tx.set_rt(prev, n, step, 0).ok()) {
+        std::fprintf(stderr, "quiver bench load: set_rt refused at frame %d\n", i);
+        set_exit_code(2);
+        return;
+      }
+      prev = n;
+    }
+    build_ms.push_back(seconds_since(t0) * 1e3);
+    auto t1 = Clock::now();
+    auto c = tx.commit();
+    commit_ms.push_back(seconds_since(t1) * 1e3);
+    if (!c.ok()) {
+      std::fprintf(stderr, "quiver bench load: %s\n", c.error().to_string().c_str());
+      set_exit_code(2);
+      return;
+    }
+    bytes = delta.size();
+    auto t2 = Clock::now();
+    auto d = decode(delta);
+    if (d.ok()) r.merge(*d);
+    merge_ms.push_back(seconds_since(t2) * 1e3);
+    same = same && d.ok() && r.digest() == a.digest() && r.rt_parent(*r.find_node("f1")).has_value();
+    auto t3 = Clock::now();
+    auto loaded = load_world(wg, world, "chain.json");
+    world_ms.push_back(seconds_since(t3) * 1e3);
+    same = same && loaded.ok() && wg.node_count() == static_cast<std::size_t>(b.frames);
+  }
+  auto med = [](std::vector<double> v) { return round_to(Percentiles(std::move(v)).at(0.5), 1); };
+  nlohmann::json j;
+  j["bench"] = "load";
+  j["frames"] = b.frames;
+  j["runs"] = b.runs;
+  j["build_ms"] = med(build_ms);
+  j["commit_ms"] = med(commit_ms);
+  j["transaction_ms"] = med([&] {
+    std::vector<double> t;
+    for (std::size_t i = 0; i < build_ms.size(); ++i) t.push_back(build_ms[i] + commit_ms[i]);
+    return t;
+  }());
+  j["decode_merge_ms"] = med(merge_ms);
+  j["world_file_ms"] = med(world_ms);
+  j["delta_bytes"] = bytes;
+  j["replicas_equal"] = same;
+  std::cout << j.dump() << std::endl;
+  if (!same) set_exit_code(1);
+}
+
 }  // namespace
 
 void add_bench_commands(CLI::App& app) {
@@ -118,6 +205,12 @@ void add_bench_commands(CLI::App& app) {
   crdt->add_option("--seed", b->seed)->capture_default_str();
   crdt->add_flag("--events", b->events, "subscribe to change events on the receiving replica");
   crdt->callback([b] { run_crdt_bench(*b); });
+  auto l = std::make_shared<LoadBench>();
+  auto* load = bench->add_subcommand("load", "One large transaction: an RT chain built, committed, decoded and merged; "
+                                             "and the same chain loaded from a world file");
+  load->add_option("--frames", l->frames)->check(CLI::Range(2, 10'000'000))->capture_default_str();
+  load->add_option("--runs", l->runs)->check(CLI::Range(1, 1000))->capture_default_str();
+  load->callback([l] { run_load_bench(*l); });
 }
 
 }  // namespace quiver::tools

@@ -172,10 +172,11 @@ struct Graph::Impl {
   // Local dot minting: counters are Lamport clocks (never below anything seen, up to
   // crdt::kClockCeiling), and never above crdt::kMaxCounter.
   std::uint64_t next_counter = 0;  // last counter handed out
-  // Counters handed out as node ids by open transactions -> the transaction holding them. A
+  // Counters handed out as node ids by open transactions, ascending (minting only grows). A
   // commit publishes every unpublished counter below its own except these.
-  std::map<std::uint64_t, std::uint64_t> reserved;
-  std::uint64_t next_transaction = 0;
+  std::vector<std::uint64_t> reserved;
+  /// Removes `mine` (ascending) from `reserved`.
+  void unreserve(const std::vector<std::uint64_t>& mine);
   std::size_t open_transactions = 0;  // transactions holding uncommitted changes
 
   // Output of local commits.

@@ -34,6 +34,21 @@ bool Graph::Impl::can_mint(std::uint64_t n) const {
   return n <= crdt::kMaxCounter - base;
 }
 
+void Graph::Impl::unreserve(const std::vector<std::uint64_t>& mine) {
+  if (mine.empty()) return;
+  if (mine.size() == reserved.size()) {  // the only open transaction that reserved any
+    reserved.clear();
+    return;
+  }
+  auto m = mine.begin();
+  reserved.erase(std::remove_if(reserved.begin(), reserved.end(),
+                                [&](std::uint64_t c) {
+                                  while (m != mine.end() && *m < c) ++m;
+                                  return m != mine.end() && *m == c;
+                                }),
+                 reserved.end());
+}
+
 void Graph::Impl::publish_own_dots(CommitInfo& info) {
   const std::uint64_t lo = ctx.contiguous(self) + 1, hi = next_counter;
   if (lo > hi) return;
@@ -50,12 +65,12 @@ void Graph::Impl::publish_own_dots(CommitInfo& info) {
   // Segments between counters other open transactions hold, minus what earlier commits published.
   crdt::CausalContext todo;
   std::uint64_t a = lo;
-  for (auto it = reserved.lower_bound(lo); a <= hi; ++it) {
-    const bool last = it == reserved.end() || it->first > hi;
-    const std::uint64_t b = last ? hi : it->first - 1;
+  for (auto it = std::lower_bound(reserved.begin(), reserved.end(), lo); a <= hi; ++it) {
+    const bool last = it == reserved.end() || *it > hi;
+    const std::uint64_t b = last ? hi : *it - 1;
     if (a <= b) todo.add_range(self, a, b);
     if (last) break;
-    a = it->first + 1;
+    a = *it + 1;
   }
   todo.minus(ctx).for_each_range([&](const ReplicaId&, std::uint64_t x, std::uint64_t y) { publish(x, y); });
 }
@@ -337,13 +352,12 @@ void Graph::Impl::local_remove_rt(NodeRec* child) {
 
 /// A transaction's bookkeeping: what it created, deleted and moved so far, for O(1) checks.
 struct Transaction::Book {
-  std::uint64_t id = 0;        // owner tag of the counters it reserved
   std::uint64_t epoch = 0;     // the graph's epoch its view was taken at
   bool open = false;           // counted in Graph::Impl::open_transactions
   std::uint64_t bytes = 0;     // estimated encoding of the delta
   std::vector<const void*> hints;             // node records found while validating, per op
   std::vector<std::uint64_t> reserved;        // counters handed out as node ids
-  std::unordered_map<NodeId, std::string> created;  // -> name
+  std::unordered_set<NodeId> created;
   std::unordered_set<NodeId> deleted;
   std::unordered_set<std::string> names;      // names taken by create_node
   std::unordered_map<EdgeKey, bool> edges;    // symbolic edges inserted (true) or deleted here
@@ -362,7 +376,6 @@ std::uint64_t attrs_bytes(const std::vector<std::pair<Symbol, Value>>& attrs) {
 }  // namespace
 
 Transaction::Transaction(Graph* g) : graph_(g), book_(std::make_unique<Book>()) {
-  book_->id = ++g->impl_->next_transaction;
   book_->epoch = g->impl_->epoch;
 }
 Transaction::Transaction(Transaction&&) noexcept = default;
@@ -384,7 +397,7 @@ bool Graph::transaction_open() const { return impl_->open_transactions > 0; }
 
 void Transaction::release() {
   Graph::Impl& g = *graph_->impl_;
-  for (std::uint64_t c : book_->reserved) g.reserved.erase(c);
+  g.unreserve(book_->reserved);
   book_->reserved.clear();
   if (book_->open) {
     book_->open = false;
@@ -448,7 +461,7 @@ Result<NodeId> Transaction::create_node(std::string_view type, std::string_view 
   if (!g.can_mint(1)) return make_error(ErrorCode::kTooLarge, "create_node(): this replica's counter space is exhausted");
   if (Status s = add_bytes("create_node()", op_bytes(type, name) + attrs_bytes(attrs)); !s.ok()) return s.error();
   NodeId id{g.mint()};
-  g.reserved.emplace(id.dot.counter, book_->id);
+  g.reserved.push_back(id.dot.counter);
   book_->reserved.push_back(id.dot.counter);
   TxnOp op{};
   op.kind = TxnOp::Kind::kCreateNode;
@@ -457,7 +470,7 @@ Result<NodeId> Transaction::create_node(std::string_view type, std::string_view 
   op.name = std::string(name);
   op.attrs = std::move(attrs);
   record(std::move(op));
-  book_->created.emplace(id, std::string(name));
+  book_->created.insert(id);
   book_->names.emplace(name);
   return id;
 }
@@ -606,8 +619,10 @@ Status Transaction::cycle_check(NodeId parent, NodeId child) const {
   const bool has_children = (c != nullptr && !c->rt_children.empty()) || book_->parents.count(child) != 0;
   if (!has_children) return {};
   auto name = [&](NodeId n) {
-    auto it = book_->created.find(n);
-    return "'" + (it != book_->created.end() ? it->second : graph_->name_of(n)) + "'";
+    if (book_->created.count(n))
+      for (const TxnOp& op : ops_)
+        if (op.kind == TxnOp::Kind::kCreateNode && op.node == n) return "'" + op.name + "'";
+    return "'" + graph_->name_of(n) + "'";
   };
   std::optional<NodeId> x = parent;
   for (std::size_t steps = 0; x; ++steps) {
@@ -659,7 +674,6 @@ void Transaction::abort() {
   ops_.clear();
   Graph* g = graph_;
   book_ = std::make_unique<Book>();
-  book_->id = ++g->impl_->next_transaction;
   book_->epoch = g->impl_->epoch;
 }
 
@@ -673,7 +687,7 @@ Status Transaction::revalidate() const {
         auto taken = graph_->find_node(op.name);
         if ((taken && !t.book_->deleted.count(*taken)) || t.book_->names.count(op.name))
           s = make_error(ErrorCode::kAlreadyExists, "create_node(): the name " + quote_name(op.name) + " is taken");
-        t.book_->created.emplace(op.node, op.name);
+        t.book_->created.insert(op.node);
         t.book_->names.insert(op.name);
         break;
       }
@@ -745,8 +759,16 @@ Result<CommitInfo> Transaction::commit() {
     g.out.origin = g.self;
   }
   // This transaction's node ids are about to be published: no longer reserved.
-  for (std::uint64_t c : book_->reserved) g.reserved.erase(c);
+  g.unreserve(book_->reserved);
   book_->reserved.clear();
+  // Large transactions: grow the indexes once rather than rehash as records arrive.
+  if (book_->created.size() > 64) {
+    const std::size_t more = book_->created.size();
+    g.nodes.reserve(g.nodes.size() + more);
+    g.by_name.reserve(g.by_name.size() + more);
+    g.claimants.reserve(g.claimants.size() + more);
+    g.claim_parent_refs.reserve(g.claim_parent_refs.size() + more);
+  }
   for (std::uint32_t k : order) {
     TxnOp& op = ops_[k];
     NodeRec* n = !stale && hints[k] ? const_cast<NodeRec*>(static_cast<const NodeRec*>(hints[k])) : g.find_node(op.node);

@@ -14,6 +14,8 @@
 namespace quiver::graph {
 
 bool Graph::Impl::would_cycle(const NodeRec* parent, const NodeRec* child) const {
+  // A leaf is nobody's ancestor: building a chain top-down never walks it.
+  if (child->rt_children.empty()) return parent == child;
   for (const NodeRec* x = parent; x != nullptr; x = x->rt_parent)
     if (x == child) return true;
   return false;
