@@ -13,13 +13,13 @@ if ! command -v clang++ >/dev/null; then
 fi
 CC=clang CXX=clang++ cmake -S . -B build-fuzz -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo \
   -DQUIVER_BUILD_FUZZERS=ON -DQUIVER_SANITIZE=ON >/dev/null
-cmake --build build-fuzz --target graph_delta_fuzzer replication_frame_fuzzer world_file_fuzzer grammar_file_fuzzer fuzz_smoke_test
+cmake --build build-fuzz --target graph_delta_fuzzer replication_packet_fuzzer world_file_fuzzer grammar_file_fuzzer fuzz_smoke_test
 corpus=build-fuzz/corpus
 mkdir -p "$corpus"/{delta,frame,world,grammar} build-fuzz/findings
 # Seed inputs: the smoke test writes the real inputs it mutates.
 QUIVER_FUZZ_CORPUS="$corpus" build-fuzz/tests/fuzz_smoke_test --gtest_filter='*' >/dev/null
 status=0
-for t in delta:graph_delta frame:replication_frame world:world_file grammar:grammar_file; do
+for t in delta:graph_delta frame:replication_packet world:world_file grammar:grammar_file; do
   dir="${t%%:*}"
   bin="build-fuzz/tests/${t#*:}_fuzzer"
   echo "fuzz.sh: ${t#*:} for ${seconds}s"

@@ -93,6 +93,16 @@ bool CausalContext::includes(const ReplicaId& r, std::uint64_t lo, std::uint64_t
   return it->first <= from && hi <= it->second;
 }
 
+bool CausalContext::intersects(const ReplicaId& r, std::uint64_t lo, std::uint64_t hi) const {
+  const Entry* e = find(r);
+  if (e == nullptr) return false;
+  if (lo <= e->max) return true;
+  auto it = e->cloud.upper_bound(hi);  // the first range starting beyond hi
+  if (it == e->cloud.begin()) return false;
+  --it;
+  return it->second >= lo;
+}
+
 bool CausalContext::includes(const CausalContext& other) const {
   bool all = true;
   other.for_each_range([&](const ReplicaId& r, std::uint64_t lo, std::uint64_t hi) {

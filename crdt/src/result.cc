@@ -18,6 +18,7 @@ const char* to_string(ErrorCode code) {
     case ErrorCode::kNotConnected: return "not_connected";
     case ErrorCode::kExtrapolation: return "extrapolation";
     case ErrorCode::kTransport: return "transport";
+    case ErrorCode::kEquivocation: return "equivocation";
     case ErrorCode::kInternal: return "internal";
   }
   return "unknown";

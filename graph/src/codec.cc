@@ -46,7 +46,8 @@ std::uint32_t u32(std::size_t n) { return static_cast<std::uint32_t>(n); }
 
 class Encoder {
  public:
-  Encoder(const GraphDelta& d, std::vector<std::uint8_t>& out) : d_(d), w_(out) {}
+  Encoder(const GraphDelta& d, std::vector<std::uint8_t>& out, std::uint64_t seq_lo, std::uint64_t seq_hi)
+      : d_(d), w_(out), seq_lo_(seq_lo), seq_hi_(seq_hi) {}
 
   void run() {
     collect_tables();
@@ -56,13 +57,13 @@ class Encoder {
     w_.u8(static_cast<std::uint8_t>(d_.kind));
     plan_dots();
     for (const auto& e : d_.values) fenced_ = fenced_ || e.fence != 0;
-    const bool seq = d_.seq_lo != 0;
+    const bool seq = seq_lo_ != 0;
     std::uint64_t flags = (implicit_ ? kImplicitDots : 0) | (sorted_ ? kSortedNodes : 0) | (fenced_ ? kFenced : 0) |
                           (d_.rule.empty() ? 0 : kClaim) | (seq ? kSeq : 0);
     w_.varint(flags);
     if (seq) {
-      w_.varint(d_.seq_lo);
-      w_.varint(d_.seq_hi - d_.seq_lo);
+      w_.varint(seq_lo_);
+      w_.varint(seq_hi_ - seq_lo_);
     }
     w_.varint(replicas_.size());
     for (const ReplicaId& r : replicas_) {
@@ -374,6 +375,7 @@ class Encoder {
 
   const GraphDelta& d_;
   wire::Writer w_;
+  std::uint64_t seq_lo_, seq_hi_;
   std::vector<ReplicaId> replicas_;
   std::unordered_map<ReplicaId, std::uint64_t> rmap_;
   std::size_t rlast_ = 0;
@@ -837,7 +839,11 @@ class Decoder {
 
 }  // namespace
 
-void encode(const GraphDelta& d, std::vector<std::uint8_t>& out) { Encoder(d, out).run(); }
+void encode(const GraphDelta& d, std::vector<std::uint8_t>& out) { Encoder(d, out, d.seq_lo, d.seq_hi).run(); }
+
+void encode(const GraphDelta& d, std::vector<std::uint8_t>& out, std::uint64_t seq_lo, std::uint64_t seq_hi) {
+  Encoder(d, out, seq_lo, seq_hi).run();
+}
 
 std::vector<std::uint8_t> encode(const GraphDelta& d) {
   std::vector<std::uint8_t> out;

@@ -1,5 +1,7 @@
 #include "quiver/graph/world_file.h"
 
+#include "quiver/graph/limits.h"
+
 #include <cmath>
 #include <fstream>
 #include <limits>
@@ -136,9 +138,15 @@ bool parse_value(const json& j, const std::string& where, Value& out, Failure& f
   if (!type) return bad("unknown value type '" + tname + "'");
   std::string expect = std::string("a value of type ") + tname;
   switch (*type) {
-    case ValueType::kString:
-      if (!v.is_string()) return bad("expected " + expect);
-      return out = Value(v.get<std::string>()), true;
+    case ValueType::kString: {
+      if (v.is_string()) return out = Value(v.get<std::string>()), true;
+      // Text that is not UTF-8 is written as {"string": {"base64": "..."}} (JSON holds only UTF-8).
+      Bytes b;
+      auto b64 = v.is_object() && v.size() == 1 ? v.find("base64") : v.end();
+      if (b64 == v.end() || !b64->is_string() || !base64_decode(b64->get<std::string>(), b))
+        return bad("expected a string, or {\"base64\": ...} for text that is not UTF-8");
+      return out = Value(std::string(b.begin(), b.end())), true;
+    }
     case ValueType::kBool:
       if (!v.is_boolean()) return bad("expected " + expect);
       return out = Value(v.get<bool>()), true;
@@ -230,7 +238,13 @@ json value_to_json(const Value& v) {
     return o;
   };
   switch (v.type()) {
-    case ValueType::kString: return *v.get_if<std::string>();
+    case ValueType::kString: {
+      const std::string& t = *v.get_if<std::string>();
+      if (valid_utf8(t)) return t;
+      json b64 = json::object();
+      b64["base64"] = base64_encode(Bytes(t.begin(), t.end()));
+      return typed("string", std::move(b64));
+    }
     case ValueType::kBool: return *v.get_if<bool>();
     case ValueType::kInt64: return *v.get_if<std::int64_t>();
     case ValueType::kDouble: {
@@ -273,15 +287,24 @@ std::string line_col(std::string_view text, std::size_t byte) {
 struct PlannedNode {
   std::string name, type;
   std::vector<std::pair<Symbol, Value>> attrs;
+  std::string where;
 };
 struct PlannedEdge {
   std::string from, to, type;
   std::vector<std::pair<Symbol, Value>> attrs;
+  std::string where;
 };
 struct PlannedRt {
   std::string parent, child;
   Pose pose;
   std::int64_t stamp = 0;
+  std::string where;
+};
+/// A world file read and checked, not yet applied.
+struct Plan {
+  std::vector<PlannedNode> nodes;
+  std::vector<PlannedEdge> edges;
+  std::vector<PlannedRt> rts;
 };
 
 bool parse_attrs(const json& j, const std::string& where, std::vector<std::pair<Symbol, Value>>& out, Failure& f) {
@@ -291,13 +314,18 @@ bool parse_attrs(const json& j, const std::string& where, std::vector<std::pair<
     return false;
   }
   for (auto it = j.begin(); it != j.end(); ++it) {
-    if (it.key().empty()) {
-      f = Failure{where, "an attribute name is empty"};
+    if (Status s = check_name("the attribute name", it.key()); !s.ok()) {
+      f = Failure{where, s.error().message};
       return false;
     }
     Value v;
     if (!parse_value(it.value(), where + "/" + it.key(), v, f)) return false;
-    out.emplace_back(Symbol(it.key()), std::move(v));
+    auto name = Symbol::make(it.key());
+    if (!name.ok()) {
+      f = Failure{where + "/" + it.key(), name.error().message};
+      return false;
+    }
+    out.emplace_back(*name, std::move(v));
   }
   return true;
 }
@@ -383,9 +411,11 @@ Result<Value> value_from_json_text(std::string_view text, std::string_view where
 
 std::string value_to_json_text(const Value& v) { return value_to_json(v).dump(); }
 
-Result<WorldLoadInfo> load_world(Graph& g, std::string_view text, std::string_view source,
-                                 const WorldLoadOptions& options) {
-  const std::string src(source);
+namespace {
+
+// Reads and checks a world file. With a graph `g`, names may refer to nodes it already has and
+// options.skip_existing applies; without one (a seed), the file must be complete in itself.
+Result<Plan> parse_plan(std::string_view text, const std::string& src, const Graph* g, const WorldLoadOptions& options) {
   json root;
   try {
     root = json::parse(text);
@@ -421,9 +451,10 @@ Result<WorldLoadInfo> load_world(Graph& g, std::string_view text, std::string_vi
     if (it.key() != "quiver_world" && it.key() != "nodes" && it.key() != "edges" && it.key() != "rt")
       return fail({"/" + it.key(), "unknown top-level key"});
 
-  std::vector<PlannedNode> nodes;
-  std::vector<PlannedEdge> edges;
-  std::vector<PlannedRt> rts;
+  Plan plan;
+  auto& nodes = plan.nodes;
+  auto& edges = plan.edges;
+  auto& rts = plan.rts;
   std::unordered_set<std::string> names;
   std::unordered_set<std::string> existing;  // skipped in seed mode
   Failure f;
@@ -434,6 +465,7 @@ Result<WorldLoadInfo> load_world(Graph& g, std::string_view text, std::string_vi
       std::string where = "/nodes/" + std::to_string(i);
       if (!o.is_object()) return fail({where, "expected an object"});
       PlannedNode n;
+      n.where = where;
       if (!parse_string_field(o, "name", where, n.name, f) || !parse_string_field(o, "type", where, n.type, f))
         return fail(f);
       for (auto it = o.begin(); it != o.end(); ++it)
@@ -441,7 +473,7 @@ Result<WorldLoadInfo> load_world(Graph& g, std::string_view text, std::string_vi
           return fail({where + "/" + it.key(), "unknown key"});
       if (n.name.find('~') != std::string::npos) return fail({where + "/name", "'~' is reserved in names"});
       if (!names.insert(n.name).second) return fail({where + "/name", "duplicate node name '" + n.name + "'"});
-      if (g.find_node(n.name)) {
+      if (g && g->find_node(n.name)) {
         if (options.skip_existing) {
           existing.insert(n.name);
           continue;
@@ -452,7 +484,7 @@ Result<WorldLoadInfo> load_world(Graph& g, std::string_view text, std::string_vi
       nodes.push_back(std::move(n));
     }
   }
-  auto known = [&](const std::string& name) { return names.count(name) || g.find_node(name).has_value(); };
+  auto known = [&](const std::string& name) { return names.count(name) || (g && g->find_node(name).has_value()); };
   if (auto je = root.find("edges"); je != root.end()) {
     if (!je->is_array()) return fail({"/edges", "expected an array"});
     for (std::size_t i = 0; i < je->size(); ++i) {
@@ -460,6 +492,7 @@ Result<WorldLoadInfo> load_world(Graph& g, std::string_view text, std::string_vi
       std::string where = "/edges/" + std::to_string(i);
       if (!o.is_object()) return fail({where, "expected an object"});
       PlannedEdge e;
+      e.where = where;
       if (!parse_string_field(o, "from", where, e.from, f) || !parse_string_field(o, "to", where, e.to, f) ||
           !parse_string_field(o, "type", where, e.type, f))
         return fail(f);
@@ -483,6 +516,7 @@ Result<WorldLoadInfo> load_world(Graph& g, std::string_view text, std::string_vi
       std::string where = "/rt/" + std::to_string(i);
       if (!o.is_object()) return fail({where, "expected an object"});
       PlannedRt r;
+      r.where = where;
       if (!parse_string_field(o, "parent", where, r.parent, f) || !parse_string_field(o, "child", where, r.child, f))
         return fail(f);
       for (auto it = o.begin(); it != o.end(); ++it)
@@ -501,30 +535,69 @@ Result<WorldLoadInfo> load_world(Graph& g, std::string_view text, std::string_vi
     }
   }
 
+  return plan;
+}
+
+// Applies a plan in one transaction; errors name the file and the element.
+Result<WorldLoadInfo> apply_plan(Graph& g, Plan& plan, const std::string& src) {
   auto tx = g.begin();
   std::unordered_map<std::string, NodeId> ids;
+  ids.reserve(plan.nodes.size());
   auto id_of = [&](const std::string& name) -> NodeId {
     auto it = ids.find(name);
     return it != ids.end() ? it->second : *g.find_node(name);
   };
-  for (auto& n : nodes) {
+  auto at = [&](const std::string& where, const Error& e) { return make_error(e.code, src + ":" + where + ": " + e.message); };
+  for (auto& n : plan.nodes) {
     auto id = tx.create_node(n.type, n.name, std::move(n.attrs));
-    if (!id.ok()) return make_error(id.error().code, src + ": " + id.error().message);
+    if (!id.ok()) return at(n.where, id.error());
     ids.emplace(n.name, *id);
   }
-  for (std::size_t i = 0; i < edges.size(); ++i) {
-    auto& e = edges[i];
-    Status s = tx.insert_edge(id_of(e.from), id_of(e.to), Symbol(e.type), std::move(e.attrs));
-    if (!s.ok()) return make_error(s.error().code, src + ":/edges/" + std::to_string(i) + ": " + s.error().message);
+  for (auto& e : plan.edges) {
+    Status s = tx.insert_edge(id_of(e.from), id_of(e.to), std::string_view(e.type), std::move(e.attrs));
+    if (!s.ok()) return at(e.where, s.error());
   }
-  for (std::size_t i = 0; i < rts.size(); ++i) {
-    const auto& r = rts[i];
+  for (const auto& r : plan.rts) {
     Status s = tx.set_rt(id_of(r.parent), id_of(r.child), r.pose, r.stamp);
-    if (!s.ok()) return make_error(s.error().code, src + ":/rt/" + std::to_string(i) + ": " + s.error().message);
+    if (!s.ok()) return at(r.where, s.error());
   }
   auto committed = tx.commit();
   if (!committed.ok()) return make_error(committed.error().code, src + ": " + committed.error().message);
-  return WorldLoadInfo{nodes.size(), edges.size(), rts.size()};
+  return WorldLoadInfo{plan.nodes.size(), plan.edges.size(), plan.rts.size()};
+}
+
+}  // namespace
+
+Result<WorldLoadInfo> load_world(Graph& g, std::string_view text, std::string_view source,
+                                 const WorldLoadOptions& options) {
+  const std::string src(source);
+  auto plan = parse_plan(text, src, &g, options);
+  if (!plan.ok()) return plan.error();
+  return apply_plan(g, *plan, src);
+}
+
+Result<WorldSeed> world_seed(std::string_view text, std::string_view source) {
+  const std::string src(source);
+  auto plan = parse_plan(text, src, nullptr, {});
+  if (!plan.ok()) return plan.error();
+  // The seed's replica: the file's content hash, incarnation 0 (never an agent's). Built on a
+  // scratch replica of that id, so the delta depends on nothing but the file.
+  Hasher h(0x5eed);
+  h.str(text);
+  const ReplicaId origin{h.h64() | 1, 0};
+  Graph scratch(origin);
+  WorldSeed seed;
+  bool got = false;
+  scratch.set_delta_sink([&](const GraphDelta& d) {
+    seed.delta = d;
+    got = true;
+  });
+  auto info = apply_plan(scratch, *plan, src);
+  if (!info.ok()) return info.error();
+  if (!got) return make_error(ErrorCode::kInvalidArgument, src + ": the world file is empty");
+  seed.delta.seq_lo = seed.delta.seq_hi = 1;
+  seed.info = *info;
+  return seed;
 }
 
 Result<WorldLoadInfo> load_world_file(Graph& g, const std::string& path, const WorldLoadOptions& options) {

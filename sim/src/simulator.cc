@@ -7,7 +7,7 @@
 #include <optional>
 #include <queue>
 
-#include "quiver/agents/replication/frame_codec.h"
+#include "quiver/agents/replication/packet_codec.h"
 #include "quiver/agents/grammar/grammar_guard.h"
 #include "quiver/agents/locks/locks.h"
 #include "quiver/rng.h"
@@ -19,7 +19,7 @@ using agents::PeerId;
 
 class Simulation;
 
-// Encodes every envelope into a real byte frame: the simulated network carries (and counts)
+// Encodes every envelope into a real byte packet: the simulated network carries (and counts)
 // exactly what a byte transport would, and receivers decode it.
 class Endpoint : public agents::Transport {
  public:
@@ -63,7 +63,7 @@ struct Event {
   std::uint64_t seq;
   enum Kind { kDeliver, kTick, kStep, kCrash, kRestart, kPartition, kHeal } kind;
   int node;
-  std::shared_ptr<const std::vector<std::uint8_t>> frame;
+  std::shared_ptr<const std::vector<std::uint8_t>> packet;
   std::vector<int> groups;  // kPartition: the group of every agent
   int group = 0;            // kDeliver: the sender's group when it sent
   bool operator>(const Event& o) const { return t != o.t ? t > o.t : seq > o.seq; }
@@ -134,7 +134,7 @@ class Simulation {
     return result_;
   }
 
-  // Sends one encoded frame (shared by every copy in flight) to agent `to`, or to all if -1.
+  // Sends one encoded packet (shared by every copy in flight) to agent `to`, or to all if -1.
   void transmit(int from, int to, std::shared_ptr<const std::vector<std::uint8_t>> shared) {
     auto one = [&](int d) {
       ++result_.messages;
@@ -377,8 +377,8 @@ class Simulation {
       switch (e.kind) {
         case Event::kDeliver: {
           Agent& a = agents_[e.node];
-          // A frame sent across a partition that formed meanwhile is lost too.
-          if (a.up && a.group == e.group) a.replicator->on_frame(*e.frame, now_);
+          // A packet sent across a partition that formed meanwhile is lost too.
+          if (a.up && a.group == e.group) a.replicator->on_packet(*e.packet, now_);
           else ++result_.dropped;
           break;
         }
@@ -432,7 +432,7 @@ class Simulation {
     const agents::ReplicatorStats& st = a.replicator->stats();
     result_.deltas_applied += st.deltas_applied;
     result_.states_applied += st.states_applied;
-    result_.rejected_frames += st.rejected_frames;
+    result_.rejected_packets += st.rejected_packets;
     if (a.guard) {
       result_.violations_seen += a.guard->violations_seen();
       result_.repairs += a.guard->repairs_made();
@@ -484,7 +484,7 @@ void Endpoint::send(const agents::Envelope& e) {
   const int d = e.to.is_null() ? -1 : sim_->index_of(e.to);
   if (d < 0 && !e.to.is_null()) return;  // no such agent: nothing to encode
   sim_->transmit(index_, d,
-                 std::make_shared<const std::vector<std::uint8_t>>(agents::encode_frame(e)));
+                 std::make_shared<const std::vector<std::uint8_t>>(agents::encode_packet(e)));
 }
 
 }  // namespace
@@ -520,7 +520,7 @@ std::string SimResult::to_json() const {
   j["partitions"] = partitions;
   j["deltas_applied"] = deltas_applied;
   j["states_applied"] = states_applied;
-  j["rejected_frames"] = rejected_frames;
+  j["rejected_packets"] = rejected_packets;
   j["final_nodes"] = final_nodes;
   j["final_edges"] = final_edges;
   if (moves + moves_refused > 0) {

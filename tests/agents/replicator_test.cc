@@ -123,7 +123,7 @@ TEST(ReplicatorTest, ALateJoinerGetsTheStateInChunksFromAnyPeer) {
 TEST(ReplicatorTest, LostStateChunksAreRetried) {
   ReplicatorOptions opt;
   opt.chunk_bytes = 1024;
-  opt.max_frame_bytes = 1200;  // one chunk per frame
+  opt.max_packet_bytes = 1200;  // one chunk per frame
   opt.buffer_bytes = 1024;
   Net net;
   int a = net.add(1, opt);
@@ -176,16 +176,16 @@ TEST(ReplicatorTest, MalformedFramesAreRejectedAndChangeNothing) {
   int a = net.add(1);
   add_node(*net.nodes[a].g, "x");
   auto before = net.nodes[a].g->digest();
-  std::vector<std::uint8_t> junk = {'Q', 'R', 1, 0xff, 0xff};
-  net.nodes[a].rep->on_frame(junk, 0);
+  std::vector<std::uint8_t> junk = {'Q', 'R', kPacketVersion, 0xff, 0xff};
+  net.nodes[a].rep->on_packet(junk, 0);
   std::vector<std::uint8_t> future = {'Q', 'R', 9};
-  net.nodes[a].rep->on_frame(future, 0);
+  net.nodes[a].rep->on_packet(future, 0);
   ASSERT_EQ(net.nodes[a].errors.size(), 2u);
   EXPECT_EQ(net.nodes[a].errors[0].code, ErrorCode::kTruncated);
   EXPECT_NE(net.nodes[a].errors[0].message.find("sender"), std::string::npos) << net.nodes[a].errors[0].message;
   EXPECT_EQ(net.nodes[a].errors[1].code, ErrorCode::kUnsupportedVersion);
   EXPECT_EQ(net.nodes[a].g->digest(), before);
-  EXPECT_EQ(net.nodes[a].rep->stats().rejected_frames, 2u);
+  EXPECT_EQ(net.nodes[a].rep->stats().rejected_packets, 2u);
 }
 
 TEST(ReplicatorTest, ARogueDeltaWithCorruptPayloadIsRejected) {
@@ -201,7 +201,7 @@ TEST(ReplicatorTest, ARogueDeltaWithCorruptPayloadIsRejected) {
   f.bytes[f.bytes.size() - 2] = 0xff;
   f.bytes[f.bytes.size() - 1] = 0xff;
   auto before = net.nodes[b].g->digest();
-  net.nodes[b].rep->on_frame(f.bytes, 0);
+  net.nodes[b].rep->on_packet(f.bytes, 0);
   EXPECT_EQ(net.nodes[b].g->digest(), before);
   ASSERT_EQ(net.nodes[b].errors.size(), 1u);
   EXPECT_NE(net.nodes[b].errors[0].message.find("delta"), std::string::npos) << net.nodes[b].errors[0].message;

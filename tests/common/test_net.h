@@ -8,7 +8,7 @@
 #include <string>
 #include <vector>
 
-#include "quiver/agents/replication/frame_codec.h"
+#include "quiver/agents/replication/packet_codec.h"
 #include "quiver/agents/replication/replicator.h"
 
 namespace quiver::agents {
@@ -66,7 +66,7 @@ struct Net {
       Frame f = std::move(inflight.front());
       inflight.pop_front();
       if (drop && drop(f)) continue;
-      if (nodes[f.to].rep) nodes[f.to].rep->on_frame(f.bytes, now);
+      if (nodes[f.to].rep) nodes[f.to].rep->on_packet(f.bytes, now);
     }
   }
   void advance(std::int64_t ns, int ticks = 10) {
@@ -79,7 +79,7 @@ struct Net {
   }
 };
 inline void Port::send(const Envelope& e) {
-  std::vector<std::uint8_t> f = encode_frame(e);
+  std::vector<std::uint8_t> f = encode_packet(e);
   if (e.to.is_null()) {
     for (std::size_t i = 0; i < net->nodes.size(); ++i)
       if (static_cast<int>(i) != index) net->inflight.push_back(Frame{index, static_cast<int>(i), f});

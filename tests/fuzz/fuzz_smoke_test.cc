@@ -11,7 +11,7 @@
 #include <iterator>
 
 #include "fuzz_targets.h"
-#include "quiver/agents/replication/frame_codec.h"
+#include "quiver/agents/replication/packet_codec.h"
 #include "quiver/agents/replication/replicator.h"
 #include "quiver/graph/codec.h"
 #include "quiver/rng.h"
@@ -94,7 +94,7 @@ TEST(FuzzSmokeTest, Regressions) {
   auto deltas = regressions("graph_delta");
   EXPECT_FALSE(deltas.empty());
   for (const auto& in : deltas) graph_delta(in.data(), in.size());
-  for (const auto& in : regressions("replication_frame")) replication_frame(in.data(), in.size());
+  for (const auto& in : regressions("replication_packet")) replication_packet(in.data(), in.size());
   for (const auto& in : regressions("world_file")) world_file(in.data(), in.size());
   for (const auto& in : regressions("grammar_file")) grammar_file(in.data(), in.size());
 }
@@ -145,13 +145,13 @@ TEST(FuzzSmokeTest, GraphDeltaDecoder) {
   EXPECT_LT(accepted, n) << "some mutations must be rejected";
 }
 
-TEST(FuzzSmokeTest, ReplicationFrames) {
-  const auto base = quiver::testing::base_seed("FuzzSmokeTest.ReplicationFrames", 78);
+TEST(FuzzSmokeTest, ReplicationPackets) {
+  const auto base = quiver::testing::base_seed("FuzzSmokeTest.ReplicationPackets", 78);
   Rng rng(base);
   // Real frames: capture what a replicator sends while its graph churns.
   struct Capture : agents::Transport {
     std::vector<std::vector<std::uint8_t>> frames;
-    void send(const agents::Envelope& e) override { frames.push_back(agents::encode_frame(e)); }
+    void send(const agents::Envelope& e) override { frames.push_back(agents::encode_packet(e)); }
   } cap;
   graph::Graph g(graph::ReplicaId{9, 1});
   agents::Replicator rep(g, cap);
@@ -163,12 +163,12 @@ TEST(FuzzSmokeTest, ReplicationFrames) {
   }
   ASSERT_FALSE(cap.frames.empty());
   maybe_save("frame", cap.frames);
-  for (const auto& f : cap.frames) ASSERT_TRUE(replication_frame(f.data(), f.size()));
+  for (const auto& f : cap.frames) ASSERT_TRUE(replication_packet(f.data(), f.size()));
   int accepted = 0;
   const int n = 50000;
   for (int i = 0; i < n; ++i) {
     auto m = mutate(rng.pick(cap.frames), rng);
-    accepted += replication_frame(m.data(), m.size());
+    accepted += replication_packet(m.data(), m.size());
   }
   std::printf("[fuzz] %d of %d mutated frames accepted\n", accepted, n);
   EXPECT_GT(accepted, n / 50);

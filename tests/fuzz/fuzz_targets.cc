@@ -60,16 +60,16 @@ bool graph_delta(const std::uint8_t* data, std::size_t size) {
   return true;
 }
 
-bool replication_frame(const std::uint8_t* data, std::size_t size) {
+bool replication_packet(const std::uint8_t* data, std::size_t size) {
   Graph g(ReplicaId{1, 1});
   populate(g);
   NullTransport t;
   agents::Replicator rep(g, t);
   rep.start(0);
-  rep.on_frame(std::span<const std::uint8_t>(data, size), 1000);
+  rep.on_packet(std::span<const std::uint8_t>(data, size), 1000);
   rep.tick(2'000'000'000);
-  check(g, "replication_frame");
-  return rep.stats().rejected_frames == 0;
+  check(g, "replication_packet");
+  return rep.stats().rejected_packets == 0;
 }
 
 bool grammar_file(const std::uint8_t* data, std::size_t size) {

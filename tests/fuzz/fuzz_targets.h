@@ -12,7 +12,7 @@ namespace quiver::fuzz {
 /// Graph delta / state decoder, then merge into a populated replica.
 bool graph_delta(const std::uint8_t* data, std::size_t size);
 /// Replication frames fed to a Replicator.
-bool replication_frame(const std::uint8_t* data, std::size_t size);
+bool replication_packet(const std::uint8_t* data, std::size_t size);
 /// JSON world files loaded into a replica.
 bool world_file(const std::uint8_t* data, std::size_t size);
 /// Grammar files: parsed, then used to check a transaction and search for violations.

@@ -75,17 +75,17 @@ struct RangesOut {
   std::vector<quiver_wire_SeqRange> flat;  // every replica's ranges, one after the other
   std::vector<std::size_t> starts;         // where each replica's ranges begin in `flat`
 
-  dds_sequence_quiver_wire_ReplicaRanges build(const crdt::CausalContext& c) {
+  dds_sequence_quiver_wire_ReplicaRanges build(const RangeList& c) {
     replicas.clear();
     flat.clear();
     starts.clear();
-    c.for_each_range([&](const PeerId& r, std::uint64_t lo, std::uint64_t hi) {
-      if (replicas.empty() || !(from_wire(replicas.back().replica) == r)) {
-        replicas.push_back(quiver_wire_ReplicaRanges{to_wire(r), {}});
+    for (const Range& x : c) {
+      if (replicas.empty() || !(from_wire(replicas.back().replica) == x.replica)) {
+        replicas.push_back(quiver_wire_ReplicaRanges{to_wire(x.replica), {}});
         starts.push_back(flat.size());
       }
-      flat.push_back(quiver_wire_SeqRange{lo, hi});
-    });
+      flat.push_back(quiver_wire_SeqRange{x.lo, x.hi});
+    }
     for (std::size_t i = 0; i < replicas.size(); ++i) {  // `flat` is final now: point into it
       const std::size_t end = i + 1 < starts.size() ? starts[i + 1] : flat.size();
       auto& s = replicas[i].ranges;
@@ -101,18 +101,15 @@ struct RangesOut {
   }
 };
 
-bool read_ranges(const dds_sequence_quiver_wire_ReplicaRanges& in, crdt::CausalContext& out) {
+// Copies ranges as they arrived: validate() judges them, for every transport alike.
+void read_ranges(const dds_sequence_quiver_wire_ReplicaRanges& in, RangeList& out) {
   out.clear();
   for (std::uint32_t i = 0; i < in._length; ++i) {
     const auto& rr = in._buffer[i];
-    PeerId r = from_wire(rr.replica);
-    for (std::uint32_t j = 0; j < rr.ranges._length; ++j) {
-      const auto& g = rr.ranges._buffer[j];
-      if (g.lo == 0 || g.hi < g.lo) return false;
-      out.add_range(r, g.lo, g.hi);
-    }
+    const PeerId r = from_wire(rr.replica);
+    for (std::uint32_t j = 0; j < rr.ranges._length; ++j)
+      out.push_back(Range{r, rr.ranges._buffer[j].lo, rr.ranges._buffer[j].hi});
   }
-  return true;
 }
 
 dds_sequence_octet octets(const std::vector<std::uint8_t>& v) {
@@ -436,7 +433,7 @@ void DdsTransport::drain(const std::function<void(const Envelope&)>& on_envelope
     SummaryMsg m;
     m.name = s->name ? s->name : "";
     m.observer = s->observer;
-    if (!read_ranges(s->applied, m.applied)) return;
+    read_ranges(s->applied, m.applied);
     e.messages.emplace_back(std::move(m));
     on_envelope(e);
   });
@@ -464,8 +461,8 @@ void DdsTransport::drain(const std::function<void(const Envelope&)>& on_envelope
                  [&](const quiver_wire_Pull& s, Envelope& e) {
                    PullMsg m;
                    m.request = s.request;
-                   if (!read_ranges(s.applied, m.applied) || !read_ranges(s.context, m.context))
-                     return false;
+                   read_ranges(s.applied, m.applied);
+                   read_ranges(s.context, m.context);
                    e.messages.emplace_back(std::move(m));
                    return true;
                  });
@@ -475,7 +472,7 @@ void DdsTransport::drain(const std::function<void(const Envelope&)>& on_envelope
                    m.request = s.request;
                    m.index = s.index;
                    m.count = s.count;
-                   if (!read_ranges(s.applied, m.applied)) return false;
+                   read_ranges(s.applied, m.applied);
                    m.chunk = copy_octets(s.payload);
                    e.messages.emplace_back(std::move(m));
                    return true;

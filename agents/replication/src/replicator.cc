@@ -2,13 +2,32 @@
 
 #include <algorithm>
 
-#include "quiver/agents/replication/frame_codec.h"
+#include "quiver/agents/replication/packet_codec.h"
 #include "quiver/graph/codec.h"
 
 namespace quiver::agents {
 namespace {
-constexpr std::uint64_t kMaxInterval = 1u << 20;  // commits coalesced into one delta interval
+
+std::uint64_t digest_of(const std::vector<std::uint8_t>& bytes) {
+  Hasher h(0xde17a);
+  h.bytes(bytes.data(), bytes.size());
+  return h.h64();
 }
+
+std::string interval(const PeerId& origin, std::uint64_t lo, std::uint64_t hi) {
+  return "(" + origin.to_string() + ", " + std::to_string(lo) + (hi == lo ? "" : ".." + std::to_string(hi)) + ")";
+}
+
+// Rough encoded size of a local delta, to keep a coalesced interval within a delta's limit.
+std::size_t approx_bytes(const graph::GraphDelta& d) {
+  std::size_t n = 64 + 40 * (d.nodes.size() + d.edges.size() + d.attrs.size() + d.removed.size() + d.added.size()) +
+                  96 * (d.claims.size() + d.samples.size());
+  for (const auto& e : d.values) n += 16 + e.value.payload_bytes();
+  for (const auto& node : d.nodes) n += node.name.size();
+  return n;
+}
+
+}  // namespace
 
 Replicator::Replicator(graph::Graph& g, Transport& t, ReplicatorOptions options)
     : g_(g), t_(t), opt_(std::move(options)), self_(g.replica()) {
@@ -20,36 +39,64 @@ Replicator::~Replicator() { g_.set_delta_sink(nullptr); }
 // ------------------------------------------------------------------ local deltas
 
 void Replicator::on_local_delta(const graph::GraphDelta& d) {
-  ++seq_;
-  applied_.add(crdt::Dot{self_, seq_});
   if (opt_.coalesce) {
+    const std::size_t bytes = approx_bytes(d);
+    // An interval covers at most max_interval commits and stays within a delta's size limit.
+    if (pending_lo_ != 0 && (seq_ + 1 - pending_lo_ >= opt_.limits.max_interval ||
+                             pending_bytes_ + bytes > graph::limits::kMaxDeltaBytes))
+      flush();
+    ++seq_;
+    applied_.add(crdt::Dot{self_, seq_});
     if (pending_lo_ == 0) {
       pending_ = d;
       pending_lo_ = seq_;
+      pending_bytes_ = bytes;
     } else {
       pending_.append(d);
+      pending_bytes_ += bytes;
     }
-    if (seq_ - pending_lo_ + 1 >= kMaxInterval) flush();  // receivers refuse longer intervals
     return;
   }
-  publish(graph::encode(d), seq_, seq_);
+  ++seq_;
+  applied_.add(crdt::Dot{self_, seq_});
+  std::vector<std::uint8_t> bytes;
+  graph::encode(d, bytes, seq_, seq_);
+  publish(std::move(bytes), seq_, seq_);
 }
 
 void Replicator::flush() {
   if (pending_lo_ == 0) return;
   std::uint64_t lo = pending_lo_;
-  publish(graph::encode(pending_), lo, seq_);
+  std::vector<std::uint8_t> bytes;
+  graph::encode(pending_, bytes, lo, seq_);
+  publish(std::move(bytes), lo, seq_);
   pending_.clear();
   pending_lo_ = 0;
+  pending_bytes_ = 0;
 }
 
 void Replicator::publish(std::vector<std::uint8_t> bytes, std::uint64_t lo, std::uint64_t hi) {
   auto shared = std::make_shared<const std::vector<std::uint8_t>>(std::move(bytes));
   applied_.add_range(self_, lo, hi);
+  record(self_, lo, hi, digest_of(*shared));
   remember(self_, lo, hi, shared);
   ++stats_.deltas_published;
   queue(PeerId{}, DeltaMsg{self_, lo, hi, std::move(shared)});
   send_queued();
+}
+
+Result<bool> Replicator::seed(const graph::GraphDelta& d) {
+  if (d.seq_lo == 0 || d.seq_hi < d.seq_lo || d.origin.is_null() || d.origin == self_)
+    return make_error(ErrorCode::kInvalidArgument, "seed(): the delta must name its origin and sequence interval");
+  if (applied_.includes(d.origin, d.seq_lo, d.seq_hi)) return false;
+  auto bytes = std::make_shared<const std::vector<std::uint8_t>>(graph::encode(d));
+  g_.merge(d);
+  applied_.add_range(d.origin, d.seq_lo, d.seq_hi);
+  record(d.origin, d.seq_lo, d.seq_hi, digest_of(*bytes));
+  remember(d.origin, d.seq_lo, d.seq_hi, bytes);
+  queue(PeerId{}, DeltaMsg{d.origin, d.seq_lo, d.seq_hi, std::move(bytes)});
+  send_queued();
+  return true;
 }
 
 // ------------------------------------------------------------------ envelopes
@@ -62,11 +109,11 @@ void Replicator::send_queued() {
     Envelope e;
     e.from = self_;
     e.to = outbox_[i].to;
-    // Batch consecutive messages to the same destination up to the frame limit.
+    // Batch consecutive messages to the same destination up to the packet limit.
     std::size_t bytes = 0;
     while (i < outbox_.size() && outbox_[i].to == e.to) {
       std::size_t sz = approx_size(outbox_[i].msg);
-      if (!e.messages.empty() && bytes + sz > opt_.max_frame_bytes) break;
+      if (!e.messages.empty() && bytes + sz > opt_.max_packet_bytes) break;
       bytes += sz;
       e.messages.push_back(std::move(outbox_[i].msg));
       ++i;
@@ -79,12 +126,17 @@ void Replicator::send_queued() {
 }
 
 void Replicator::reject(const Error& e) {
-  ++stats_.rejected_frames;
+  ++stats_.rejected_packets;
   if (error_cb_) error_cb_(e);
 }
 
-void Replicator::on_frame(std::span<const std::uint8_t> frame, std::int64_t now_ns) {
-  auto e = decode_frame(frame);
+void Replicator::equivocation(const std::string& what) {
+  ++stats_.equivocations;
+  if (error_cb_) error_cb_(make_error(ErrorCode::kEquivocation, what));
+}
+
+void Replicator::on_packet(std::span<const std::uint8_t> packet, std::int64_t now_ns) {
+  auto e = decode_packet(packet);
   if (!e.ok()) {
     now_ = std::max(now_, now_ns);
     return reject(e.error());
@@ -96,8 +148,10 @@ void Replicator::on_envelope(const Envelope& e, std::int64_t now_ns) {
   now_ = std::max(now_, now_ns);
   if (e.from == self_ || e.from.is_null()) return;
   if (!e.to.is_null() && !(e.to == self_)) return;
+  if (Status s = validate(e, opt_.limits); !s.ok()) return reject(s.error());
   ++stats_.envelopes_received;
-  heard_from(e.from);
+  Peer* p = heard_from(e.from);
+  if (p == nullptr) return;
   for (const Message& m : e.messages) std::visit([&](const auto& msg) { handle(e.from, msg); }, m);
   if (announce_soon_) {
     announce_soon_ = false;
@@ -108,10 +162,31 @@ void Replicator::on_envelope(const Envelope& e, std::int64_t now_ns) {
 
 // ------------------------------------------------------------------ membership
 
-Replicator::Peer& Replicator::heard_from(const PeerId& from) {
-  auto [it, fresh] = peers_.try_emplace(from);
+Replicator::Peer* Replicator::heard_from(const PeerId& from) {
+  auto it = peers_.find(from);
+  if (it == peers_.end()) {
+    if (peers_.size() >= opt_.max_peers) {
+      // Make room from peers that are gone; a table full of live ones refuses the newcomer.
+      for (auto g = peers_.begin(); g != peers_.end() && peers_.size() >= opt_.max_peers;) {
+        if (!g->second.info.alive) {
+          peer_ranges_ -= g->second.applied.range_count();
+          g = peers_.erase(g);
+        } else {
+          ++g;
+        }
+      }
+      if (peers_.size() >= opt_.max_peers) {
+        ++stats_.peers_refused;
+        reject(make_error(ErrorCode::kTooLarge, "from " + from.to_string() + ": the peer table is full (" +
+                                                    std::to_string(opt_.max_peers) + " peers); ignored"));
+        return nullptr;
+      }
+    }
+    it = peers_.try_emplace(from).first;
+    it->second.info.id = from;
+  }
   Peer& p = it->second;
-  if (fresh) p.info.id = from;
+  if (p.said_bye) return nullptr;  // a late message of an incarnation that left cleanly
   p.info.last_heard_ns = now_;
   if (!p.info.alive) {
     p.info.alive = true;
@@ -119,17 +194,17 @@ Replicator::Peer& Replicator::heard_from(const PeerId& from) {
     for (auto& [id, other] : peers_)
       if (other.info.alive && id.agent == from.agent && !(id == from) && id.incarnation < from.incarnation)
         mark_left(other);
-    if (membership_cb_) membership_cb_(Membership::kJoined, p.info);
+    if (membership_cb_ && p.announced) membership_cb_(Membership::kJoined, p.info);
   }
-  return p;
+  return &p;
 }
 
 void Replicator::mark_left(Peer& p) {
   if (!p.info.alive) return;
   p.info.alive = false;
-  reassembly_.erase(p.info.id);
+  if (state_.active && pull_target_ == p.info.id) state_ = Reassembly{};
   if (pulling_ && pull_target_ == p.info.id) pulling_ = false;
-  if (membership_cb_) membership_cb_(Membership::kLeft, p.info);
+  if (membership_cb_ && p.announced) membership_cb_(Membership::kLeft, p.info);
 }
 
 void Replicator::on_peer_lost(const PeerId& peer) {
@@ -139,7 +214,10 @@ void Replicator::on_peer_lost(const PeerId& peer) {
 
 std::vector<PeerInfo> Replicator::peers() const {
   std::vector<PeerInfo> out;
-  for (const auto& [id, p] : peers_) out.push_back(p.info);
+  for (const auto& [id, p] : peers_) {
+    out.push_back(p.info);
+    out.back().suspect = p.suspect_until > now_;
+  }
   return out;
 }
 
@@ -160,62 +238,138 @@ bool Replicator::all_peers_hold(const PeerId& origin, std::uint64_t lo, std::uin
   return true;
 }
 
+// A live peer whose summaries are believed (not suspected of claiming what it never delivers).
+bool Replicator::counts(const Peer& p) const { return p.info.alive && p.suspect_until <= now_; }
+
 bool Replicator::synced() const {
   bool any = false;
   for (const auto& [id, p] : peers_) {
-    if (!p.info.alive) continue;
+    if (!counts(p)) continue;
     any = true;
     if (behind(p)) return false;
   }
-  return any && reassembly_.empty();
+  return any && !state_.active;
 }
 
 // ------------------------------------------------------------------ messages
 
-void Replicator::send_summary() { queue(PeerId{}, SummaryMsg{opt_.name, opt_.observer, applied_}); }
+void Replicator::send_summary() { queue(PeerId{}, SummaryMsg{opt_.name, opt_.observer, to_ranges(applied_)}); }
 
 void Replicator::handle(const PeerId& from, const SummaryMsg& m) {
   Peer& p = peers_[from];
-  bool first = p.info.name.empty() && p.applied.empty();
+  crdt::CausalContext applied = to_context(m.applied);
+  const std::size_t total = peer_ranges_ - p.applied.range_count() + applied.range_count();
+  if (total > opt_.max_peer_ranges)
+    return reject(make_error(ErrorCode::kTooLarge, "summary from " + from.to_string() + ": " +
+                                                       std::to_string(applied.range_count()) +
+                                                       " ranges would exceed the peer table's limit"));
+  peer_ranges_ = total;
+  const bool first = !p.announced;
   p.info.name = m.name;
   p.info.observer = m.observer;
-  p.applied = m.applied;
-  if (first) send_summary();  // let a newcomer learn about us without waiting a heartbeat
+  p.applied = std::move(applied);
+  if (first) {
+    p.announced = true;
+    if (membership_cb_ && p.info.alive) membership_cb_(Membership::kJoined, p.info);
+    send_summary();  // let a newcomer learn about us without waiting a heartbeat
+  }
+  if (!behind(p)) p.pull_failures = 0;  // it holds nothing we lack: no claim to doubt
   if (pulling_ && pull_target_ == from && !behind(p)) {  // caught up with it: the pull is done
     pulling_ = false;
     pull_timeouts_in_a_row_ = 0;
   }
-  if (!pulling_ && behind(p)) pull_from(from);
+  if (!pulling_ && counts(p) && behind(p)) pull_from(from);
 }
 
-void Replicator::handle(const PeerId& from, const DeltaMsg& m) {
-  if (m.origin == self_ || m.lo == 0 || m.hi < m.lo || !m.payload) return;
-  // An interval covers the commits it joins; a huge one would mark future deltas as seen.
-  if (m.hi - m.lo > kMaxInterval)
-    return reject(make_error(ErrorCode::kTooLarge, "delta " + m.origin.to_string() + "#" + std::to_string(m.lo) +
-                                                       " from " + from.to_string() + " claims " +
-                                                       std::to_string(m.hi - m.lo + 1) + " sequence numbers"));
-  if (applied_.includes(m.origin, m.lo, m.hi)) {
-    ++stats_.deltas_duplicate;
-    return;
+void Replicator::record(const PeerId& origin, std::uint64_t lo, std::uint64_t hi, std::uint64_t digest) {
+  if (opt_.equivocation_window == 0) return;
+  if (seen_order_.size() < opt_.equivocation_window) {
+    seen_order_.emplace_back(origin, lo);
+  } else {  // the ring is full: forget the oldest record
+    auto& [o, l] = seen_order_[seen_next_];
+    if (auto it = seen_.find(o); it != seen_.end()) {
+      it->second.erase(l);
+      if (it->second.empty()) seen_.erase(it);
+    }
+    seen_order_[seen_next_] = {origin, lo};
+    seen_next_ = (seen_next_ + 1) % seen_order_.size();
   }
+  seen_[origin][lo] = Seen{hi, digest};
+}
+
+const Replicator::Seen* Replicator::recorded(const PeerId& origin, std::uint64_t lo) const {
+  auto it = seen_.find(origin);
+  if (it == seen_.end()) return nullptr;
+  auto s = it->second.find(lo);
+  return s == it->second.end() ? nullptr : &s->second;
+}
+
+Status Replicator::decode_delta(const PeerId& from, const DeltaMsg& m) {
+  const std::string what = "delta " + interval(m.origin, m.lo, m.hi) + " relayed by " + from.to_string();
   Status s = graph::decode(*m.payload, scratch_);
-  if (!s.ok()) {
-    return reject(make_error(s.error().code, "delta " + m.origin.to_string() + "#" + std::to_string(m.lo) +
-                                                 " relayed by " + from.to_string() + ": " + s.error().message));
-  }
+  if (!s.ok()) return make_error(s.error().code, what + ": " + s.error().message);
   if (!(scratch_.origin == m.origin) || scratch_.kind != graph::GraphDelta::Kind::kDelta)
-    return reject(make_error(ErrorCode::kMalformed, "delta " + m.origin.to_string() + "#" + std::to_string(m.lo) +
-                                                        ": the payload's origin or kind does not match"));
+    return make_error(ErrorCode::kMalformed, what + ": the payload's origin or kind does not match");
+  if (scratch_.seq_lo != m.lo || scratch_.seq_hi != m.hi)
+    return make_error(ErrorCode::kMalformed, what + ": the payload names the interval [" +
+                                                 std::to_string(scratch_.seq_lo) + ", " +
+                                                 std::to_string(scratch_.seq_hi) + "], not the one claimed");
+  return {};
+}
+
+void Replicator::apply_delta(const PeerId& from, const DeltaMsg& m, std::uint64_t digest) {
   g_.merge(scratch_);
   applied_.add_range(m.origin, m.lo, m.hi);
+  record(m.origin, m.lo, m.hi, digest);
   ++stats_.deltas_applied;
   remember(m.origin, m.lo, m.hi, m.payload);
+  if (auto it = peers_.find(from); it != peers_.end() && pulling_ && pull_target_ == from) it->second.pull_failures = 0;
   if (applied_.contiguous(m.origin) + 1 < m.lo && !gap_pending_) {
     gap_pending_ = true;
     gap_since_ns_ = now_;
     gap_peer_ = from;
   }
+}
+
+void Replicator::handle(const PeerId& from, const DeltaMsg& m) {
+  if (m.origin == self_) return handle_own(from, m);
+  const std::uint64_t digest = digest_of(*m.payload);
+  if (applied_.includes(m.origin, m.lo, m.hi)) {
+    const Seen* seen = recorded(m.origin, m.lo);
+    if (seen != nullptr && (seen->hi != m.hi || seen->digest != digest))
+      return equivocation("delta " + interval(m.origin, m.lo, m.hi) + " relayed by " + from.to_string() +
+                          " differs from the one already applied under that interval: not applied");
+    ++stats_.deltas_duplicate;
+    return;
+  }
+  if (applied_.intersects(m.origin, m.lo, m.hi))
+    return equivocation("delta " + interval(m.origin, m.lo, m.hi) + " relayed by " + from.to_string() +
+                        " overlaps intervals already applied: not applied");
+  if (Status s = decode_delta(from, m); !s.ok()) return reject(s.error());
+  apply_delta(from, m, digest);
+}
+
+// A delta that claims this replica as its origin. An echo of what we published is a duplicate;
+// one that differs from it, or one beyond anything we published, was forged under our name.
+void Replicator::handle_own(const PeerId& from, const DeltaMsg& m) {
+  const std::uint64_t digest = digest_of(*m.payload);
+  if (m.lo <= seq_) {
+    const Seen* seen = recorded(self_, m.lo);
+    if (m.hi > seq_ || (seen != nullptr && (seen->hi != m.hi || seen->digest != digest)))
+      equivocation("delta " + interval(m.origin, m.lo, m.hi) + " relayed by " + from.to_string() +
+                   " claims to be ours but differs from what we published: not applied");
+    return;
+  }
+  // Beyond our last sequence number: someone publishes under our name. Peers may already hold
+  // it, so this replica takes it too (every replica must hold the same), and our next deltas
+  // take sequence numbers (and dots, by the Lamport rule) beyond it.
+  if (Status s = decode_delta(from, m); !s.ok()) return reject(s.error());
+  equivocation("delta " + interval(m.origin, m.lo, m.hi) + " relayed by " + from.to_string() +
+               " was published under this replica's name, which never published it; later deltas take sequence "
+               "numbers beyond it");
+  if (m.lo > seq_ + 1) applied_.add_range(self_, seq_ + 1, m.lo - 1);  // numbers nobody used
+  seq_ = m.hi;
+  apply_delta(from, m, digest);
 }
 
 void Replicator::pull_from(const PeerId& target) {
@@ -224,11 +378,12 @@ void Replicator::pull_from(const PeerId& target) {
   pull_sent_ns_ = now_;
   ++pull_request_;
   ++stats_.pulls_sent;
-  queue(target, PullMsg{pull_request_, applied_, g_.context()});
+  state_ = Reassembly{};
+  queue(target, PullMsg{pull_request_, to_ranges(applied_), to_ranges(g_.context())});
 }
 
 void Replicator::handle(const PeerId& from, const PullMsg& m) {
-  crdt::CausalContext missing = applied_.minus(m.applied);
+  crdt::CausalContext missing = applied_.minus(to_context(m.applied));
   if (missing.empty()) {
     // Nothing to give: a summary tells the puller so, and it moves on.
     send_summary();
@@ -270,16 +425,30 @@ void Replicator::handle(const PeerId& from, const PullMsg& m) {
     }
     return;
   }
+  // A whole state is costly to build: to one peer at most once per first-pull patience (an
+  // honest puller waits at least that long before asking again).
+  Peer& p = peers_[from];
+  if (p.last_state_answer_ns >= 0 && now_ - p.last_state_answer_ns < opt_.pull_first_timeout_ns) {
+    ++stats_.state_answers_throttled;
+    return;
+  }
+  p.last_state_answer_ns = now_;
   ++stats_.pulls_answered_with_state;
-  std::vector<std::uint8_t> state = graph::encode(g_.state_diff(m.context));
-  const std::size_t chunk = std::max<std::size_t>(opt_.chunk_bytes, 1024);
+  std::vector<std::uint8_t> state = graph::encode(g_.state_diff(to_context(m.context)));
+  const std::size_t chunk = std::clamp<std::size_t>(opt_.chunk_bytes, 1024, opt_.limits.max_chunk_bytes);
   const std::uint64_t count = std::max<std::uint64_t>(1, (state.size() + chunk - 1) / chunk);
+  if (count > opt_.limits.max_chunks) {
+    return reject(make_error(ErrorCode::kTooLarge, "pull from " + from.to_string() + ": this replica's state (" +
+                                                       std::to_string(state.size()) + " bytes) exceeds what one "
+                                                       "transfer may carry"));
+  }
+  const RangeList applied = to_ranges(applied_);
   for (std::uint64_t i = 0; i < count; ++i) {
     StateMsg s;
     s.request = m.request;
-    s.index = static_cast<std::uint32_t>(i);
-    s.count = static_cast<std::uint32_t>(count);
-    if (i == 0) s.applied = applied_;
+    s.index = i;
+    s.count = count;
+    if (i == 0) s.applied = applied;
     std::size_t begin = i * chunk, end = std::min(state.size(), begin + chunk);
     s.chunk = std::make_shared<const std::vector<std::uint8_t>>(state.begin() + begin, state.begin() + end);
     queue(from, std::move(s));
@@ -287,33 +456,40 @@ void Replicator::handle(const PeerId& from, const PullMsg& m) {
 }
 
 void Replicator::handle(const PeerId& from, const StateMsg& m) {
-  if (m.count == 0 || m.index >= m.count || !m.chunk) return;
-  Reassembly& ra = reassembly_[from];
-  if (ra.request != m.request || ra.count != m.count) {
+  // Only the transfer answering our outstanding pull is assembled: nobody can make this replica
+  // hold a state it did not ask for.
+  if (!pulling_ || !(pull_target_ == from) || m.request != pull_request_) {
+    ++stats_.states_unrequested;
+    return;
+  }
+  Reassembly& ra = state_;
+  if (!ra.active || ra.count != m.count) {
     ra = Reassembly{};
-    ra.request = m.request;
+    ra.active = true;
     ra.count = m.count;
     ra.started_ns = now_;
     ra.chunks.resize(m.count);
   }
   if (ra.chunks[m.index]) return;  // duplicate
   if (ra.bytes + m.chunk->size() > opt_.max_state_bytes) {
-    reassembly_.erase(from);
+    state_ = Reassembly{};
     return reject(make_error(ErrorCode::kTooLarge, "state from " + from.to_string() + " exceeds max_state_bytes (" +
                                                        std::to_string(opt_.max_state_bytes) + ")"));
   }
-  if (pulling_ && pull_target_ == from) pull_sent_ns_ = now_;  // progress: the pull is alive
+  pull_sent_ns_ = now_;  // progress: the pull is alive
+  peers_[from].pull_failures = 0;
   ra.chunks[m.index] = m.chunk;
   ++ra.received;
   ra.bytes += m.chunk->size();
-  if (m.index == 0) ra.applied = m.applied;
+  if (m.index == 0) ra.applied = to_context(m.applied);
   if (ra.received < ra.count) return;
   pull_timeouts_in_a_row_ = 0;
   std::vector<std::uint8_t> all;
   all.reserve(ra.bytes);
   for (const auto& c : ra.chunks) all.insert(all.end(), c->begin(), c->end());
   crdt::CausalContext applied = std::move(ra.applied);
-  reassembly_.erase(from);
+  state_ = Reassembly{};
+  pulling_ = false;
   Status s = graph::decode(all, scratch_);
   if (!s.ok()) return reject(make_error(s.error().code, "state from " + from.to_string() + ": " + s.error().message));
   if (scratch_.kind != graph::GraphDelta::Kind::kState)
@@ -322,11 +498,14 @@ void Replicator::handle(const PeerId& from, const StateMsg& m) {
   applied_.join(applied);
   ++stats_.states_applied;
   stats_.state_bytes_received += all.size();
-  if (pulling_ && pull_target_ == from) pulling_ = false;
   gap_pending_ = false;
 }
 
-void Replicator::handle(const PeerId& from, const ByeMsg&) { mark_left(peers_[from]); }
+void Replicator::handle(const PeerId& from, const ByeMsg&) {
+  Peer& p = peers_[from];
+  mark_left(p);
+  p.said_bye = true;
+}
 
 // ------------------------------------------------------------------ buffer
 
@@ -394,7 +573,9 @@ void Replicator::tick(std::int64_t now_ns) {
   if (opt_.coalesce) flush();
   // A pull answered by nothing for a while is retried, elsewhere if possible. The first tries
   // are impatient (a transport may lose the first answers to a newcomer while it is still
-  // discovering it); patience doubles with every timeout in a row, up to pull_timeout_ns.
+  // discovering it); patience doubles with every timeout in a row, up to pull_timeout_ns. A peer
+  // that leaves several pulls in a row unanswered while its summaries claim more is suspected
+  // of claiming what it does not have: its summaries are ignored for a while.
   const std::int64_t patience =
       std::min(opt_.pull_timeout_ns, opt_.pull_first_timeout_ns << std::min(pull_timeouts_in_a_row_, 20));
   if (pulling_ && now_ - pull_sent_ns_ > patience) {
@@ -402,18 +583,40 @@ void Replicator::tick(std::int64_t now_ns) {
     last_failed_target_ = pull_target_;
     ++stats_.pulls_timed_out;
     ++pull_timeouts_in_a_row_;
-    reassembly_.erase(pull_target_);
+    state_ = Reassembly{};
+    if (auto it = peers_.find(pull_target_); it != peers_.end() && it->second.info.alive) {
+      Peer& p = it->second;
+      // Only a peer that keeps talking (its heartbeats arrive) yet never answers is suspected.
+      const bool talking = now_ - p.info.last_heard_ns <= 2 * opt_.heartbeat_ns;
+      if (++p.pull_failures >= opt_.suspect_after_timeouts && talking && p.suspect_until <= now_) {
+        p.suspect_until = now_ + opt_.suspect_ns;
+        p.pull_failures = 0;
+        ++stats_.suspects;
+        if (error_cb_) error_cb_(make_error(ErrorCode::kRefused, "peer " + p.info.id.to_string() + " ('" + p.info.name + "') left " +
+                                                   std::to_string(opt_.suspect_after_timeouts) +
+                                                   " pulls in a row unanswered while claiming changes this replica "
+                                                   "lacks: its summaries are ignored for " +
+                                                   std::to_string(opt_.suspect_ns / 1'000'000) + " ms"));
+      }
+    }
   }
-  for (auto& [id, p] : peers_)
+  for (auto it = peers_.begin(); it != peers_.end();) {
+    Peer& p = it->second;
     if (p.info.alive && now_ - p.info.last_heard_ns > opt_.lease_ns) mark_left(p);
-  for (auto it = reassembly_.begin(); it != reassembly_.end();) {
-    if (now_ - it->second.started_ns > 4 * opt_.pull_timeout_ns) it = reassembly_.erase(it);
-    else ++it;
+    // Forget peers gone for long (bounded memory); a clean goodbye is kept as long, so that
+    // its late packets stay ignored.
+    if (!p.info.alive && now_ - p.info.last_heard_ns > 10 * opt_.lease_ns) {
+      peer_ranges_ -= p.applied.range_count();
+      it = peers_.erase(it);
+    } else {
+      ++it;
+    }
   }
+  if (state_.active && now_ - state_.started_ns > 4 * opt_.pull_timeout_ns) state_ = Reassembly{};
   if (!pulling_) {
     const PeerId* pick = nullptr;
     for (const auto& [id, p] : peers_) {
-      if (!p.info.alive || !behind(p)) continue;
+      if (!counts(p) || !behind(p)) continue;
       if (pick == nullptr || *pick == last_failed_target_) pick = &id;
     }
     if (pick) {

@@ -26,6 +26,7 @@ enum class ErrorCode : std::uint16_t {
   kNotConnected,         ///< Two frames are in separate trees.
   kExtrapolation,        ///< A timed lookup asked outside the stored history.
   kTransport,            ///< The network layer failed.
+  kEquivocation,         ///< A peer sent two different things under one name (a forgery or a bug).
   kInternal,             ///< A bug: an invariant of Quiver itself did not hold.
 };
 

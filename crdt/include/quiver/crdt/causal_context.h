@@ -34,6 +34,8 @@ class CausalContext {
   bool includes(const CausalContext& other) const;
   /// True if every counter of `r` in [lo, hi] is present (lo <= hi).
   bool includes(const ReplicaId& r, std::uint64_t lo, std::uint64_t hi) const;
+  /// True if some counter of `r` in [lo, hi] is present (lo <= hi).
+  bool intersects(const ReplicaId& r, std::uint64_t lo, std::uint64_t hi) const;
   /// Dots of this context that `other` lacks.
   CausalContext minus(const CausalContext& other) const;
 

@@ -42,6 +42,8 @@ inline constexpr std::uint8_t kCodecVersion = 2;
 
 /// Appends the encoding of `d` to `out`.
 void encode(const GraphDelta& d, std::vector<std::uint8_t>& out);
+/// The same, naming the sequence interval [seq_lo, seq_hi] in place of d's own.
+void encode(const GraphDelta& d, std::vector<std::uint8_t>& out, std::uint64_t seq_lo, std::uint64_t seq_hi);
 std::vector<std::uint8_t> encode(const GraphDelta& d);
 
 /// Decodes into `out` (cleared first; its capacity is reused). On error `out` is unspecified

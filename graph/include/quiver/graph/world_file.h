@@ -1,6 +1,7 @@
 #pragma once
 /// @file
-/// JSON world files: load a graph's initial content, save a snapshot. Format: docs/world-format.md.
+/// JSON world files: load a graph's initial content, seed a shared world, save a snapshot.
+/// Format: docs/world-format.md.
 ///
 /// Loading validates the whole file before changing anything: on any error (syntax, unknown type,
 /// dangling reference, taken name, cycle) the graph is left as it was and the error names the
@@ -32,6 +33,17 @@ struct WorldLoadOptions {
 Result<WorldLoadInfo> load_world(Graph& g, std::string_view text, std::string_view source = "world",
                                  const WorldLoadOptions& options = {});
 Result<WorldLoadInfo> load_world_file(Graph& g, const std::string& path, const WorldLoadOptions& options = {});
+
+/// A world file as one delta that depends on nothing but the file: its nodes, edges and RT edges
+/// under dots of a replica derived from the file's content (ReplicaId{content hash, 0}),
+/// numbered in file order, sequence number 1. Every agent that seeds the same file builds the
+/// same bytes, so seeding is idempotent even when several agents seed at once (the replication
+/// protocol sees one delta, relayed by each). The file must name only its own nodes.
+struct WorldSeed {
+  GraphDelta delta;
+  WorldLoadInfo info;
+};
+Result<WorldSeed> world_seed(std::string_view text, std::string_view source = "world");
 
 /// The visible graph as a world file (winning values only; RT edges with their current pose).
 std::string save_world(const Graph& g);

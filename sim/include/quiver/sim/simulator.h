@@ -21,9 +21,9 @@
 namespace quiver::sim {
 
 struct FaultConfig {
-  double loss = 0.0;                 ///< probability a frame is dropped on a link
-  double dup = 0.0;                  ///< probability a frame is delivered twice
-  bool reorder = false;              ///< frames on a link may overtake each other
+  double loss = 0.0;                 ///< probability a packet is dropped on a link
+  double dup = 0.0;                  ///< probability a packet is delivered twice
+  bool reorder = false;              ///< packets on a link may overtake each other
   bool partitions = false;           ///< split the agents into groups for a while, then heal
   bool crashes = false;              ///< kill agents (state lost) and restart them later
   std::int64_t delay_min_ns = 100'000;
@@ -79,9 +79,9 @@ struct SimResult {
   bool converged = false;
   std::uint64_t invariant_violations = 0;
   std::string first_violation;
-  std::string first_rejection;  ///< the first frame or message a replica refused, and why
+  std::string first_rejection;  ///< the first packet or message a replica refused, and why
   std::string digest;
-  std::uint64_t messages = 0;  ///< frames handed to the network, per destination
+  std::uint64_t messages = 0;  ///< packets handed to the network, per destination
   std::uint64_t bytes = 0;
   std::uint64_t dropped = 0;
   std::uint64_t duplicated = 0;
@@ -90,7 +90,7 @@ struct SimResult {
   std::uint64_t partitions = 0;
   std::uint64_t deltas_applied = 0;
   std::uint64_t states_applied = 0;
-  std::uint64_t rejected_frames = 0;
+  std::uint64_t rejected_packets = 0;
   std::int64_t virtual_ms = 0;
   std::int64_t settle_ms = 0;  ///< from the end of faults to convergence
   std::size_t final_nodes = 0;
@@ -104,7 +104,7 @@ struct SimResult {
   std::uint64_t moves = 0, moves_refused = 0, violations_seen = 0, repairs = 0, final_violations = 0;
 
   bool ok() const {
-    return converged && invariant_violations == 0 && rejected_frames == 0 && lock_overlap_connected_ns == 0;
+    return converged && invariant_violations == 0 && rejected_packets == 0 && lock_overlap_connected_ns == 0;
   }
   /// One line of JSON.
   std::string to_json() const;

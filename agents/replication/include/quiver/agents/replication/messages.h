@@ -1,7 +1,12 @@
 #pragma once
 /// @file
 /// The replication protocol's messages, independent of how a transport carries them: the
-/// simulator encodes them as byte frames (frame_codec.h), the DDS transport as IDL types in CDR.
+/// simulator encodes them as byte packets (packet_codec.h), the DDS transport as IDL types in CDR.
+///
+/// Messages hold what arrived, unchecked: transports fill them and hand them to
+/// Replicator::on_envelope(), which checks every envelope in one place (validate.h) before any
+/// of it is used. Sets of (replica, counter) pairs travel as range lists for that reason: a
+/// CausalContext would normalise away what was wrong with them.
 
 #include <cstdint>
 #include <memory>
@@ -14,14 +19,30 @@
 
 namespace quiver::agents {
 
+/// One range [lo, hi] of counters (or sequence numbers) of one replica.
+struct Range {
+  PeerId replica;
+  std::uint64_t lo = 0;
+  std::uint64_t hi = 0;
+  friend bool operator==(const Range&, const Range&) = default;
+};
+/// A set of (replica, counter) pairs as ranges, as a transport carried it.
+using RangeList = std::vector<Range>;
+
+/// The canonical ranges of a context (replicas ascending, ranges ascending and disjoint).
+RangeList to_ranges(const crdt::CausalContext& c);
+/// The context of checked ranges (validate() first: lo >= 1, lo <= hi).
+crdt::CausalContext to_context(const RangeList& r);
+
 /// Heartbeat: who I am and which (origin, seq) I hold. Acknowledgement and liveness at once.
 struct SummaryMsg {
   std::string name;
   bool observer = false;
-  crdt::CausalContext applied;
+  RangeList applied;
 };
 
-/// One delta interval of one origin: sequence numbers [lo, hi], encoded graph delta.
+/// One delta interval of one origin: sequence numbers [lo, hi], encoded graph delta (whose
+/// payload names the same interval).
 struct DeltaMsg {
   PeerId origin;
   std::uint64_t lo = 0;
@@ -32,16 +53,17 @@ struct DeltaMsg {
 /// "Send me what I lack": my (origin, seq) set and my causal context (for a context diff).
 struct PullMsg {
   std::uint64_t request = 0;
-  crdt::CausalContext applied;
-  crdt::CausalContext context;
+  RangeList applied;
+  RangeList context;
 };
 
-/// One chunk of a state transfer (an encoded context diff split into `count` chunks).
+/// One chunk of a state transfer (an encoded context diff split into `count` chunks), answering
+/// the pull `request`.
 struct StateMsg {
   std::uint64_t request = 0;
-  std::uint32_t index = 0;
-  std::uint32_t count = 1;
-  crdt::CausalContext applied;  ///< the sender's (origin, seq) set; meaningful in chunk 0
+  std::uint64_t index = 0;
+  std::uint64_t count = 1;
+  RangeList applied;  ///< the sender's (origin, seq) set; meaningful in chunk 0
   std::shared_ptr<const std::vector<std::uint8_t>> chunk;
 };
 
@@ -59,5 +81,7 @@ struct Envelope {
 
 /// Approximate wire size of a message (for batching decisions).
 std::size_t approx_size(const Message& m);
+/// "summary", "delta", "pull", "state", "bye".
+const char* message_kind(const Message& m);
 
 }  // namespace quiver::agents

@@ -13,6 +13,17 @@
 ///    context diff of its whole state (chunked). A pull that times out is retried elsewhere.
 ///  - Nothing blocks; time comes in through `now` arguments, so the simulator runs this exactly.
 ///
+/// Hostile or broken peers (docs/protocol.md, "Bad input"): every envelope is checked once
+/// (validate.h) before use; a delta's payload must name the interval it claims and carry only its
+/// origin's dots; the same (origin, seq) arriving with another payload is reported as an
+/// equivocation (kEquivocation) and not applied, and so is a delta published under this
+/// replica's own name that it never published (it is applied then, so that every replica holds
+/// the same, and this replica's later deltas take sequence numbers beyond it); state chunks are
+/// accepted only in answer to this replica's own pull; the peer table, what each peer's summary
+/// may hold, the relay buffer and the equivocation record are bounded; a peer whose summaries
+/// claim changes it never delivers is ignored for a while; full-state answers to one peer are
+/// rate-limited.
+///
 /// Threading: a Replicator and its Graph belong to one thread.
 
 #include <cstdint>
@@ -27,6 +38,7 @@
 
 #include "quiver/agents/replication/messages.h"
 #include "quiver/agents/replication/transport.h"
+#include "quiver/agents/replication/validate.h"
 #include "quiver/crdt/causal_context.h"
 #include "quiver/graph/graph.h"
 #include "quiver/hash.h"
@@ -45,8 +57,14 @@ struct ReplicatorOptions {
   std::size_t buffer_bytes = 16u << 20;      ///< relay buffer of recent deltas (all origins)
   std::size_t chunk_bytes = 256u << 10;      ///< state transfer chunk size
   std::size_t max_state_bytes = 1u << 30;    ///< a state transfer larger than this is refused
-  std::size_t max_frame_bytes = 60u << 10;   ///< messages are batched into frames up to this
+  std::size_t max_packet_bytes = 60u << 10;   ///< messages are batched into packets up to this
   bool coalesce = false;                     ///< hold local deltas until flush() or tick()
+  EnvelopeLimits limits;                     ///< what one envelope may hold (validate.h)
+  std::size_t max_peers = 256;               ///< peers remembered at once (live or recently gone)
+  std::size_t max_peer_ranges = 1u << 20;    ///< ranges of all peers' summaries kept together
+  std::size_t equivocation_window = 1u << 16;  ///< (origin, seq) digests kept to detect equivocation
+  int suspect_after_timeouts = 6;            ///< pulls in a row a talking peer leaves unanswered before...
+  std::int64_t suspect_ns = 3'000'000'000;   ///< ...its summaries are ignored this long
 };
 
 struct PeerInfo {
@@ -55,6 +73,7 @@ struct PeerInfo {
   bool observer = false;
   bool alive = false;
   std::int64_t last_heard_ns = 0;
+  bool suspect = false;  ///< it claimed changes it did not deliver: its summaries are ignored for now
 };
 
 enum class Membership : std::uint8_t { kJoined, kLeft };
@@ -64,7 +83,12 @@ struct ReplicatorStats {
   std::uint64_t deltas_published = 0, deltas_applied = 0, deltas_duplicate = 0, deltas_relayed = 0;
   std::uint64_t pulls_sent = 0, pulls_timed_out = 0, pulls_answered_with_deltas = 0, pulls_answered_with_state = 0;
   std::uint64_t states_applied = 0, state_bytes_received = 0;
-  std::uint64_t rejected_frames = 0, buffer_evictions = 0;
+  std::uint64_t rejected_packets = 0, buffer_evictions = 0;
+  std::uint64_t equivocations = 0;        ///< (origin, seq) seen with two payloads, or forged under our name
+  std::uint64_t states_unrequested = 0;   ///< state chunks that answered no pull of ours (dropped)
+  std::uint64_t state_answers_throttled = 0;
+  std::uint64_t peers_refused = 0;        ///< envelopes from new peers while the table was full
+  std::uint64_t suspects = 0;             ///< peers found claiming what they did not deliver
 };
 
 class Replicator {
@@ -77,17 +101,23 @@ class Replicator {
 
   /// Announces this replica (a summary) and starts the heartbeat clock.
   void start(std::int64_t now_ns);
-  /// Handles one received envelope. Messages that do not validate (e.g. a delta whose payload
-  /// does not decode) are counted, reported and dropped; the replica is unchanged by them.
+  /// Handles one received envelope, from any transport: checked whole first (validate.h); then
+  /// messages that do not hold (e.g. a delta whose payload does not decode) are counted,
+  /// reported and dropped; the replica is unchanged by them.
   void on_envelope(const Envelope& e, std::int64_t now_ns);
-  /// Decodes a byte frame (frame_codec.h) and handles it; a malformed frame is rejected whole.
-  void on_frame(std::span<const std::uint8_t> frame, std::int64_t now_ns);
+  /// Decodes a byte packet (packet_codec.h) and handles it; a malformed packet is rejected whole.
+  void on_packet(std::span<const std::uint8_t> packet, std::int64_t now_ns);
   /// A transport that detects departures itself (e.g. DDS liveliness) reports them here.
   void on_peer_lost(const PeerId& peer);
   /// Timers: heartbeats, pull timeouts, gaps, liveness, buffer trimming; flushes coalesced deltas.
   void tick(std::int64_t now_ns);
   /// Sends coalesced local deltas now.
   void flush();
+  /// Applies and publishes a delta that originates elsewhere, under its own origin and sequence
+  /// interval (its seq_lo/seq_hi): a world seed (graph::world_seed()). Idempotent: a delta this
+  /// replica already holds is neither applied nor sent again.
+  /// @returns true if it was new here; kInvalidArgument if it names no interval or is ours.
+  Result<bool> seed(const graph::GraphDelta& d);
   /// Says goodbye so that peers drop this replica at once instead of after the lease.
   void leave();
   /// Sends a summary now (e.g. when the transport saw a newcomer appear).
@@ -102,7 +132,8 @@ class Replicator {
   std::vector<PeerInfo> peers() const;
   std::size_t live_peer_count() const;
   void on_membership(std::function<void(Membership, const PeerInfo&)> cb) { membership_cb_ = std::move(cb); }
-  /// Called with a description of every rejected frame (malformed, oversized, ...).
+  /// Called with a description of every rejected packet or message (malformed, oversized,
+  /// equivocation, ...). The code tells the kind (kEquivocation for a forgery).
   void on_error(std::function<void(const Error&)> cb) { error_cb_ = std::move(cb); }
   /// True if `peer` is currently heard from.
   bool peer_alive(const PeerId& peer) const;
@@ -130,14 +161,25 @@ class Replicator {
   struct Peer {
     PeerInfo info;
     crdt::CausalContext applied;
+    bool announced = false;     // kJoined was reported (once its summary named it)
+    bool said_bye = false;      // it left cleanly: late messages of this incarnation are ignored
+    int pull_failures = 0;      // pulls in a row it left unanswered
+    std::int64_t suspect_until = 0;
+    std::int64_t last_state_answer_ns = -1;
   };
+  // The state transfer answering our outstanding pull (one at a time).
   struct Reassembly {
-    std::uint64_t request = 0;
+    bool active = false;
     std::uint64_t count = 0;
     std::int64_t started_ns = 0;
     std::vector<Bytes> chunks;
     std::size_t received = 0, bytes = 0;
     crdt::CausalContext applied;
+  };
+  // What each applied (origin, lo) carried, to tell a duplicate from an equivocation.
+  struct Seen {
+    std::uint64_t hi = 0;
+    std::uint64_t digest = 0;
   };
   struct Outgoing {
     PeerId to;  // null = broadcast
@@ -146,12 +188,20 @@ class Replicator {
 
   void on_local_delta(const graph::GraphDelta& d);
   void publish(std::vector<std::uint8_t> bytes, std::uint64_t lo, std::uint64_t hi);
+  void handle_own(const PeerId& from, const DeltaMsg& m);
+  /// Decodes and checks a delta payload against its message; the error names what is wrong.
+  Status decode_delta(const PeerId& from, const DeltaMsg& m);
+  void apply_delta(const PeerId& from, const DeltaMsg& m, std::uint64_t digest);
+  void record(const PeerId& origin, std::uint64_t lo, std::uint64_t hi, std::uint64_t digest);
+  const Seen* recorded(const PeerId& origin, std::uint64_t lo) const;
+  void equivocation(const std::string& what);
+  bool counts(const Peer& p) const;
   void handle(const PeerId& from, const SummaryMsg& m);
   void handle(const PeerId& from, const DeltaMsg& m);
   void handle(const PeerId& from, const PullMsg& m);
   void handle(const PeerId& from, const StateMsg& m);
   void handle(const PeerId& from, const ByeMsg& m);
-  Peer& heard_from(const PeerId& from);
+  Peer* heard_from(const PeerId& from);
   void mark_left(Peer& p);
   void send_summary();
   void pull_from(const PeerId& target);
@@ -181,7 +231,12 @@ class Replicator {
   std::size_t buffer_bytes_ = 0;
 
   std::map<PeerId, Peer> peers_;
-  std::map<PeerId, Reassembly> reassembly_;
+  std::size_t peer_ranges_ = 0;  // ranges of all peers' applied sets
+  Reassembly state_;
+  std::map<PeerId, std::map<std::uint64_t, Seen>> seen_;
+  std::vector<std::pair<PeerId, std::uint64_t>> seen_order_;  // ring, for eviction
+  std::size_t seen_next_ = 0;
+  std::size_t pending_bytes_ = 0;  // estimated size of the coalesced interval
 
   // Outstanding pull.
   bool pulling_ = false;

@@ -2,6 +2,6 @@
 #include "fuzz_targets.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const unsigned char* data, unsigned long size) {
-  (void)quiver::fuzz::replication_frame(data, size);
+  (void)quiver::fuzz::replication_packet(data, size);
   return 0;
 }

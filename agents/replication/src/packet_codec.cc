@@ -1,4 +1,4 @@
-#include "quiver/agents/replication/frame_codec.h"
+#include "quiver/agents/replication/packet_codec.h"
 
 #include "quiver/crdt/context_codec.h"
 #include "quiver/wire.h"
@@ -9,8 +9,47 @@ namespace {
 constexpr std::uint8_t kMagic0 = 'Q';
 constexpr std::uint8_t kMagic1 = 'R';
 enum MsgType : std::uint8_t { kSummary = 1, kDelta = 2, kPull = 3, kState = 4, kBye = 5 };
-constexpr std::uint64_t kMaxBody = 1ull << 30;
-constexpr std::uint64_t kMaxMessages = 1u << 20;
+// Decoding bounds only what it must to stay safe (a count against the bytes that remain, a
+// length within the input). What a message may hold is checked by validate() for every
+// transport alike.
+constexpr std::uint64_t kMaxBody = 1ull << 32;
+
+// Range lists, grouped by runs of one replica: run count, then per run the replica, its range
+// count and the ranges as (gap from the previous hi, hi - lo). Any values decode; validate()
+// judges them.
+void encode_ranges(const RangeList& ranges, wire::Writer& w) {
+  std::size_t runs = 0;
+  for (std::size_t i = 0; i < ranges.size(); ++i) runs += (i == 0 || !(ranges[i].replica == ranges[i - 1].replica));
+  w.varint(runs);
+  for (std::size_t i = 0; i < ranges.size();) {
+    std::size_t j = i;
+    while (j < ranges.size() && ranges[j].replica == ranges[i].replica) ++j;
+    crdt::encode_replica(ranges[i].replica, w);
+    w.varint(j - i);
+    std::uint64_t prev = 0;
+    for (std::size_t k = i; k < j; ++k) {
+      w.svarint(static_cast<std::int64_t>(ranges[k].lo - prev));
+      w.svarint(static_cast<std::int64_t>(ranges[k].hi - ranges[k].lo));
+      prev = ranges[k].hi;
+    }
+    i = j;
+  }
+}
+
+void decode_ranges(wire::Reader& r, RangeList& out) {
+  std::uint64_t runs = r.count("range runs", kMaxBody, 10);
+  for (std::uint64_t i = 0; i < runs && r.ok(); ++i) {
+    PeerId replica = crdt::decode_replica(r, "range replica");
+    std::uint64_t n = r.count("range count", kMaxBody, 2);
+    std::uint64_t prev = 0;
+    for (std::uint64_t k = 0; k < n && r.ok(); ++k) {
+      std::uint64_t lo = prev + static_cast<std::uint64_t>(r.svarint("range gap"));
+      std::uint64_t hi = lo + static_cast<std::uint64_t>(r.svarint("range length"));
+      out.push_back(Range{replica, lo, hi});
+      prev = hi;
+    }
+  }
+}
 
 struct BodyWriter {
   wire::Writer& w;
@@ -18,27 +57,27 @@ struct BodyWriter {
     w.u8(kSummary);
     w.string(m.name);
     w.varint(m.observer ? 1 : 0);
-    crdt::encode_context(m.applied, w);
+    encode_ranges(m.applied, w);
   }
   void operator()(const DeltaMsg& m) {
     w.u8(kDelta);
     crdt::encode_replica(m.origin, w);
     w.varint(m.lo);
-    w.varint(m.hi - m.lo);
+    w.varint(m.hi);
     w.bytes(*m.payload);
   }
   void operator()(const PullMsg& m) {
     w.u8(kPull);
     w.varint(m.request);
-    crdt::encode_context(m.applied, w);
-    crdt::encode_context(m.context, w);
+    encode_ranges(m.applied, w);
+    encode_ranges(m.context, w);
   }
   void operator()(const StateMsg& m) {
     w.u8(kState);
     w.varint(m.request);
     w.varint(m.index);
     w.varint(m.count);
-    if (m.index == 0) crdt::encode_context(m.applied, w);
+    encode_ranges(m.applied, w);
     w.bytes(*m.chunk);
   }
   void operator()(const ByeMsg&) { w.u8(kBye); }
@@ -46,22 +85,11 @@ struct BodyWriter {
 
 }  // namespace
 
-std::size_t approx_size(const Message& m) {
-  struct {
-    std::size_t operator()(const SummaryMsg& s) { return 16 + s.name.size() + 24 * s.applied.range_count(); }
-    std::size_t operator()(const DeltaMsg& d) { return 24 + d.payload->size(); }
-    std::size_t operator()(const PullMsg& p) { return 16 + 24 * (p.applied.range_count() + p.context.range_count()); }
-    std::size_t operator()(const StateMsg& s) { return 24 + s.chunk->size() + 24 * s.applied.range_count(); }
-    std::size_t operator()(const ByeMsg&) { return 1; }
-  } size;
-  return std::visit(size, m);
-}
-
-void encode_frame(const Envelope& e, std::vector<std::uint8_t>& out) {
+void encode_packet(const Envelope& e, std::vector<std::uint8_t>& out) {
   wire::Writer w(out);
   w.u8(kMagic0);
   w.u8(kMagic1);
-  w.u8(kFrameVersion);
+  w.u8(kPacketVersion);
   crdt::encode_replica(e.from, w);
   w.u8(e.to.is_null() ? 0 : 1);
   if (!e.to.is_null()) crdt::encode_replica(e.to, w);
@@ -78,23 +106,23 @@ void encode_frame(const Envelope& e, std::vector<std::uint8_t>& out) {
   }
 }
 
-std::vector<std::uint8_t> encode_frame(const Envelope& e) {
+std::vector<std::uint8_t> encode_packet(const Envelope& e) {
   std::vector<std::uint8_t> out;
-  encode_frame(e, out);
+  encode_packet(e, out);
   return out;
 }
 
-Result<Envelope> decode_frame(std::span<const std::uint8_t> frame) {
-  wire::Reader r(frame, "replication frame");
+Result<Envelope> decode_packet(std::span<const std::uint8_t> packet) {
+  wire::Reader r(packet, "replication packet");
   std::uint8_t m0 = r.u8("magic"), m1 = r.u8("magic"), version = r.u8("version");
   if (!r.ok()) return r.error();
   if (m0 != kMagic0 || m1 != kMagic1) {
-    r.fail(ErrorCode::kMalformed, "magic", "not a Quiver replication frame");
+    r.fail(ErrorCode::kMalformed, "magic", "not a Quiver replication packet");
     return r.error();
   }
-  if (version != kFrameVersion) {
+  if (version != kPacketVersion) {
     r.fail(ErrorCode::kUnsupportedVersion, "version",
-           "protocol version " + std::to_string(version) + " (this build speaks " + std::to_string(kFrameVersion) + ")");
+           "protocol version " + std::to_string(version) + " (this build speaks " + std::to_string(kPacketVersion) + ")");
     return r.error();
   }
   Envelope e;
@@ -102,12 +130,8 @@ Result<Envelope> decode_frame(std::span<const std::uint8_t> frame) {
   std::uint8_t unicast = r.u8("destination flag");
   if (unicast == 1) e.to = crdt::decode_replica(r, "destination");
   else if (unicast != 0 && r.ok()) r.fail(ErrorCode::kMalformed, "destination flag", "must be 0 or 1");
-  std::uint64_t n = r.count("message count", kMaxMessages, 2);
+  std::uint64_t n = r.count("message count", kMaxBody, 2);
   if (!r.ok()) return r.error();
-  if (e.from.is_null()) {
-    r.fail(ErrorCode::kMalformed, "sender", "null sender");
-    return r.error();
-  }
   e.messages.reserve(n);
   for (std::uint64_t i = 0; i < n; ++i) {
     std::uint8_t type = r.u8("message type");
@@ -117,11 +141,11 @@ Result<Envelope> decode_frame(std::span<const std::uint8_t> frame) {
     switch (type) {
       case kSummary: {
         SummaryMsg m;
-        m.name = std::string(b.string("agent name", 1024));
+        m.name = std::string(b.string("agent name", kMaxBody));
         std::uint64_t flags = b.varint("flags");
         if (b.ok() && flags > 1) b.fail(ErrorCode::kMalformed, "flags", "unknown flag bits");
         m.observer = flags & 1;
-        crdt::decode_context(b, m.applied);
+        decode_ranges(b, m.applied);
         e.messages.emplace_back(std::move(m));
         break;
       }
@@ -129,11 +153,8 @@ Result<Envelope> decode_frame(std::span<const std::uint8_t> frame) {
         DeltaMsg m;
         m.origin = crdt::decode_replica(b, "origin");
         m.lo = b.varint("first sequence number");
-        std::uint64_t len = b.varint("sequence count");
+        m.hi = b.varint("last sequence number");
         auto payload = b.bytes("delta", kMaxBody);
-        if (b.ok() && (m.lo == 0 || m.lo + len < m.lo)) b.fail(ErrorCode::kMalformed, "sequence numbers", "invalid range");
-        if (b.ok() && m.origin.is_null()) b.fail(ErrorCode::kMalformed, "origin", "null origin");
-        m.hi = m.lo + len;
         m.payload = std::make_shared<const std::vector<std::uint8_t>>(payload.begin(), payload.end());
         e.messages.emplace_back(std::move(m));
         break;
@@ -141,20 +162,17 @@ Result<Envelope> decode_frame(std::span<const std::uint8_t> frame) {
       case kPull: {
         PullMsg m;
         m.request = b.varint("request id");
-        crdt::decode_context(b, m.applied);
-        crdt::decode_context(b, m.context);
+        decode_ranges(b, m.applied);
+        decode_ranges(b, m.context);
         e.messages.emplace_back(std::move(m));
         break;
       }
       case kState: {
         StateMsg m;
         m.request = b.varint("request id");
-        std::uint64_t index = b.varint("chunk index");
-        std::uint64_t count = b.bounded("chunk count", kMaxMessages);
-        if (b.ok() && (count == 0 || index >= count)) b.fail(ErrorCode::kMalformed, "chunk index", "out of range");
-        m.index = static_cast<std::uint32_t>(index);
-        m.count = static_cast<std::uint32_t>(count);
-        if (index == 0) crdt::decode_context(b, m.applied);
+        m.index = b.varint("chunk index");
+        m.count = b.varint("chunk count");
+        decode_ranges(b, m.applied);
         auto chunk = b.bytes("chunk", kMaxBody);
         m.chunk = std::make_shared<const std::vector<std::uint8_t>>(chunk.begin(), chunk.end());
         e.messages.emplace_back(std::move(m));
@@ -172,7 +190,7 @@ Result<Envelope> decode_frame(std::span<const std::uint8_t> frame) {
     }
   }
   if (!r.at_end()) {
-    r.fail(ErrorCode::kMalformed, "frame end", std::to_string(r.remaining()) + " trailing bytes after the messages");
+    r.fail(ErrorCode::kMalformed, "packet end", std::to_string(r.remaining()) + " trailing bytes after the messages");
     return r.error();
   }
   return e;
