@@ -59,13 +59,6 @@ struct AgentFlags {
   double run_for_s = 0;
 };
 
-// Waits (briefly) to hear from peers and catch up, so that seeding a world does not duplicate
-// what the others already hold.
-void settle_before_seeding(Agent& a) {
-  a.spin_until([&] { return a.replicator().live_peer_count() > 0; }, 1'500'000'000);
-  if (a.replicator().live_peer_count() > 0) a.spin_until([&] { return a.replicator().synced(); }, 5'000'000'000);
-}
-
 int run_agent(const AgentFlags& f) {
   agents::AgentOptions o;
   o.name = f.name;
@@ -86,16 +79,17 @@ int run_agent(const AgentFlags& f) {
   std::fprintf(stderr, "quiver agent %s: replica %s on DDS domain %u (%s)\n", f.name.c_str(), a.id().to_string().c_str(),
                f.dds.domain, f.dds.config.c_str());
   if (!f.world.empty()) {
-    settle_before_seeding(a);
-    graph::WorldLoadOptions wo;
-    wo.skip_existing = true;
-    auto loaded = graph::load_world_file(a.graph(), f.world, wo);
-    if (!loaded.ok()) {
-      std::fprintf(stderr, "quiver agent: %s\n", loaded.error().to_string().c_str());
+    // The seed is a delta that depends only on the file: agents started together with the same
+    // world seed it once between them, however their starts interleave.
+    auto seed = graph::world_seed_file(f.world);
+    if (!seed.ok()) {
+      std::fprintf(stderr, "quiver agent: %s\n", seed.error().to_string().c_str());
       return 2;
     }
-    std::fprintf(stderr, "quiver agent %s: seeded %zu nodes, %zu edges, %zu RT edges from %s\n", f.name.c_str(),
-                 loaded->nodes, loaded->edges, loaded->rt_edges, f.world.c_str());
+    auto fresh = a.replicator().seed(seed->delta);
+    std::fprintf(stderr, "quiver agent %s: world %s (%zu nodes, %zu edges, %zu RT edges) %s\n", f.name.c_str(),
+                 f.world.c_str(), seed->info.nodes, seed->info.edges, seed->info.rt_edges,
+                 fresh.ok() && *fresh ? "seeded" : "already held");
   }
   // The grammar guards changes made from now on; the seed world is the initial state.
   std::unique_ptr<agents::GrammarGuard> guard;

@@ -600,12 +600,26 @@ Result<WorldSeed> world_seed(std::string_view text, std::string_view source) {
   return seed;
 }
 
-Result<WorldLoadInfo> load_world_file(Graph& g, const std::string& path, const WorldLoadOptions& options) {
+namespace {
+Result<std::string> read_text(const char* fn, const std::string& path) {
   std::ifstream in(path, std::ios::binary);
-  if (!in) return make_error(ErrorCode::kIo, "load_world_file(): cannot open '" + path + "'");
+  if (!in) return make_error(ErrorCode::kIo, std::string(fn) + ": cannot open '" + path + "'");
   std::ostringstream ss;
   ss << in.rdbuf();
-  return load_world(g, ss.str(), path, options);
+  return ss.str();
+}
+}  // namespace
+
+Result<WorldLoadInfo> load_world_file(Graph& g, const std::string& path, const WorldLoadOptions& options) {
+  auto text = read_text("load_world_file()", path);
+  if (!text.ok()) return text.error();
+  return load_world(g, *text, path, options);
+}
+
+Result<WorldSeed> world_seed_file(const std::string& path) {
+  auto text = read_text("world_seed_file()", path);
+  if (!text.ok()) return text.error();
+  return world_seed(*text, path);
 }
 
 std::string save_world(const Graph& g) {

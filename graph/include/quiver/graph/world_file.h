@@ -44,6 +44,7 @@ struct WorldSeed {
   WorldLoadInfo info;
 };
 Result<WorldSeed> world_seed(std::string_view text, std::string_view source = "world");
+Result<WorldSeed> world_seed_file(const std::string& path);
 
 /// The visible graph as a world file (winning values only; RT edges with their current pose).
 std::string save_world(const Graph& g);
