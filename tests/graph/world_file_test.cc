@@ -1,5 +1,8 @@
 #include "quiver/graph/world_file.h"
 
+#include "quiver/graph/codec.h"
+#include "quiver/graph/limits.h"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -113,6 +116,77 @@ TEST(WorldFileTest, FilesOnDisk) {
   ASSERT_FALSE(missing.ok());
   EXPECT_EQ(missing.error().code, ErrorCode::kIo);
   std::remove(path.c_str());
+}
+
+}  // namespace
+}  // namespace quiver::graph
+
+namespace quiver::graph {
+namespace {
+
+// Defect 7: a string attribute that is not UTF-8 (the API accepts any bytes) is saved in a form
+// JSON can hold, and loads back to the same bytes.
+TEST(WorldFileTest, TextThatIsNotUtf8SavesAndLoadsBackToTheSameBytes) {
+  Graph g(ReplicaId{1, 1});
+  const std::string raw("caf\xc3\xa9 \xff\xfe\x00 end", 12);
+  auto tx = g.begin();
+  NodeId n = *tx.create_node("thing", "n", {{Symbol("raw"), Value(raw)}, {Symbol("ok"), Value("plain")}});
+  ASSERT_TRUE(tx.commit().ok());
+  std::string text;
+  ASSERT_NO_THROW(text = save_world(g));
+  EXPECT_NE(text.find("\"base64\""), std::string::npos);
+  Graph back(ReplicaId{2, 1});
+  auto loaded = load_world(back, text, "saved.json");
+  ASSERT_TRUE(loaded.ok()) << loaded.error().to_string();
+  EXPECT_EQ(back.get<std::string>(*back.find_node("n"), "raw").value(), raw);
+  EXPECT_EQ(back.get<std::string>(*back.find_node("n"), "ok").value(), "plain");
+  (void)n;
+}
+
+// Defect 2, through world files: names and values beyond the limits table are refused with the
+// file and the element named, and the graph is left as it was.
+TEST(WorldFileTest, NamesAndValuesBeyondTheLimitsNameTheElement) {
+  const std::string long_name(limits::kMaxNameBytes + 1, 'n');
+  struct Case {
+    std::string doc, where;
+  };
+  std::vector<Case> cases = {
+      {R"({"quiver_world": 1, "nodes": [{"name": ")" + long_name + R"(", "type": "t"}]})", "w.json:/nodes/0"},
+      {R"({"quiver_world": 1, "nodes": [{"name": "a", "type": ")" + long_name + R"("}]})", "w.json:/nodes/0"},
+      {R"({"quiver_world": 1, "nodes": [{"name": "a", "type": "t", "attrs": {")" + long_name + R"(": 1}}]})",
+       "w.json:/nodes/0/attrs"},
+      {R"({"quiver_world": 1, "nodes": [{"name": "a", "type": "t"}, {"name": "b", "type": "t"}],
+          "edges": [{"from": "a", "to": "b", "type": ")" + long_name + R"("}]})", "w.json:/edges/0"},
+      {R"({"quiver_world": 1, "nodes": [{"name": "a", "type": "t", "attrs": {"big": ")" +
+           std::string(limits::kMaxValueBytes + 1, 'v') + R"("}}]})", "w.json:/nodes/0"},
+  };
+  for (const Case& c : cases) {
+    Graph g(ReplicaId{1, 1});
+    const Digest128 before = g.digest();
+    auto r = load_world(g, c.doc, "w.json");
+    ASSERT_FALSE(r.ok());
+    EXPECT_EQ(r.error().message.rfind(c.where, 0), 0u) << r.error().message.substr(0, 200);
+    EXPECT_EQ(g.digest(), before);
+    if (c.doc.size() > (1u << 20)) continue;  // parsing 64 MiB of JSON once is enough
+    auto seed = world_seed(c.doc, "w.json");
+    EXPECT_FALSE(seed.ok()) << "the seed path checks the same";
+  }
+}
+
+TEST(WorldFileTest, ASeedIsTheSameDeltaForTheSameFileAndAnotherForAnother) {
+  auto a = world_seed(kWorld, "a.json"), b = world_seed(kWorld, "b.json");
+  ASSERT_TRUE(a.ok() && b.ok());
+  EXPECT_EQ(encode(a->delta), encode(b->delta));
+  EXPECT_EQ(a->delta.origin.incarnation, 0u);
+  std::string other = kWorld;
+  other.replace(other.find("shelly"), 6, "robbie");
+  auto c = world_seed(other, "c.json");
+  ASSERT_TRUE(c.ok());
+  EXPECT_FALSE(c->delta.origin == a->delta.origin);
+  Graph g(ReplicaId{5, 1});
+  g.merge(*decode(encode(a->delta)));
+  EXPECT_EQ(g.node_count(), 3u);
+  EXPECT_TRUE(g.check_invariants().empty());
 }
 
 }  // namespace
