@@ -205,11 +205,15 @@ void add_agent_commands(CLI::App& app) {
   agent->add_option("--world", af->world, "seed the graph from a JSON world file (names already present are kept)");
   agent->add_option("--grammar", af->grammar, "check every local change against this grammar file (docs/grammar.md)");
   af->dds.add_to(agent);
-  agent->add_option("--churn-hz", af->churn_hz, "testing: make random changes at this many transactions per second");
-  agent->add_option("--churn-for", af->churn_for_s, "testing: stop the random changes after this many seconds");
-  agent->add_option("--seed", af->seed, "testing: seed of the random changes");
-  agent->add_option("--status-ms", af->status_ms, "print a JSON status line this often");
-  agent->add_option("--run-for", af->run_for_s, "exit after this many seconds (default: until SIGINT/SIGTERM)");
+  agent->add_option("--churn-hz", af->churn_hz, "testing: make random changes at this many transactions per second")
+      ->check(CLI::Range(0.0, 100000.0));
+  agent->add_option("--churn-for", af->churn_for_s, "testing: stop the random changes after this many seconds")
+      ->check(CLI::Range(0.0, 1e7));
+  agent->add_option("--seed", af->seed, "testing: seed of the random changes")->check(CLI::NonNegativeNumber);
+  agent->add_option("--status-ms", af->status_ms, "print a JSON status line this often")
+      ->check(CLI::Range(0, 3'600'000));
+  agent->add_option("--run-for", af->run_for_s, "exit after this many seconds (default 0: until SIGINT/SIGTERM)")
+      ->check(CLI::Range(0.0, 1e7));
   agent->callback([af] { set_exit_code(run_agent(*af)); });
 
   auto df = std::make_shared<DumpFlags>();
@@ -219,7 +223,9 @@ void add_agent_commands(CLI::App& app) {
   fmt->add_flag("--json", df->json, "print a JSON world file");
   fmt->add_flag("--digest", df->digest, "print the state digest only");
   fmt->require_option(0, 1);
-  dump->add_option("--timeout", df->timeout_s, "give up after this many seconds")->capture_default_str();
+  dump->add_option("--timeout", df->timeout_s, "give up after this many seconds")
+      ->check(CLI::Range(0.1, 3600.0))
+      ->capture_default_str();
   dump->callback([df] { set_exit_code(run_dump(*df)); });
 }
 

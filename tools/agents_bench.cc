@@ -226,17 +226,17 @@ void add_agents_bench_commands(CLI::App& app) {
   CLI::App* bench = app.get_subcommand("bench");
   auto g = bench->add_subcommand("grammar", "Grammar check cost per transaction (50 rules, 10k nodes)");
   auto nodes = std::make_shared<int>(10000), rules = std::make_shared<int>(50), checks = std::make_shared<int>(20000);
-  g->add_option("--nodes", *nodes)->capture_default_str();
-  g->add_option("--rules", *rules)->capture_default_str();
-  g->add_option("--checks", *checks)->capture_default_str();
+  g->add_option("--nodes", *nodes)->check(CLI::Range(1, 10'000'000))->capture_default_str();
+  g->add_option("--rules", *rules)->check(CLI::Range(1, 100'000))->capture_default_str();
+  g->add_option("--checks", *checks)->check(CLI::Range(1, 100'000'000))->capture_default_str();
   g->callback([=] { set_exit_code(run_bench_grammar(*nodes, *rules, *checks)); });
 
   auto l = bench->add_subcommand("locks", "Lock acquire latency: in the simulator and over DDS (loopback)");
   auto agents = std::make_shared<int>(3), rounds = std::make_shared<int>(300);
   auto domain = std::make_shared<std::uint32_t>(78);
   l->add_option("--agents", *agents)->check(CLI::Range(2, 16))->capture_default_str();
-  l->add_option("--rounds", *rounds)->capture_default_str();
-  l->add_option("--domain", *domain)->capture_default_str();
+  l->add_option("--rounds", *rounds)->check(CLI::Range(1, 1'000'000))->capture_default_str();
+  l->add_option("--domain", *domain)->check(CLI::Range(0, 230))->capture_default_str();
   l->callback([=] {
     std::cout << lock_latency_in_simulator(8, 1).dump() << std::endl;
     json d = lock_latency_over_dds(*agents, *rounds, *domain);

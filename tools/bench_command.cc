@@ -202,7 +202,7 @@ void add_bench_commands(CLI::App& app) {
   crdt->add_option("--attrs", b->attrs)->check(CLI::Range(1, 1000))->capture_default_str();
   crdt->add_option("--updates", b->updates)->check(CLI::Range(1L, 1'000'000'000L))->capture_default_str();
   crdt->add_option("--batch", b->batch)->check(CLI::Range(1, 1'000'000))->capture_default_str();
-  crdt->add_option("--seed", b->seed)->capture_default_str();
+  crdt->add_option("--seed", b->seed)->check(CLI::NonNegativeNumber)->capture_default_str();
   crdt->add_flag("--events", b->events, "subscribe to change events on the receiving replica");
   crdt->callback([b] { run_crdt_bench(*b); });
   auto l = std::make_shared<LoadBench>();

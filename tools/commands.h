@@ -4,6 +4,9 @@
 
 namespace quiver::tools {
 
+/// Every subcommand of `quiver`, with its options and checks.
+void build_app(CLI::App& app);
+
 void add_sim_command(CLI::App& app);
 void add_bench_commands(CLI::App& app);
 /// lookup, import-urdf, bench transforms, bench scene (needs add_bench_commands first).

@@ -409,18 +409,18 @@ void add_dds_bench_commands(CLI::App& app) {
   CLI::App* bench = app.get_subcommand("bench");
   auto* dds = bench->add_subcommand("dds", "DDS transport: one writer and K reader processes on loopback");
   f->dds.add_to(dds);
-  dds->add_option("--updates", f->updates)->capture_default_str();
+  dds->add_option("--updates", f->updates)->check(CLI::Range(1L, 1'000'000'000L))->capture_default_str();
   dds->add_option("--batch", f->batch)->check(CLI::Range(1, 100000))->capture_default_str();
   dds->add_option("--readers", f->readers)->check(CLI::Range(1, 64))->capture_default_str();
-  dds->add_option("--latency-samples", f->latency_samples)->capture_default_str();
-  dds->add_option("--join-nodes", f->join_nodes)->capture_default_str();
+  dds->add_option("--latency-samples", f->latency_samples)->check(CLI::Range(0, 10'000'000))->capture_default_str();
+  dds->add_option("--join-nodes", f->join_nodes)->check(CLI::Range(0, 10'000'000))->capture_default_str();
   dds->callback([f] { set_exit_code(run_bench_dds(*f)); });
 
   auto* tr = bench->add_subcommand("dds-tracking",
                                    "DDS transport: the AGM human-tracking load (2 people x 15 joints x 30 Hz) to N-1 agents");
   f->dds.add_to(tr);
   tr->add_option("--agents", f->agents)->check(CLI::Range(2, 100))->capture_default_str();
-  tr->add_option("--seconds", f->seconds)->capture_default_str();
+  tr->add_option("--seconds", f->seconds)->check(CLI::Range(0.1, 3600.0))->capture_default_str();
   tr->callback([f] { set_exit_code(run_bench_tracking(*f)); });
 
   auto r = std::make_shared<RoleFlags>();
@@ -428,14 +428,14 @@ void add_dds_bench_commands(CLI::App& app) {
   role->group("");  // hidden
   role->add_option("role", r->role)->required();
   r->dds.add_to(role);
-  role->add_option("--id", r->id);
-  role->add_option("--readers", r->readers);
-  role->add_option("--updates", r->updates);
-  role->add_option("--batch", r->batch);
-  role->add_option("--latency-samples", r->latency_samples);
-  role->add_option("--join-nodes", r->join_nodes);
-  role->add_option("--agents", r->agents);
-  role->add_option("--seconds", r->seconds);
+  role->add_option("--id", r->id)->check(CLI::Range(0, 1000));
+  role->add_option("--readers", r->readers)->check(CLI::Range(1, 64));
+  role->add_option("--updates", r->updates)->check(CLI::Range(1L, 1'000'000'000L));
+  role->add_option("--batch", r->batch)->check(CLI::Range(1, 100000));
+  role->add_option("--latency-samples", r->latency_samples)->check(CLI::Range(0, 10'000'000));
+  role->add_option("--join-nodes", r->join_nodes)->check(CLI::Range(0, 10'000'000));
+  role->add_option("--agents", r->agents)->check(CLI::Range(2, 100));
+  role->add_option("--seconds", r->seconds)->check(CLI::Range(0.1, 3600.0));
   role->callback([r] {
     if (r->role == "writer") writer_role(*r);
     else if (r->role == "reader") reader_role(*r);

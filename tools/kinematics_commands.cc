@@ -466,7 +466,7 @@ void add_kinematics_commands(CLI::App& app) {
   auto sb = std::make_shared<SceneBench>();
   auto* sc = bench->add_subcommand(
       "scene", "Cost of one moved object's update in the FCL scene, for growing scenes");
-  sc->add_option("--objects", sb->objects, "scene sizes")->capture_default_str();
+  sc->add_option("--objects", sb->objects, "scene sizes")->check(CLI::Range(1, 10'000'000))->capture_default_str();
   sc->add_option("--moves", sb->moves, "moves per size")
       ->check(CLI::Range(1, 100'000'000))
       ->capture_default_str();

@@ -17,7 +17,9 @@ void add_sim_command(CLI::App& app) {
   auto* cmd = app.add_subcommand("sim", "Run many replicas in one process on a seeded virtual network with faults");
   cmd->add_option("--agents", cfg->agents, "number of agents (replicas)")->check(CLI::Range(1, 256))->capture_default_str();
   cmd->add_option("--steps", cfg->steps, "workload transactions")->check(CLI::Range(0, 10'000'000))->capture_default_str();
-  cmd->add_option("--seed", cfg->seed, "seed: a seed replays exactly")->capture_default_str();
+  cmd->add_option("--seed", cfg->seed, "seed: a seed replays exactly")
+      ->check(CLI::NonNegativeNumber)
+      ->capture_default_str();
   cmd->add_option("--loss", cfg->faults.loss, "probability a frame is lost")->check(CLI::Range(0.0, 0.95));
   cmd->add_option("--dup", cfg->faults.dup, "probability a frame is duplicated")->check(CLI::Range(0.0, 1.0));
   cmd->add_flag("--reorder", cfg->faults.reorder, "let frames overtake each other");

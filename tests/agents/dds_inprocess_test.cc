@@ -139,3 +139,30 @@ TEST(DdsInProcessTest, ConvergesDespiteTwentyPercentPacketLoss) {
 
 }  // namespace
 }  // namespace quiver::agents
+
+namespace quiver::agents {
+namespace {
+
+// Defect 10: a second agent in one process asking for another configuration of the same
+// domain used to get the first one's silently; it is refused, naming the domain.
+TEST(DdsInProcessTest, ASecondConfigurationOfOneDomainIsRefused) {
+  AgentOptions a;
+  a.name = "first";
+  a.dds.domain = test_domain(9);
+  auto first = Agent::create(a);
+  ASSERT_TRUE(first.ok()) << first.error().to_string();
+  AgentOptions b = a;
+  b.name = "second";
+  b.dds.lease_ns = 3'000'000'000;  // another configuration of the same domain
+  auto second = Agent::create(b);
+  ASSERT_FALSE(second.ok());
+  EXPECT_EQ(second.error().code, ErrorCode::kInvalidArgument);
+  EXPECT_NE(second.error().message.find("domain " + std::to_string(test_domain(9))), std::string::npos)
+      << second.error().message;
+  AgentOptions c = a;
+  c.name = "third";  // the same configuration is shared
+  EXPECT_TRUE(Agent::create(c).ok());
+}
+
+}  // namespace
+}  // namespace quiver::agents

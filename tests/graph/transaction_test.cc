@@ -153,3 +153,21 @@ TEST(TransactionTest, RandomInterleavingsReplicateExactly) {
 
 }  // namespace
 }  // namespace quiver::graph
+
+namespace quiver::graph {
+namespace {
+
+// Defect 10: the cycle error named nodes created in the same transaction as "".
+TEST(TransactionTest, ACycleErrorNamesNodesCreatedInTheTransaction) {
+  Peer a(1);
+  auto tx = a.g.begin();
+  NodeId arm = *tx.create_node("link", "arm"), hand = *tx.create_node("link", "hand");
+  ASSERT_TRUE(tx.set_rt(arm, hand, Pose{}).ok());
+  Status s = tx.set_rt(hand, arm, Pose{});
+  ASSERT_FALSE(s.ok());
+  EXPECT_NE(s.error().message.find("'arm'"), std::string::npos) << s.error().message;
+  EXPECT_NE(s.error().message.find("'hand'"), std::string::npos) << s.error().message;
+}
+
+}  // namespace
+}  // namespace quiver::graph

@@ -58,6 +58,7 @@ struct Qos {
 struct SharedDomain {
   dds_entity_t handle = 0;
   int users = 0;
+  std::string xml;  // the configuration it was created with
 };
 std::mutex g_domains_mu;
 std::map<dds_domainid_t, SharedDomain> g_domains;
@@ -212,7 +213,13 @@ Result<std::unique_ptr<DdsTransport>> DdsTransport::create(const PeerId& self, c
     d.domain_id = cfg.domain;
     std::lock_guard<std::mutex> lock(g_domains_mu);
     auto& shared = g_domains[d.domain_id];
+    if (shared.users > 0 && shared.xml != xml)
+      return make_error(ErrorCode::kInvalidArgument,
+                        "DdsTransport: DDS domain " + std::to_string(cfg.domain) +
+                            " is already open in this process with another configuration; one process shares one "
+                            "configuration per domain (set DdsConfig::own_domain_instance for a private one)");
     if (shared.users == 0) {
+      shared.xml = xml;
       dds_entity_t dom = dds_create_domain(d.domain_id, xml.c_str());
       if (dom < 0 && dom != DDS_RETCODE_PRECONDITION_NOT_MET) {
         g_domains.erase(d.domain_id);
