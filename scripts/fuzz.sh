@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Builds the libFuzzer targets with clang (ASan + UBSan) and runs each for a while, starting from
-# seed inputs made of real deltas, frames and world files. Exits non-zero on any finding (crash,
+# seed inputs made of real deltas, packets and world files. Exits non-zero on any finding (crash,
 # sanitizer report, leak, out-of-memory, invariant violation); the failing input is kept under
 # build-fuzz/findings/.
 #   scripts/fuzz.sh [seconds-per-target]   (default 30; or QUIVER_FUZZ_SECONDS)
@@ -15,11 +15,11 @@ CC=clang CXX=clang++ cmake -S . -B build-fuzz -G Ninja -DCMAKE_BUILD_TYPE=RelWit
   -DQUIVER_BUILD_FUZZERS=ON -DQUIVER_SANITIZE=ON >/dev/null
 cmake --build build-fuzz --target graph_delta_fuzzer replication_packet_fuzzer world_file_fuzzer grammar_file_fuzzer fuzz_smoke_test
 corpus=build-fuzz/corpus
-mkdir -p "$corpus"/{delta,frame,world,grammar} build-fuzz/findings
+mkdir -p "$corpus"/{delta,packet,world,grammar} build-fuzz/findings
 # Seed inputs: the smoke test writes the real inputs it mutates.
 QUIVER_FUZZ_CORPUS="$corpus" build-fuzz/tests/fuzz_smoke_test --gtest_filter='*' >/dev/null
 status=0
-for t in delta:graph_delta frame:replication_packet world:world_file grammar:grammar_file; do
+for t in delta:graph_delta packet:replication_packet world:world_file grammar:grammar_file; do
   dir="${t%%:*}"
   bin="build-fuzz/tests/${t#*:}_fuzzer"
   echo "fuzz.sh: ${t#*:} for ${seconds}s"

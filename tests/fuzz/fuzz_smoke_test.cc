@@ -1,4 +1,4 @@
-// Seeded mutation fuzzing with any compiler: valid inputs (real deltas, frames and world files)
+// Seeded mutation fuzzing with any compiler: valid inputs (real deltas, packets and world files)
 // are mutated (bit flips, truncation, insertion, splicing of numbers) and fed to the same fuzz
 // targets the libFuzzer binaries use. Deterministic per seed.
 
@@ -78,25 +78,36 @@ std::vector<std::vector<std::uint8_t>> delta_corpus(Rng& rng) {
   return corpus;
 }
 
-// Inputs that once crashed a fuzzer, replayed forever.
+// Inputs that once crashed a fuzzer or showed a defect, replayed forever. Every folder the test
+// loops over must exist and hold something (a missing folder would make it pass on nothing).
 std::vector<std::vector<std::uint8_t>> regressions(const char* target) {
   std::vector<std::vector<std::uint8_t>> out;
   std::filesystem::path dir = std::filesystem::path(QUIVER_FUZZ_REGRESSIONS) / target;
-  if (!std::filesystem::exists(dir)) return out;
+  EXPECT_TRUE(std::filesystem::is_directory(dir)) << dir << " is missing";
+  if (!std::filesystem::is_directory(dir)) return out;
   for (const auto& e : std::filesystem::directory_iterator(dir)) {
     std::ifstream f(e.path(), std::ios::binary);
     out.emplace_back(std::istreambuf_iterator<char>(f), std::istreambuf_iterator<char>());
   }
+  EXPECT_FALSE(out.empty()) << dir << " holds no input";
   return out;
 }
 
 TEST(FuzzSmokeTest, Regressions) {
-  auto deltas = regressions("graph_delta");
-  EXPECT_FALSE(deltas.empty());
-  for (const auto& in : deltas) graph_delta(in.data(), in.size());
-  for (const auto& in : regressions("replication_packet")) replication_packet(in.data(), in.size());
-  for (const auto& in : regressions("world_file")) world_file(in.data(), in.size());
-  for (const auto& in : regressions("grammar_file")) grammar_file(in.data(), in.size());
+  // Each of them is bad input: it must be refused (and must not crash).
+  struct Target {
+    const char* folder;
+    bool (*run)(const std::uint8_t*, std::size_t);
+  };
+  for (Target t : {Target{"graph_delta", graph_delta}, Target{"replication_packet", replication_packet},
+                   Target{"world_file", world_file}, Target{"grammar_file", grammar_file}}) {
+    int n = 0;
+    for (const auto& in : regressions(t.folder)) {
+      EXPECT_FALSE(t.run(in.data(), in.size())) << t.folder << " input " << n << " was accepted";
+      ++n;
+    }
+    std::printf("[fuzz] %s: %d regression inputs refused\n", t.folder, n);
+  }
 }
 
 TEST(FuzzSmokeTest, GrammarFiles) {
@@ -148,10 +159,10 @@ TEST(FuzzSmokeTest, GraphDeltaDecoder) {
 TEST(FuzzSmokeTest, ReplicationPackets) {
   const auto base = quiver::testing::base_seed("FuzzSmokeTest.ReplicationPackets", 78);
   Rng rng(base);
-  // Real frames: capture what a replicator sends while its graph churns.
+  // Real packets: capture what a replicator sends while its graph churns.
   struct Capture : agents::Transport {
-    std::vector<std::vector<std::uint8_t>> frames;
-    void send(const agents::Envelope& e) override { frames.push_back(agents::encode_packet(e)); }
+    std::vector<std::vector<std::uint8_t>> packets;
+    void send(const agents::Envelope& e) override { packets.push_back(agents::encode_packet(e)); }
   } cap;
   graph::Graph g(graph::ReplicaId{9, 1});
   agents::Replicator rep(g, cap);
@@ -161,16 +172,16 @@ TEST(FuzzSmokeTest, ReplicationPackets) {
     churn.step(g, rng, i);
     rep.tick(i * 100'000'000LL);
   }
-  ASSERT_FALSE(cap.frames.empty());
-  maybe_save("frame", cap.frames);
-  for (const auto& f : cap.frames) ASSERT_TRUE(replication_packet(f.data(), f.size()));
+  ASSERT_FALSE(cap.packets.empty());
+  maybe_save("packet", cap.packets);
+  for (const auto& f : cap.packets) ASSERT_TRUE(replication_packet(f.data(), f.size()));
   int accepted = 0;
   const int n = 50000;
   for (int i = 0; i < n; ++i) {
-    auto m = mutate(rng.pick(cap.frames), rng);
+    auto m = mutate(rng.pick(cap.packets), rng);
     accepted += replication_packet(m.data(), m.size());
   }
-  std::printf("[fuzz] %d of %d mutated frames accepted\n", accepted, n);
+  std::printf("[fuzz] %d of %d mutated packets accepted\n", accepted, n);
   EXPECT_GT(accepted, n / 50);
 }
 

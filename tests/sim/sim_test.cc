@@ -12,19 +12,22 @@ namespace quiver::sim {
 namespace {
 
 int schedules(int fallback) {
-  if (const char* e = std::getenv("QUIVER_SCHEDULES")) return std::atoi(e);
+  if (std::getenv("QUIVER_SEED")) return 1;
+  if (std::getenv("QUIVER_SCHEDULES")) return quiver::testing::count_from_env("QUIVER_SCHEDULES", fallback);
   return quiver::testing::seed_count(fallback);
 }
 
 // Half of the 2,000+ schedules per CI run (the other half is the next test, so ctest can run
 // them on both cores).
 void run_range(std::uint64_t base, int n, int steps) {
-  int failures = 0;
+  ASSERT_GT(n, 0) << "no schedule to run";
+  int failures = 0, ran = 0;
   SimResult worst;
   std::int64_t max_settle = 0;
   for (int i = 0; i < n; ++i) {
     SimConfig c = mixed_config(base + i, steps);
     SimResult r = run_simulation(c);
+    ++ran;
     max_settle = std::max(max_settle, r.settle_ms);
     if (!r.ok()) {
       ++failures;
@@ -32,11 +35,15 @@ void run_range(std::uint64_t base, int n, int steps) {
                     << " dup=" << c.faults.dup << " reorder=" << c.faults.reorder
                     << " partitions=" << c.faults.partitions << " crashes=" << c.faults.crashes << "\n"
                     << r.to_json();
-      if (failures > 5) return;
+      if (failures > 5) break;
     }
   }
-  std::printf("[sim] %d schedules from seed %llu: all converged, longest settle %lld ms (virtual)\n", n,
-              static_cast<unsigned long long>(base), static_cast<long long>(max_settle));
+  if (failures == 0)
+    std::printf("[sim] %d schedules from seed %llu: all converged, longest settle %lld ms (virtual)\n", ran,
+                static_cast<unsigned long long>(base), static_cast<long long>(max_settle));
+  else
+    std::printf("[sim] %d of %d schedules run from seed %llu FAILED (stopped after %d failures)\n", failures, ran,
+                static_cast<unsigned long long>(base), failures);
 }
 
 TEST(SimTest, FaultSchedulesConvergeA) {
