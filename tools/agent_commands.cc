@@ -1,5 +1,7 @@
 // quiver agent: a replicating agent process. quiver dump: an observer that prints the graph.
 
+#include <unistd.h>
+
 #include <csignal>
 #include <cstdio>
 #include <iostream>
@@ -8,6 +10,7 @@
 #include "commands.h"
 #include "dds_options.h"
 #include "quiver/agents/dds/agent.h"
+#include "quiver/agents/replication/error_limiter.h"
 #include "quiver/agents/grammar/grammar_guard.h"
 #include "quiver/graph/world_file.h"
 #include "quiver/rng.h"
@@ -29,6 +32,16 @@ void install_signal_handlers() {
   sigaction(SIGTERM, &sa, nullptr);
 }
 
+// Resident memory of this process (Linux), for the status line: the rogue tests watch it.
+long resident_kb() {
+  long pages = 0, resident = 0;
+  if (FILE* f = std::fopen("/proc/self/statm", "r")) {
+    if (std::fscanf(f, "%ld %ld", &pages, &resident) != 2) resident = 0;
+    std::fclose(f);
+  }
+  return resident * (sysconf(_SC_PAGESIZE) / 1024);
+}
+
 nlohmann::json status(Agent& a, bool churning) {
   const auto& st = a.replicator().stats();
   nlohmann::json j;
@@ -42,6 +55,10 @@ nlohmann::json status(Agent& a, bool churning) {
   j["deltas_applied"] = st.deltas_applied;
   j["states_applied"] = st.states_applied;
   j["write_timeouts"] = a.transport().stats().write_timeouts;
+  j["rejected"] = st.rejected_packets;
+  j["equivocations"] = st.equivocations;
+  j["peers_known"] = a.replicator().peers().size();
+  j["rss_kb"] = resident_kb();
   j["churning"] = churning;
   j["t_ms"] = monotonic_ns() / 1'000'000;
   return j;
@@ -73,9 +90,12 @@ int run_agent(const AgentFlags& f) {
     std::fprintf(stderr, "quiver agent %s: %s %s (%s)\n", f.name.c_str(), m == agents::Membership::kJoined ? "joined:" : "left:",
                  p.name.c_str(), p.id.to_string().c_str());
   });
-  a.replicator().on_error([&](const Error& e) {
-    std::fprintf(stderr, "quiver agent %s: rejected: %s\n", f.name.c_str(), e.to_string().c_str());
+  // A hostile peer can send thousands of bad packets a second: one line per kind of error, and
+  // a count of the rest every few seconds.
+  agents::ErrorLimiter errors([&](const std::string& line) {
+    std::fprintf(stderr, "quiver agent %s: rejected: %s\n", f.name.c_str(), line.c_str());
   });
+  a.replicator().on_error([&](const Error& e) { errors.report(e, monotonic_ns()); });
   std::fprintf(stderr, "quiver agent %s: replica %s on DDS domain %u (%s)\n", f.name.c_str(), a.id().to_string().c_str(),
                f.dds.domain, f.dds.config.c_str());
   if (!f.world.empty()) {
@@ -130,6 +150,7 @@ int run_agent(const AgentFlags& f) {
     }
     a.spin_once(churn_period > 0 ? std::min<std::int64_t>(churn_period, 20'000'000) : 20'000'000);
     if (guard) guard->tick();
+    errors.tick(monotonic_ns());
   }
   std::cout << status(a, false).dump() << std::endl;
   return 0;
