@@ -22,12 +22,15 @@ class Subprocess {
  public:
   /// Starts `argv[0]` with the given arguments; its stdout is readable line by line, its stderr
   /// goes to ours.
-  static std::optional<Subprocess> spawn(const std::vector<std::string>& argv) {
+  /// With `stderr_path`, its stderr goes to that file instead.
+  static std::optional<Subprocess> spawn(const std::vector<std::string>& argv, const std::string& stderr_path = "") {
     int fds[2];
     if (pipe(fds) != 0) return std::nullopt;
     posix_spawn_file_actions_t fa;
     posix_spawn_file_actions_init(&fa);
     posix_spawn_file_actions_adddup2(&fa, fds[1], STDOUT_FILENO);
+    if (!stderr_path.empty())
+      posix_spawn_file_actions_addopen(&fa, STDERR_FILENO, stderr_path.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
     posix_spawn_file_actions_addclose(&fa, fds[0]);
     posix_spawn_file_actions_addclose(&fa, fds[1]);
     std::vector<char*> args;

@@ -23,11 +23,12 @@ struct AgentProc {
 
 class DdsProcessTest : public ::testing::Test {
  protected:
-  std::unique_ptr<AgentProc> start(const std::string& name, std::uint32_t domain, std::vector<std::string> extra = {}) {
+  std::unique_ptr<AgentProc> start(const std::string& name, std::uint32_t domain, std::vector<std::string> extra = {},
+                                   const std::string& stderr_path = "") {
     std::vector<std::string> argv = {QUIVER_BIN, "agent", "--name", name, "--domain", std::to_string(domain),
                                      "--status-ms", "100"};
     argv.insert(argv.end(), extra.begin(), extra.end());
-    auto p = Subprocess::spawn(argv);
+    auto p = Subprocess::spawn(argv, stderr_path);
     EXPECT_TRUE(p.has_value());
     auto a = std::make_unique<AgentProc>();
     a->name = name;
@@ -185,6 +186,73 @@ TEST_F(DdsProcessTest, LateJoinerGetsA10kNodeGraphFromAnyReplica) {
               static_cast<long long>(ms));
   EXPECT_EQ(agents[1]->last["nodes"], 10000);
   std::remove(path.c_str());
+}
+
+std::string slurp(const std::string& path) {
+  std::ifstream in(path);
+  return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+}
+
+std::string dump_json(std::uint32_t domain) {
+  auto p = Subprocess::spawn({QUIVER_BIN, "dump", "--json", "--domain", std::to_string(domain), "--timeout", "20"});
+  if (!p) return "";
+  std::string out;
+  while (auto line = p->read_line(30'000)) out += *line + "\n";
+  EXPECT_EQ(p->wait(5'000), 0) << "quiver dump --json exits cleanly";
+  return out;
+}
+
+// Defect 8: two agents started together with one world file hold it once (no robot~<id>).
+TEST_F(DdsProcessTest, AgentsStartedTogetherWithOneWorldHoldItOnce) {
+  const std::uint32_t domain = 175;
+  const std::string path = ::testing::TempDir() + "/quiver_shared_world.json";
+  std::ofstream(path) << R"({"quiver_world": 1,
+    "nodes": [{"name": "world", "type": "world"}, {"name": "robot", "type": "robot", "attrs": {"battery": 0.9}},
+              {"name": "kitchen", "type": "room"}, {"name": "mug", "type": "mug"}],
+    "edges": [{"from": "robot", "to": "kitchen", "type": "in"}],
+    "rt": [{"parent": "world", "child": "robot", "translation": [1, 0, 0]},
+           {"parent": "world", "child": "mug", "translation": [2, 0, 1]}]})";
+  std::vector<std::unique_ptr<AgentProc>> agents;
+  for (int i = 0; i < 3; ++i) agents.push_back(start("seeder" + std::to_string(i), domain, {"--world", path}));
+  ASSERT_NE(wait_converged(agents, 30'000, 2, 4), "");
+  for (auto& a : agents) EXPECT_EQ(a->last["nodes"], 4) << a->name;
+  json dumped = json::parse(dump_json(domain), nullptr, false);
+  ASSERT_TRUE(dumped.is_object());
+  for (const auto& n : dumped["nodes"])
+    EXPECT_EQ(n["name"].get<std::string>().find('~'), std::string::npos) << n.dump();
+  std::remove(path.c_str());
+}
+
+// Defects 7 and 10: `quiver dump --json` of text that is not UTF-8 works and loads back; and an
+// observer coming and going shows as one join and one leave, named, each time.
+TEST_F(DdsProcessTest, DumpHandlesAnyTextAndComesAndGoesCleanly) {
+  const std::uint32_t domain = 176;
+  const std::string world = ::testing::TempDir() + "/quiver_bytes_world.json";
+  const std::string err = ::testing::TempDir() + "/quiver_dump_agent.err";
+  std::ofstream(world) << R"({"quiver_world": 1, "nodes": [{"name": "panel", "type": "screen",
+    "attrs": {"raw": {"string": {"base64": "/2NhZsOp"}}}}]})";
+  std::vector<std::unique_ptr<AgentProc>> agents;
+  agents.push_back(start("holder", domain, {"--world", world}, err));
+  ASSERT_NE(wait_converged(agents, 30'000, 0, 1), "");
+  for (int round = 0; round < 2; ++round) {
+    const std::string text = dump_json(domain);
+    json dumped = json::parse(text, nullptr, false);
+    ASSERT_TRUE(dumped.is_object()) << text;
+    EXPECT_EQ(dumped["nodes"][0]["attrs"]["raw"]["string"]["base64"], "/2NhZsOp");
+  }
+  poll_until(agents, 2'500, 100, [] { return false; });  // let the observer's departure register
+  agents[0]->proc.kill(SIGTERM);
+  agents[0]->proc.wait(10'000);
+  const std::string log = slurp(err);
+  auto count = [&](const std::string& what) {
+    std::size_t n = 0;
+    for (std::size_t at = log.find(what); at != std::string::npos; at = log.find(what, at + 1)) ++n;
+    return n;
+  };
+  EXPECT_EQ(count("joined: quiver-dump"), 2u) << log;
+  EXPECT_EQ(count("left: quiver-dump"), 2u) << log;
+  EXPECT_EQ(count("joined:  ("), 0u) << "no nameless joins: " << log;
+  std::remove(world.c_str());
 }
 
 }  // namespace

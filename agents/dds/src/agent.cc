@@ -51,7 +51,7 @@ void Agent::spin_once(std::int64_t max_wait_ns) {
   std::int64_t wait = std::min(max_wait_ns, next_tick_ - now);
   if (wait > 0) transport_->wait(wait);
   transport_->drain([&](const Envelope& e) { replicator_->on_envelope(e, monotonic_ns()); },
-                    [&](const PeerId& p) { replicator_->on_peer_lost(p); });
+                    [&](const PeerId& p, bool gone) { replicator_->on_peer_lost(p, gone); });
   // A newcomer matched: announce ourselves now so it does not wait for a heartbeat.
   if (transport_->take_new_match()) replicator_->announce();
   std::vector<std::function<void()>>

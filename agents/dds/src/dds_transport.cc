@@ -389,7 +389,7 @@ void DdsTransport::dispose_self() {
 }
 
 void DdsTransport::drain(const std::function<void(const Envelope&)>& on_envelope,
-                         const std::function<void(const PeerId&)>& on_lost) {
+                         const std::function<void(const PeerId&, bool)>& on_lost) {
   Impl& d = *impl_;
   bool triggered = false;
   dds_read_guardcondition(d.guard.get(), &triggered);
@@ -429,7 +429,7 @@ void DdsTransport::drain(const std::function<void(const Envelope&)>& on_envelope
           dds_sample_free(&key, &quiver_wire_Summary_desc, DDS_FREE_CONTENTS);
           if (!(lost == self)) {
             ++stats_.peers_lost;
-            on_lost(lost);
+            on_lost(lost, info.instance_state == DDS_IST_NOT_ALIVE_DISPOSED);
           }
         }
       }

@@ -207,9 +207,11 @@ void Replicator::mark_left(Peer& p) {
   if (membership_cb_ && p.announced) membership_cb_(Membership::kLeft, p.info);
 }
 
-void Replicator::on_peer_lost(const PeerId& peer) {
+void Replicator::on_peer_lost(const PeerId& peer, bool gone) {
   auto it = peers_.find(peer);
-  if (it != peers_.end()) mark_left(it->second);
+  if (it == peers_.end()) return;
+  mark_left(it->second);
+  if (gone) it->second.said_bye = true;
 }
 
 std::vector<PeerInfo> Replicator::peers() const {

@@ -67,9 +67,10 @@ class DdsTransport final : public Transport {
   /// Blocks until samples arrive, wake() is called, or `timeout_ns` passes.
   void wait(std::int64_t timeout_ns);
   /// Takes every available sample: `on_envelope` per message (addressed to us or to all),
-  /// `on_lost` per peer whose summary instance lost liveliness or was disposed.
+  /// `on_lost(peer, gone)` per peer whose summary instance lost liveliness (gone = false: it may
+  /// come back) or was disposed (gone = true: a clean exit).
   void drain(const std::function<void(const Envelope&)>& on_envelope,
-             const std::function<void(const PeerId&)>& on_lost);
+             const std::function<void(const PeerId&, bool)>& on_lost);
   /// Thread-safe: makes a concurrent wait() return.
   void wake();
   /// True (once) when a new remote summary reader matched since the last call: a newcomer

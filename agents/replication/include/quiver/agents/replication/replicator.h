@@ -108,7 +108,9 @@ class Replicator {
   /// Decodes a byte packet (packet_codec.h) and handles it; a malformed packet is rejected whole.
   void on_packet(std::span<const std::uint8_t> packet, std::int64_t now_ns);
   /// A transport that detects departures itself (e.g. DDS liveliness) reports them here.
-  void on_peer_lost(const PeerId& peer);
+  /// `gone`: it left for good (its participant said so: a clean exit), so late packets of that
+  /// incarnation are ignored; otherwise it may come back (a lease that ran out in a partition).
+  void on_peer_lost(const PeerId& peer, bool gone = false);
   /// Timers: heartbeats, pull timeouts, gaps, liveness, buffer trimming; flushes coalesced deltas.
   void tick(std::int64_t now_ns);
   /// Sends coalesced local deltas now.
