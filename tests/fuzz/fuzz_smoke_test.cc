@@ -11,6 +11,7 @@
 #include <iterator>
 
 #include "fuzz_targets.h"
+#include "quiver/agents/dds/cdr.h"
 #include "quiver/agents/replication/packet_codec.h"
 #include "quiver/agents/replication/replicator.h"
 #include "quiver/graph/codec.h"
@@ -99,8 +100,16 @@ TEST(FuzzSmokeTest, Regressions) {
     const char* folder;
     bool (*run)(const std::uint8_t*, std::size_t);
   };
+  static bool (*const kDds[])(const std::uint8_t*, std::size_t) = {
+      [](const std::uint8_t* d, std::size_t n) { return dds_sample(0, d, n); },
+      [](const std::uint8_t* d, std::size_t n) { return dds_sample(1, d, n); },
+      [](const std::uint8_t* d, std::size_t n) { return dds_sample(2, d, n); },
+      [](const std::uint8_t* d, std::size_t n) { return dds_sample(3, d, n); },
+      [](const std::uint8_t* d, std::size_t n) { return dds_sample(4, d, n); }};
   for (Target t : {Target{"graph_delta", graph_delta}, Target{"replication_packet", replication_packet},
-                   Target{"world_file", world_file}, Target{"grammar_file", grammar_file}}) {
+                   Target{"world_file", world_file}, Target{"grammar_file", grammar_file},
+                   Target{"dds_summary", kDds[0]}, Target{"dds_delta", kDds[1]}, Target{"dds_pull", kDds[2]},
+                   Target{"dds_state", kDds[3]}, Target{"dds_bye", kDds[4]}}) {
     int n = 0;
     for (const auto& in : regressions(t.folder)) {
       EXPECT_FALSE(t.run(in.data(), in.size())) << t.folder << " input " << n << " was accepted";
@@ -183,6 +192,57 @@ TEST(FuzzSmokeTest, ReplicationPackets) {
   }
   std::printf("[fuzz] %d of %d mutated packets accepted\n", accepted, n);
   EXPECT_GT(accepted, n / 50);
+}
+
+// The CDR samples a rogue can publish on each DDS topic: real samples (from a churning
+// replicator's messages, in every encoding Cyclone accepts) mutated.
+TEST(FuzzSmokeTest, DdsSamples) {
+  const auto base = quiver::testing::base_seed("FuzzSmokeTest.DdsSamples", 81);
+  Rng rng(base);
+  struct Capture : agents::Transport {
+    std::vector<agents::Envelope> envelopes;
+    void send(const agents::Envelope& e) override { envelopes.push_back(e); }
+  } cap;
+  graph::Graph g(graph::ReplicaId{9, 1});
+  agents::Replicator rep(g, cap);
+  rep.start(0);
+  sim::Churn churn;
+  for (int i = 0; i < 30; ++i) {
+    churn.step(g, rng, i);
+    rep.tick(i * 100'000'000LL);
+  }
+  // Messages of every kind: pulls, state chunks and a goodbye too.
+  agents::Envelope extra;
+  extra.from = g.replica();
+  extra.to = graph::ReplicaId{3, 1};
+  extra.messages.push_back(agents::PullMsg{7, agents::to_ranges(rep.applied()), agents::to_ranges(g.context())});
+  extra.messages.push_back(agents::StateMsg{7, 0, 1, agents::to_ranges(rep.applied()),
+                                            std::make_shared<const std::vector<std::uint8_t>>(graph::encode(g.state()))});
+  extra.messages.push_back(agents::ByeMsg{});
+  cap.envelopes.push_back(extra);
+  std::vector<std::vector<std::vector<std::uint8_t>>> corpus(agents::kDdsTopicCount);
+  for (const agents::Envelope& e : cap.envelopes)
+    for (const agents::Message& m : e.messages) {
+      agents::Envelope one{e.from, e.to, {m}};
+      const auto t = static_cast<std::size_t>(agents::topic_of(m));
+      for (int xcdr : {1, 2})
+        for (bool le : {true, false}) corpus[t].push_back(agents::encode_cdr_sample(one, xcdr, le));
+    }
+  static constexpr const char* kDirs[] = {"dds_summary", "dds_delta", "dds_pull", "dds_state", "dds_bye"};
+  for (std::size_t t = 0; t < corpus.size(); ++t) {
+    ASSERT_FALSE(corpus[t].empty()) << kDirs[t];
+    maybe_save(kDirs[t], corpus[t]);
+    for (const auto& c : corpus[t]) ASSERT_TRUE(dds_sample(static_cast<int>(t), c.data(), c.size())) << kDirs[t];
+    int accepted = 0;
+    const int n = 4000;
+    for (int i = 0; i < n; ++i) {
+      auto m = mutate(rng.pick(corpus[t]), rng);
+      accepted += dds_sample(static_cast<int>(t), m.data(), m.size());
+    }
+    std::printf("[fuzz] %s: %d of %d mutated samples accepted\n", kDirs[t], accepted, n);
+    EXPECT_GT(accepted, 0) << kDirs[t];
+    EXPECT_LT(accepted, n) << kDirs[t];
+  }
 }
 
 TEST(FuzzSmokeTest, WorldFiles) {

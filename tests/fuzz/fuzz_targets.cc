@@ -5,6 +5,7 @@
 #include <string_view>
 
 #include "quiver/agents/grammar/grammar.h"
+#include "quiver/agents/dds/cdr.h"
 #include "quiver/agents/replication/replicator.h"
 #include "quiver/graph/codec.h"
 #include "quiver/graph/graph.h"
@@ -69,6 +70,23 @@ bool replication_packet(const std::uint8_t* data, std::size_t size) {
   rep.on_packet(std::span<const std::uint8_t>(data, size), 1000);
   rep.tick(2'000'000'000);
   check(g, "replication_packet");
+  return rep.stats().rejected_packets == 0;
+}
+
+bool dds_sample(int topic, const std::uint8_t* data, std::size_t size) {
+  auto e = agents::decode_cdr_sample(static_cast<agents::DdsTopic>(topic), std::span<const std::uint8_t>(data, size));
+  if (!e.ok()) {
+    if (e.error().message.empty()) std::abort();
+    return false;
+  }
+  Graph g(ReplicaId{1, 1});
+  populate(g);
+  NullTransport t;
+  agents::Replicator rep(g, t);
+  rep.start(0);
+  rep.on_envelope(*e, 1000);
+  rep.tick(2'000'000'000);
+  check(g, "dds_sample");
   return rep.stats().rejected_packets == 0;
 }
 

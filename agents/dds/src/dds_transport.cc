@@ -9,7 +9,7 @@
 #include <type_traits>
 #include <vector>
 
-#include "quiver_wire.h"
+#include "samples.h"
 
 namespace quiver::agents {
 namespace {
@@ -64,67 +64,6 @@ std::mutex g_domains_mu;
 std::map<dds_domainid_t, SharedDomain> g_domains;
 std::atomic<dds_domainid_t> g_next_private{0x4000};
 
-// ------------------------------------------------------------------ IDL <-> protocol
-
-quiver_wire_Replica to_wire(const PeerId& p) { return quiver_wire_Replica{p.agent, p.incarnation}; }
-PeerId from_wire(const quiver_wire_Replica& r) { return PeerId{r.agent, r.incarnation}; }
-
-/// Holds the arrays a context points into while a sample is written. Reused from sample to
-/// sample: after the first few, building allocates nothing.
-struct RangesOut {
-  std::vector<quiver_wire_ReplicaRanges> replicas;
-  std::vector<quiver_wire_SeqRange> flat;  // every replica's ranges, one after the other
-  std::vector<std::size_t> starts;         // where each replica's ranges begin in `flat`
-
-  dds_sequence_quiver_wire_ReplicaRanges build(const RangeList& c) {
-    replicas.clear();
-    flat.clear();
-    starts.clear();
-    for (const Range& x : c) {
-      if (replicas.empty() || !(from_wire(replicas.back().replica) == x.replica)) {
-        replicas.push_back(quiver_wire_ReplicaRanges{to_wire(x.replica), {}});
-        starts.push_back(flat.size());
-      }
-      flat.push_back(quiver_wire_SeqRange{x.lo, x.hi});
-    }
-    for (std::size_t i = 0; i < replicas.size(); ++i) {  // `flat` is final now: point into it
-      const std::size_t end = i + 1 < starts.size() ? starts[i + 1] : flat.size();
-      auto& s = replicas[i].ranges;
-      s._length = s._maximum = static_cast<std::uint32_t>(end - starts[i]);
-      s._buffer = flat.data() + starts[i];
-      s._release = false;
-    }
-    dds_sequence_quiver_wire_ReplicaRanges out{};
-    out._length = out._maximum = static_cast<std::uint32_t>(replicas.size());
-    out._buffer = replicas.data();
-    out._release = false;
-    return out;
-  }
-};
-
-// Copies ranges as they arrived: validate() judges them, for every transport alike.
-void read_ranges(const dds_sequence_quiver_wire_ReplicaRanges& in, RangeList& out) {
-  out.clear();
-  for (std::uint32_t i = 0; i < in._length; ++i) {
-    const auto& rr = in._buffer[i];
-    const PeerId r = from_wire(rr.replica);
-    for (std::uint32_t j = 0; j < rr.ranges._length; ++j)
-      out.push_back(Range{r, rr.ranges._buffer[j].lo, rr.ranges._buffer[j].hi});
-  }
-}
-
-dds_sequence_octet octets(const std::vector<std::uint8_t>& v) {
-  dds_sequence_octet s{};
-  s._length = s._maximum = static_cast<std::uint32_t>(v.size());
-  s._buffer = const_cast<std::uint8_t*>(v.data());
-  s._release = false;
-  return s;
-}
-
-std::shared_ptr<const std::vector<std::uint8_t>> copy_octets(const dds_sequence_octet& s) {
-  return std::make_shared<const std::vector<std::uint8_t>>(s._buffer, s._buffer + s._length);
-}
-
 }  // namespace
 
 std::string loopback_config_xml(const DdsConfig& cfg) {
@@ -143,8 +82,12 @@ std::string loopback_config_xml(const DdsConfig& cfg) {
       "<LeaseDuration>" + ms(cfg.lease_ns) + "</LeaseDuration>";
   if (cfg.own_domain_instance) xml += "<ExternalDomainId>" + std::to_string(cfg.domain) + "</ExternalDomainId>";
   xml += "</Discovery>";
+  // No sample larger than the largest the protocol sends (a delta at its limit): Cyclone drops a
+  // bigger one before reassembling it, so a peer cannot make us allocate 2 GiB for one sample.
+  xml += "<Internal><MaxSampleSize>" + std::to_string(kMaxSampleBytes) + "B</MaxSampleSize>";
   if (cfg.xmit_loss_permille > 0)
-    xml += "<Internal><Test><XmitLossiness>" + std::to_string(cfg.xmit_loss_permille) + "</XmitLossiness></Test></Internal>";
+    xml += "<Test><XmitLossiness>" + std::to_string(cfg.xmit_loss_permille) + "</XmitLossiness></Test>";
+  xml += "</Internal>";
   xml += "</Domain></CycloneDDS>";
   return xml;
 }
@@ -167,8 +110,7 @@ struct DdsTransport::Impl {
   // Entities the last wait() saw triggered (their attach args); drain() takes only from these.
   std::vector<dds_attach_t> triggered;
   bool all_triggered = true;  // before the first wait (or after a timeout): take from all
-  RangesOut ranges_a, ranges_b;
-  quiver_wire_Replica self{};
+  dds_samples::SampleBuilder builder;
 
   ~Impl() {
     // Children first, then the participant; a shared domain is released when its last user goes.
@@ -192,7 +134,6 @@ Result<std::unique_ptr<DdsTransport>> DdsTransport::create(const PeerId& self, c
   t->self_ = self;
   t->impl_ = std::make_unique<Impl>();
   Impl& d = *t->impl_;
-  d.self = to_wire(self);
 
   std::string xml;
   switch (cfg.source) {
@@ -249,14 +190,10 @@ Result<std::unique_ptr<DdsTransport>> DdsTransport::create(const PeerId& self, c
   dds_qset_resource_limits(reliable.q, 100000, DDS_LENGTH_UNLIMITED, DDS_LENGTH_UNLIMITED);
   dds_qset_ignorelocal(reliable.q, DDS_IGNORELOCAL_PARTICIPANT);
 
-  const dds_topic_descriptor_t* descs[Impl::kKinds] = {
-      &quiver_wire_Summary_desc, &quiver_wire_Delta_desc, &quiver_wire_Pull_desc,
-      &quiver_wire_StateChunk_desc, &quiver_wire_Bye_desc};
-  const char* names[Impl::kKinds] = {"quiver_summary", "quiver_delta", "quiver_pull",
-                                     "quiver_state", "quiver_bye"};
   for (int i = 0; i < Impl::kKinds; ++i) {
-    const std::string what = std::string("(") + names[i] + ")";
-    dds_entity_t tp = dds_create_topic(pp, descs[i], names[i], nullptr, nullptr);
+    const auto topic = static_cast<DdsTopic>(i);
+    const std::string what = std::string("(") + topic_name(topic) + ")";
+    dds_entity_t tp = dds_create_topic(pp, &dds_samples::descriptor(topic), topic_name(topic), nullptr, nullptr);
     if (tp < 0) return dds_error("DdsTransport: dds_create_topic" + what, tp);
     d.topics[i] = Entity(tp);
     const Qos& q = i == Impl::kSummary ? summary : reliable;
@@ -294,59 +231,12 @@ DdsTransport::~DdsTransport() = default;
 
 void DdsTransport::send(const Envelope& e) {
   Impl& d = *impl_;
-  const quiver_wire_Replica to = to_wire(e.to);
-  auto write = [&](const Entity& w, const void* sample) {
-    dds_return_t rc = dds_write(w.get(), sample);
+  for (const Message& m : e.messages) {
+    auto [topic, sample] = d.builder.build(m, self_, e.to);
+    dds_return_t rc = dds_write(d.writers[static_cast<int>(topic)].get(), sample);
     if (rc == DDS_RETCODE_OK) ++stats_.samples_written;
     else if (rc == DDS_RETCODE_TIMEOUT) ++stats_.write_timeouts;  // the protocol recovers it
     else ++stats_.write_errors;
-  };
-  for (const Message& m : e.messages) {
-    std::visit(
-        [&](const auto& msg) {
-          using T = std::decay_t<decltype(msg)>;
-          if constexpr (std::is_same_v<T, SummaryMsg>) {
-            quiver_wire_Summary s{};
-            s.sender_agent = d.self.agent;
-            s.sender_incarnation = d.self.incarnation;
-            s.name = const_cast<char*>(msg.name.c_str());
-            s.observer = msg.observer;
-            s.applied = d.ranges_a.build(msg.applied);
-            write(d.writers[Impl::kSummary], &s);
-          } else if constexpr (std::is_same_v<T, DeltaMsg>) {
-            quiver_wire_Delta s{};
-            s.sender = d.self;
-            s.destination = to;
-            s.origin = to_wire(msg.origin);
-            s.lo = msg.lo;
-            s.hi = msg.hi;
-            s.payload = octets(*msg.payload);
-            write(d.writers[Impl::kDelta], &s);
-          } else if constexpr (std::is_same_v<T, PullMsg>) {
-            quiver_wire_Pull s{};
-            s.sender = d.self;
-            s.destination = to;
-            s.request = msg.request;
-            s.applied = d.ranges_a.build(msg.applied);
-            s.context = d.ranges_b.build(msg.context);
-            write(d.writers[Impl::kPull], &s);
-          } else if constexpr (std::is_same_v<T, StateMsg>) {
-            quiver_wire_StateChunk s{};
-            s.sender = d.self;
-            s.destination = to;
-            s.request = msg.request;
-            s.index = msg.index;
-            s.count = msg.count;
-            s.applied = d.ranges_a.build(msg.applied);
-            s.payload = octets(*msg.chunk);
-            write(d.writers[Impl::kState], &s);
-          } else {
-            quiver_wire_Bye s{};
-            s.sender = d.self;
-            write(d.writers[Impl::kBye], &s);
-          }
-        },
-        m);
   }
 }
 
@@ -383,8 +273,8 @@ Status DdsTransport::set_deafmute(bool deaf, bool mute, std::int64_t reset_after
 
 void DdsTransport::dispose_self() {
   quiver_wire_Summary key{};
-  key.sender_agent = impl_->self.agent;
-  key.sender_incarnation = impl_->self.incarnation;
+  key.sender_agent = self_.agent;
+  key.sender_incarnation = self_.incarnation;
   dds_dispose(impl_->writers[Impl::kSummary].get(), &key);
 }
 
@@ -398,10 +288,7 @@ void DdsTransport::drain(const std::function<void(const Envelope&)>& on_envelope
   void* samples[kMax];
   dds_sample_info_t infos[kMax];
   const PeerId self = self_;
-  auto for_us = [&](const quiver_wire_Replica& to) {
-    const PeerId t = from_wire(to);
-    return t.is_null() || t == self;
-  };
+  auto for_us = [&](const PeerId& to) { return to.is_null() || to == self; };
 
   auto take_all = [&](const Entity& r, auto&& handle) {
     if (!d.all_triggered &&
@@ -435,63 +322,20 @@ void DdsTransport::drain(const std::function<void(const Envelope&)>& on_envelope
       }
       return;
     }
-    Envelope e;
-    e.from = PeerId{s->sender_agent, s->sender_incarnation};
-    SummaryMsg m;
-    m.name = s->name ? s->name : "";
-    m.observer = s->observer;
-    read_ranges(s->applied, m.applied);
-    e.messages.emplace_back(std::move(m));
-    on_envelope(e);
+    on_envelope(dds_samples::envelope_of(*s));
   });
-  // Point-to-point topics: a sample addressed to someone else is skipped; `build` fills the
-  // envelope's message and says whether the sample was well formed.
-  auto take_addressed = [&](const Entity& r, auto type, auto&& build) {
-    using T = typename decltype(type)::type;
-    take_all(r, [&](void* p, const dds_sample_info_t& info) {
+  // The other topics: samples addressed to someone else are skipped.
+  auto take_topic = [&](Impl::Kind kind) {
+    take_all(d.readers[kind], [&](void* p, const dds_sample_info_t& info) {
       if (!info.valid_data) return;
-      const T& s = *static_cast<const T*>(p);
-      if (!for_us(s.destination)) return;
-      Envelope e;
-      e.from = from_wire(s.sender);
-      e.to = from_wire(s.destination);
-      if (build(s, e)) on_envelope(e);
+      Envelope e = dds_samples::envelope_of(static_cast<DdsTopic>(kind), p);
+      if (for_us(e.to)) on_envelope(e);
     });
   };
-  take_addressed(
-      d.readers[Impl::kDelta], std::type_identity<quiver_wire_Delta>{},
-      [&](const quiver_wire_Delta& s, Envelope& e) {
-        e.messages.emplace_back(DeltaMsg{from_wire(s.origin), s.lo, s.hi, copy_octets(s.payload)});
-        return true;
-      });
-  take_addressed(d.readers[Impl::kPull], std::type_identity<quiver_wire_Pull>{},
-                 [&](const quiver_wire_Pull& s, Envelope& e) {
-                   PullMsg m;
-                   m.request = s.request;
-                   read_ranges(s.applied, m.applied);
-                   read_ranges(s.context, m.context);
-                   e.messages.emplace_back(std::move(m));
-                   return true;
-                 });
-  take_addressed(d.readers[Impl::kState], std::type_identity<quiver_wire_StateChunk>{},
-                 [&](const quiver_wire_StateChunk& s, Envelope& e) {
-                   StateMsg m;
-                   m.request = s.request;
-                   m.index = s.index;
-                   m.count = s.count;
-                   read_ranges(s.applied, m.applied);
-                   m.chunk = copy_octets(s.payload);
-                   e.messages.emplace_back(std::move(m));
-                   return true;
-                 });
-  take_all(d.readers[Impl::kBye], [&](void* p, const dds_sample_info_t& info) {
-    if (!info.valid_data) return;
-    const auto* s = static_cast<const quiver_wire_Bye*>(p);
-    Envelope e;
-    e.from = from_wire(s->sender);
-    e.messages.emplace_back(ByeMsg{});
-    on_envelope(e);
-  });
+  take_topic(Impl::kDelta);
+  take_topic(Impl::kPull);
+  take_topic(Impl::kState);
+  take_topic(Impl::kBye);
   d.all_triggered = true;  // until the next wait() says otherwise
 }
 

@@ -24,6 +24,7 @@
 
 #include "quiver/agents/replication/messages.h"
 #include "quiver/agents/replication/transport.h"
+#include "quiver/agents/replication/validate.h"
 #include "quiver/result.h"
 
 namespace quiver::agents {
@@ -42,6 +43,10 @@ struct DdsConfig {
   bool own_domain_instance = false;            ///< a private Cyclone instance (threads, sockets) for this transport
   std::int64_t max_blocking_ns = 100'000'000;  ///< how long a reliable write may wait for a lagging reader
 };
+
+/// The largest sample the embedded configuration lets Cyclone accept or send: a delta at the
+/// protocol's limit (EnvelopeLimits::max_payload_bytes) with room for its header.
+inline constexpr std::size_t kMaxSampleBytes = EnvelopeLimits{}.max_payload_bytes + (64u << 10);
 
 /// The embedded loopback configuration for `cfg` (lease, loss, external domain id filled in).
 std::string loopback_config_xml(const DdsConfig& cfg);

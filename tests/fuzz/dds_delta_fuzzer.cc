@@ -1,0 +1,7 @@
+// libFuzzer: serialized CDR samples of the quiver_delta topic.
+#include "fuzz_targets.h"
+
+extern "C" int LLVMFuzzerTestOneInput(const unsigned char* data, unsigned long size) {
+  (void)quiver::fuzz::dds_sample(1, data, size);
+  return 0;
+}
