@@ -3,6 +3,7 @@
 #include <unistd.h>
 
 #include <csignal>
+#include <mutex>
 #include <cstdio>
 #include <iostream>
 #include <nlohmann/json.hpp>
@@ -86,16 +87,32 @@ int run_agent(const AgentFlags& f) {
   }
   Agent& a = **created;
   install_signal_handlers();
-  a.replicator().on_membership([&](agents::Membership m, const agents::PeerInfo& p) {
-    std::fprintf(stderr, "quiver agent %s: %s %s (%s)\n", f.name.c_str(), m == agents::Membership::kJoined ? "joined:" : "left:",
-                 p.name.c_str(), p.id.to_string().c_str());
-  });
+
   // A hostile peer can send thousands of bad packets a second: one line per kind of error, and
   // a count of the rest every few seconds.
+  // Cyclone's own warnings (malformed packets, samples that do not deserialize) go the same way;
+  // they come from its threads, hence the lock.
+  std::mutex errors_mu;
   agents::ErrorLimiter errors([&](const std::string& line) {
     std::fprintf(stderr, "quiver agent %s: rejected: %s\n", f.name.c_str(), line.c_str());
   });
-  a.replicator().on_error([&](const Error& e) { errors.report(e, monotonic_ns()); });
+  auto report = [&](const Error& e) {
+    std::lock_guard<std::mutex> lock(errors_mu);
+    errors.report(e, monotonic_ns());
+  };
+  a.replicator().on_error(report);
+  // Peers coming and going: a handful per 5 s are named, invented ones by the thousand are not.
+  agents::ErrorLimiter membership([&](const std::string& line) {
+    std::fprintf(stderr, "quiver agent %s: %s\n", f.name.c_str(), line.c_str());
+  }, 5'000'000'000, 8);
+  a.replicator().on_membership([&](agents::Membership m, const agents::PeerInfo& p) {
+    const char* what = m == agents::Membership::kJoined ? "joined" : "left";
+    membership.report(what, std::string(what) + ": " + p.name + " (" + p.id.to_string() + ")", monotonic_ns());
+  });
+  agents::route_dds_log([&](const std::string& line) { report(make_error(ErrorCode::kTransport, "DDS: " + line)); });
+  struct Unroute {
+    ~Unroute() { agents::route_dds_log(nullptr); }  // before `errors` goes, on every return
+  } unroute;
   std::fprintf(stderr, "quiver agent %s: replica %s on DDS domain %u (%s)\n", f.name.c_str(), a.id().to_string().c_str(),
                f.dds.domain, f.dds.config.c_str());
   if (!f.world.empty()) {
@@ -150,7 +167,11 @@ int run_agent(const AgentFlags& f) {
     }
     a.spin_once(churn_period > 0 ? std::min<std::int64_t>(churn_period, 20'000'000) : 20'000'000);
     if (guard) guard->tick();
-    errors.tick(monotonic_ns());
+    {
+      std::lock_guard<std::mutex> lock(errors_mu);
+      errors.tick(monotonic_ns());
+    }
+    membership.tick(monotonic_ns());
   }
   std::cout << status(a, false).dump() << std::endl;
   return 0;

@@ -66,6 +66,27 @@ std::atomic<dds_domainid_t> g_next_private{0x4000};
 
 }  // namespace
 
+namespace {
+std::mutex g_log_mu;
+std::function<void(const std::string&)> g_log_sink;
+
+extern "C" void forward_dds_log(void*, const dds_log_data_t* d) {
+  std::string line(d->message, d->size);
+  while (!line.empty() && (line.back() == '\n' || line.back() == ' ')) line.pop_back();
+  std::lock_guard<std::mutex> lock(g_log_mu);
+  if (g_log_sink) g_log_sink(line);
+}
+}  // namespace
+
+void route_dds_log(std::function<void(const std::string&)> sink) {
+  {
+    std::lock_guard<std::mutex> lock(g_log_mu);
+    g_log_sink = std::move(sink);
+  }
+  if (g_log_sink) dds_set_log_sink(forward_dds_log, nullptr);
+  else dds_set_log_sink(nullptr, nullptr);
+}
+
 std::string loopback_config_xml(const DdsConfig& cfg) {
   auto ms = [](std::int64_t ns) { return std::to_string(std::max<std::int64_t>(1, ns / 1'000'000)) + "ms"; };
   std::string xml =

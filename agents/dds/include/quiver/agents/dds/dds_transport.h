@@ -51,6 +51,11 @@ inline constexpr std::size_t kMaxSampleBytes = EnvelopeLimits{}.max_payload_byte
 /// The embedded loopback configuration for `cfg` (lease, loss, external domain id filled in).
 std::string loopback_config_xml(const DdsConfig& cfg);
 
+/// Sends Cyclone DDS's own log lines (warnings about malformed packets, samples that fail to
+/// deserialize, ...) to `sink` instead of stderr, process-wide; null restores stderr. `sink` runs
+/// on Cyclone's threads: it must be thread-safe and quick.
+void route_dds_log(std::function<void(const std::string&)> sink);
+
 class DdsTransport final : public Transport {
  public:
   struct Stats {
