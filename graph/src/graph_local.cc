@@ -395,6 +395,14 @@ Transaction::~Transaction() {
 Transaction Graph::begin() { return Transaction(this); }
 bool Graph::transaction_open() const { return impl_->open_transactions > 0; }
 
+void Transaction::reserve(std::size_t ops) {
+  ops_.reserve(ops_.size() + ops);
+  book_->created.reserve(book_->created.size() + ops);
+  book_->names.reserve(book_->names.size() + ops);
+  book_->parent.reserve(book_->parent.size() + ops);
+  book_->parents.reserve(book_->parents.size() + ops);
+}
+
 void Transaction::release() {
   Graph::Impl& g = *graph_->impl_;
   g.unreserve(book_->reserved);
@@ -761,7 +769,13 @@ Result<CommitInfo> Transaction::commit() {
   // This transaction's node ids are about to be published: no longer reserved.
   g.unreserve(book_->reserved);
   book_->reserved.clear();
-  // Large transactions: grow the indexes once rather than rehash as records arrive.
+  // Large transactions: grow the outgoing delta and the indexes once rather than step by step
+  // (each step copies, and on a fresh heap every byte copied is a page to fault in).
+  if (ops_.size() > 64) {
+    g.out.nodes.reserve(g.out.nodes.size() + 2 * ops_.size());
+    g.out.claims.reserve(g.out.claims.size() + ops_.size());
+    g.out.samples.reserve(g.out.samples.size() + ops_.size());
+  }
   if (book_->created.size() > 64) {
     const std::size_t more = book_->created.size();
     g.nodes.reserve(g.nodes.size() + more);

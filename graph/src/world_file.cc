@@ -541,6 +541,7 @@ Result<Plan> parse_plan(std::string_view text, const std::string& src, const Gra
 // Applies a plan in one transaction; errors name the file and the element.
 Result<WorldLoadInfo> apply_plan(Graph& g, Plan& plan, const std::string& src) {
   auto tx = g.begin();
+  tx.reserve(plan.nodes.size() + plan.edges.size() + plan.rts.size());
   std::unordered_map<std::string, NodeId> ids;
   ids.reserve(plan.nodes.size());
   auto id_of = [&](const std::string& name) -> NodeId {

@@ -176,6 +176,10 @@ class Transaction {
   /// Discards the changes made so far; the transaction can be used again.
   void abort();
 
+  /// Makes room for `ops` more changes at once (a loader that knows its size: a world file, a
+  /// robot description), so a large transaction does not grow step by step.
+  void reserve(std::size_t ops);
+
   bool empty() const { return ops_.empty(); }
   std::size_t size() const { return ops_.size(); }
   const std::vector<TxnOp>& ops() const { return ops_; }
