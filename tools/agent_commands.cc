@@ -10,7 +10,7 @@
 
 #include "commands.h"
 #include "dds_options.h"
-#include "quiver/agents/dds/agent.h"
+#include "quiver/agents/dds/dds_replica.h"
 #include "quiver/agents/replication/error_limiter.h"
 #include "quiver/agents/grammar/grammar_guard.h"
 #include "quiver/graph/world_file.h"
@@ -20,7 +20,7 @@
 namespace quiver::tools {
 namespace {
 
-using agents::Agent;
+using agents::DdsReplica;
 using agents::monotonic_ns;
 
 std::atomic<bool> g_stop{false};
@@ -43,7 +43,7 @@ long resident_kb() {
   return resident * (sysconf(_SC_PAGESIZE) / 1024);
 }
 
-nlohmann::json status(Agent& a, bool churning) {
+nlohmann::json status(DdsReplica& a, bool churning) {
   const auto& st = a.replicator().stats();
   nlohmann::json j;
   j["name"] = a.options().name;
@@ -78,14 +78,14 @@ struct AgentFlags {
 };
 
 int run_agent(const AgentFlags& f) {
-  agents::AgentOptions o;
+  agents::DdsReplicaOptions o;
   o.name = f.name;
   auto created = f.dds.create_agent(o);
   if (!created.ok()) {
     std::fprintf(stderr, "quiver agent: %s\n", created.error().to_string().c_str());
     return 2;
   }
-  Agent& a = **created;
+  DdsReplica& a = **created;
   install_signal_handlers();
 
   // A hostile peer can send thousands of bad packets a second: one line per kind of error, and
@@ -201,7 +201,7 @@ void print_graph(const graph::Graph& g) {
 }
 
 int run_dump(const DumpFlags& f) {
-  agents::AgentOptions o;
+  agents::DdsReplicaOptions o;
   o.name = "quiver-dump";
   o.observer = true;
   auto created = f.dds.create_agent(o);
@@ -209,7 +209,7 @@ int run_dump(const DumpFlags& f) {
     std::fprintf(stderr, "quiver dump: %s\n", created.error().to_string().c_str());
     return 2;
   }
-  Agent& a = **created;
+  DdsReplica& a = **created;
   const std::int64_t timeout = static_cast<std::int64_t>(f.timeout_s * 1e9);
   if (!a.spin_until([&] { return a.replicator().live_peer_count() > 0; }, timeout)) {
     std::fprintf(stderr, "quiver dump: no agent answered on DDS domain %u within %.1f s\n", f.dds.domain, f.timeout_s);

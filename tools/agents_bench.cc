@@ -10,7 +10,7 @@
 
 #include "bench_stats.h"
 #include "commands.h"
-#include "quiver/agents/dds/agent.h"
+#include "quiver/agents/dds/dds_replica.h"
 #include "quiver/agents/grammar/grammar.h"
 #include "quiver/agents/locks/locks.h"
 #include "quiver/rng.h"
@@ -141,18 +141,18 @@ json lock_latency_in_simulator(int agents, std::uint64_t seed) {
 
 json lock_latency_over_dds(int agents, int rounds, std::uint32_t domain) {
   struct Runner {
-    std::unique_ptr<agents::Agent> a;
+    std::unique_ptr<agents::DdsReplica> a;
     std::unique_ptr<agents::LockManager> locks;
     std::thread t;
     std::atomic<bool> running{true};
   };
   std::vector<std::unique_ptr<Runner>> rs;
   for (int i = 0; i < agents; ++i) {
-    agents::AgentOptions o;
+    agents::DdsReplicaOptions o;
     o.name = "lockbench" + std::to_string(i);
     o.dds.domain = domain;
     o.dds.own_domain_instance = true;
-    auto a = agents::Agent::create(o);
+    auto a = agents::DdsReplica::create(o);
     if (!a.ok()) {
       std::fprintf(stderr, "%s\n", a.error().to_string().c_str());
       return json();

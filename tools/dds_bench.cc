@@ -17,7 +17,7 @@
 #include "bench_stats.h"
 #include "commands.h"
 #include "dds_options.h"
-#include "quiver/agents/dds/agent.h"
+#include "quiver/agents/dds/dds_replica.h"
 #include "quiver/graph/graph.h"
 #include "quiver/rng.h"
 #include "subprocess.h"
@@ -25,7 +25,7 @@
 namespace quiver::tools {
 namespace {
 
-using agents::Agent;
+using agents::DdsReplica;
 using agents::monotonic_ns;
 using graph::NodeId;
 using graph::Symbol;
@@ -40,8 +40,8 @@ std::string self_exe() {
   return n > 0 ? std::string(buf, static_cast<std::size_t>(n)) : "quiver";
 }
 
-std::unique_ptr<Agent> make_agent(const std::string& name, const DdsFlags& dds) {
-  agents::AgentOptions o;
+std::unique_ptr<DdsReplica> make_agent(const std::string& name, const DdsFlags& dds) {
+  agents::DdsReplicaOptions o;
   o.name = name;
   o.dds.max_blocking_ns = 2 * kSec;  // a benchmark wants back-pressure, not drops
   auto a = dds.create_agent(o);
@@ -53,7 +53,7 @@ std::unique_ptr<Agent> make_agent(const std::string& name, const DdsFlags& dds) 
 }
 
 /// Waits until every live peer holds all this agent has written.
-bool wait_all_hold(Agent& a, std::int64_t timeout_ns) {
+bool wait_all_hold(DdsReplica& a, std::int64_t timeout_ns) {
   const std::uint64_t seq = a.replicator().last_seq();
   return a.spin_until([&] { return a.replicator().all_peers_hold(a.id(), seq); }, timeout_ns);
 }
@@ -82,7 +82,7 @@ struct RoleFlags {
 
 void writer_role(const RoleFlags& f) {
   auto agent = make_agent("bench-writer", f.dds);
-  Agent& a = *agent;
+  DdsReplica& a = *agent;
   graph::Graph& g = a.graph();
   if (!a.spin_until([&] { return a.replicator().live_peer_count() >= static_cast<std::size_t>(f.readers); }, 30 * kSec)) {
     std::fprintf(stderr, "bench writer: only %zu of %d readers appeared\n", a.replicator().live_peer_count(), f.readers);
@@ -160,7 +160,7 @@ void writer_role(const RoleFlags& f) {
 
 void reader_role(const RoleFlags& f) {
   auto agent = make_agent("bench-reader-" + std::to_string(f.id), f.dds);
-  Agent& a = *agent;
+  DdsReplica& a = *agent;
   graph::Graph& g = a.graph();
   std::vector<double> latencies_us;
   std::string phase;
@@ -194,7 +194,7 @@ void reader_role(const RoleFlags& f) {
 void joiner_role(const RoleFlags& f) {
   const std::int64_t t_start = monotonic_ns();
   auto agent = make_agent("bench-joiner", f.dds);
-  Agent& a = *agent;
+  DdsReplica& a = *agent;
   const std::int64_t t_created = monotonic_ns();
   const std::size_t want = static_cast<std::size_t>(f.join_nodes) + 2;
   bool ok = a.spin_until([&] { return a.graph().node_count() >= want && a.replicator().synced(); }, 60 * kSec);
@@ -217,7 +217,7 @@ constexpr int kPeople = 2, kJoints = 15, kHz = 30;
 
 void tracker_role(const RoleFlags& f) {
   auto agent = make_agent("tracker", f.dds);
-  Agent& a = *agent;
+  DdsReplica& a = *agent;
   graph::Graph& g = a.graph();
   std::vector<std::vector<NodeId>> joints(kPeople);
   std::vector<NodeId> people;
@@ -275,7 +275,7 @@ void tracker_role(const RoleFlags& f) {
 
 void listener_role(const RoleFlags& f) {
   auto agent = make_agent("listener-" + std::to_string(f.id), f.dds);
-  Agent& a = *agent;
+  DdsReplica& a = *agent;
   graph::Graph& g = a.graph();
   std::vector<double> latencies_us;
   bool done = false;

@@ -7,7 +7,7 @@
 #include <sstream>
 #include <string>
 
-#include "quiver/agents/dds/agent.h"
+#include "quiver/agents/dds/dds_replica.h"
 #include "quiver/agents/dds/dds_transport.h"
 #include "quiver/result.h"
 
@@ -47,9 +47,9 @@ struct DdsFlags {
     return {};
   }
   /// An agent on the chosen domain and configuration; the other options come from `o`.
-  Result<std::unique_ptr<agents::Agent>> create_agent(agents::AgentOptions o) const {
+  Result<std::unique_ptr<agents::DdsReplica>> create_agent(agents::DdsReplicaOptions o) const {
     if (Status s = apply_to(o.dds); !s.ok()) return s.error();
-    return agents::Agent::create(o);
+    return agents::DdsReplica::create(o);
   }
 };
 

@@ -6,7 +6,7 @@
 #include <future>
 #include <thread>
 
-#include "quiver/agents/dds/agent.h"
+#include "quiver/agents/dds/dds_replica.h"
 #include "quiver/rng.h"
 #include "quiver/sim/workload.h"
 #include "test_seed.h"
@@ -20,7 +20,7 @@ constexpr std::int64_t kMs = 1'000'000;
 std::uint32_t test_domain(int index) { return 150 + static_cast<std::uint32_t>(index); }
 
 struct Running {
-  std::unique_ptr<Agent> agent;
+  std::unique_ptr<DdsReplica> agent;
   std::thread thread;
   ~Running() {
     if (thread.joinable()) {
@@ -48,18 +48,18 @@ struct Running {
 std::vector<std::unique_ptr<Running>> start(int n, std::uint32_t domain, int loss_permille = 0) {
   std::vector<std::unique_ptr<Running>> out;
   for (int i = 0; i < n; ++i) {
-    AgentOptions o;
+    DdsReplicaOptions o;
     o.name = "agent" + std::to_string(i);
     o.dds.domain = domain;
     o.dds.own_domain_instance = true;
     o.dds.xmit_loss_permille = loss_permille;
     o.replicator.heartbeat_ns = 50 * kMs;
-    auto a = Agent::create(o);
+    auto a = DdsReplica::create(o);
     EXPECT_TRUE(a.ok()) << a.error().to_string();
     if (!a.ok()) return {};
     auto r = std::make_unique<Running>();
     r->agent = std::move(*a);
-    Agent* raw = r->agent.get();
+    DdsReplica* raw = r->agent.get();
     r->thread = std::thread([raw] { raw->spin(); });
     out.push_back(std::move(r));
   }
@@ -73,8 +73,8 @@ bool converge(std::vector<std::unique_ptr<Running>>& agents, std::int64_t timeou
     std::vector<Digest128> d;
     bool enough = true;
     for (auto& r : agents) {
-      d.push_back(r->call([](Agent& a) { return a.graph().digest(); }));
-      enough = enough && r->call([](Agent& a) { return a.graph().node_count(); }) >= min_nodes;
+      d.push_back(r->call([](DdsReplica& a) { return a.graph().digest(); }));
+      enough = enough && r->call([](DdsReplica& a) { return a.graph().node_count(); }) >= min_nodes;
     }
     bool same = enough;
     for (const auto& x : d) same = same && x == d[0];
@@ -86,7 +86,7 @@ bool converge(std::vector<std::unique_ptr<Running>>& agents, std::int64_t timeou
 
 void churn(Running& r, Rng& rng, int txns, std::int64_t t0) {
   sim::Churn work;
-  r.call([&](Agent& a) {
+  r.call([&](DdsReplica& a) {
     for (int i = 0; i < txns; ++i) work.step(a.graph(), rng, t0 + i);
   });
 }
@@ -94,13 +94,13 @@ void churn(Running& r, Rng& rng, int txns, std::int64_t t0) {
 TEST(DdsInProcessTest, TwoAgentsReplicate) {
   auto agents = start(2, test_domain(0));
   ASSERT_EQ(agents.size(), 2u);
-  agents[0]->call([](Agent& a) {
+  agents[0]->call([](DdsReplica& a) {
     auto tx = a.graph().begin();
     ASSERT_TRUE(tx.create_node("robot", "robot", {{graph::Symbol("battery"), graph::Value(0.5)}}).ok());
     ASSERT_TRUE(tx.commit().ok());
   });
   ASSERT_TRUE(converge(agents, 5000, 1));
-  double b = agents[1]->call([](Agent& a) {
+  double b = agents[1]->call([](DdsReplica& a) {
     auto id = a.graph().find_node("robot");
     return id ? a.graph().get<double>(*id, "battery").value_or(-1) : -2.0;
   });
@@ -115,15 +115,15 @@ TEST(DdsInProcessTest, AgentCutOffByDeafMuteCatchesUpAfterHeal) {
   churn(*agents[0], rng, 5, 0);
   ASSERT_TRUE(converge(agents, 5000));
   // Cut agent 3 off entirely; the others keep writing.
-  agents[3]->call([](Agent& a) { ASSERT_TRUE(a.transport().set_deafmute(true, true, -1).ok()); });
+  agents[3]->call([](DdsReplica& a) { ASSERT_TRUE(a.transport().set_deafmute(true, true, -1).ok()); });
   for (int round = 0; round < 5; ++round)
     for (int i = 0; i < 3; ++i) churn(*agents[i], rng, 4, 1000 * round);
   std::this_thread::sleep_for(std::chrono::milliseconds(200));
-  auto d_cut = agents[3]->call([](Agent& a) { return a.graph().digest(); });
-  auto d_main = agents[0]->call([](Agent& a) { return a.graph().digest(); });
+  auto d_cut = agents[3]->call([](DdsReplica& a) { return a.graph().digest(); });
+  auto d_main = agents[0]->call([](DdsReplica& a) { return a.graph().digest(); });
   EXPECT_NE(d_cut, d_main) << "the cut-off agent saw nothing";
   churn(*agents[3], rng, 4, 99999);  // and it changes things on its own side
-  agents[3]->call([](Agent& a) { ASSERT_TRUE(a.transport().set_deafmute(false, false, -1).ok()); });
+  agents[3]->call([](DdsReplica& a) { ASSERT_TRUE(a.transport().set_deafmute(false, false, -1).ok()); });
   EXPECT_TRUE(converge(agents, 15000)) << "seed " << seed;
 }
 
@@ -146,22 +146,22 @@ namespace {
 // Defect 10: a second agent in one process asking for another configuration of the same
 // domain used to get the first one's silently; it is refused, naming the domain.
 TEST(DdsInProcessTest, ASecondConfigurationOfOneDomainIsRefused) {
-  AgentOptions a;
+  DdsReplicaOptions a;
   a.name = "first";
   a.dds.domain = test_domain(9);
-  auto first = Agent::create(a);
+  auto first = DdsReplica::create(a);
   ASSERT_TRUE(first.ok()) << first.error().to_string();
-  AgentOptions b = a;
+  DdsReplicaOptions b = a;
   b.name = "second";
   b.dds.lease_ns = 3'000'000'000;  // another configuration of the same domain
-  auto second = Agent::create(b);
+  auto second = DdsReplica::create(b);
   ASSERT_FALSE(second.ok());
   EXPECT_EQ(second.error().code, ErrorCode::kInvalidArgument);
   EXPECT_NE(second.error().message.find("domain " + std::to_string(test_domain(9))), std::string::npos)
       << second.error().message;
-  AgentOptions c = a;
+  DdsReplicaOptions c = a;
   c.name = "third";  // the same configuration is shared
-  EXPECT_TRUE(Agent::create(c).ok());
+  EXPECT_TRUE(DdsReplica::create(c).ok());
 }
 
 }  // namespace

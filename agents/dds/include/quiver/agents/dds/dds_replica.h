@@ -19,7 +19,7 @@
 
 namespace quiver::agents {
 
-struct AgentOptions {
+struct DdsReplicaOptions {
   std::string name;                ///< the agent id is derived from it (FNV-1a)
   bool observer = false;           ///< read-only replica (e.g. `quiver dump`)
   std::uint64_t incarnation = 0;   ///< 0: a fresh one (see fresh_incarnation())
@@ -36,18 +36,18 @@ std::uint64_t fresh_incarnation();
 /// Monotonic time in nanoseconds (the agent's clock).
 std::int64_t monotonic_ns();
 
-class Agent {
+class DdsReplica {
  public:
-  static Result<std::unique_ptr<Agent>> create(AgentOptions options);
+  static Result<std::unique_ptr<DdsReplica>> create(DdsReplicaOptions options);
   /// Leaves cleanly: peers see this replica go at once.
-  ~Agent();
-  Agent(const Agent&) = delete;
-  Agent& operator=(const Agent&) = delete;
+  ~DdsReplica();
+  DdsReplica(const DdsReplica&) = delete;
+  DdsReplica& operator=(const DdsReplica&) = delete;
 
   graph::Graph& graph() { return *graph_; }
   Replicator& replicator() { return *replicator_; }
   DdsTransport& transport() { return *transport_; }
-  const AgentOptions& options() const { return opt_; }
+  const DdsReplicaOptions& options() const { return opt_; }
   const PeerId& id() const { return graph_->replica(); }
 
   /// One round of the loop: waits up to `max_wait_ns` for traffic (less if a timer is due),
@@ -65,8 +65,8 @@ class Agent {
   void stop();
 
  private:
-  Agent() = default;
-  AgentOptions opt_;
+  DdsReplica() = default;
+  DdsReplicaOptions opt_;
   std::unique_ptr<graph::Graph> graph_;
   std::unique_ptr<DdsTransport> transport_;
   std::unique_ptr<Replicator> replicator_;

@@ -1,4 +1,4 @@
-#include "quiver/agents/dds/agent.h"
+#include "quiver/agents/dds/dds_replica.h"
 
 #include <chrono>
 #include <random>
@@ -20,9 +20,9 @@ std::int64_t monotonic_ns() {
       .count();
 }
 
-Result<std::unique_ptr<Agent>> Agent::create(AgentOptions options) {
-  if (options.name.empty()) return make_error(ErrorCode::kInvalidArgument, "Agent::create(): the name is empty");
-  std::unique_ptr<Agent> a(new Agent());
+Result<std::unique_ptr<DdsReplica>> DdsReplica::create(DdsReplicaOptions options) {
+  if (options.name.empty()) return make_error(ErrorCode::kInvalidArgument, "DdsReplica::create(): the name is empty");
+  std::unique_ptr<DdsReplica> a(new DdsReplica());
   a->opt_ = std::move(options);
   PeerId id{fnv1a64(a->opt_.name), a->opt_.incarnation ? a->opt_.incarnation : fresh_incarnation()};
   a->graph_ = std::make_unique<graph::Graph>(id);
@@ -39,14 +39,14 @@ Result<std::unique_ptr<Agent>> Agent::create(AgentOptions options) {
   return a;
 }
 
-Agent::~Agent() {
+DdsReplica::~DdsReplica() {
   if (replicator_) replicator_->leave();
   if (transport_) transport_->dispose_self();
   replicator_.reset();
   transport_.reset();
 }
 
-void Agent::spin_once(std::int64_t max_wait_ns) {
+void DdsReplica::spin_once(std::int64_t max_wait_ns) {
   std::int64_t now = monotonic_ns();
   std::int64_t wait = std::min(max_wait_ns, next_tick_ - now);
   if (wait > 0) transport_->wait(wait);
@@ -68,7 +68,7 @@ void Agent::spin_once(std::int64_t max_wait_ns) {
   }
 }
 
-bool Agent::spin_until(const std::function<bool()>& done, std::int64_t timeout_ns) {
+bool DdsReplica::spin_until(const std::function<bool()>& done, std::int64_t timeout_ns) {
   const std::int64_t end = monotonic_ns() + timeout_ns;
   while (!done()) {
     std::int64_t left = end - monotonic_ns();
@@ -78,16 +78,16 @@ bool Agent::spin_until(const std::function<bool()>& done, std::int64_t timeout_n
   return true;
 }
 
-void Agent::spin_for(std::int64_t duration_ns) {
+void DdsReplica::spin_for(std::int64_t duration_ns) {
   const std::int64_t end = monotonic_ns() + duration_ns;
   while (monotonic_ns() < end && !stop_.load()) spin_once(std::min<std::int64_t>(end - monotonic_ns(), 5'000'000));
 }
 
-void Agent::spin() {
+void DdsReplica::spin() {
   while (!stop_.load()) spin_once(50'000'000);
 }
 
-void Agent::post(std::function<void()> fn) {
+void DdsReplica::post(std::function<void()> fn) {
   {
     std::lock_guard<std::mutex> lock(mu_);
     posted_.push_back(std::move(fn));
@@ -95,7 +95,7 @@ void Agent::post(std::function<void()> fn) {
   transport_->wake();
 }
 
-void Agent::stop() {
+void DdsReplica::stop() {
   stop_.store(true);
   transport_->wake();
 }
