@@ -1,0 +1,97 @@
+#pragma once
+/// @file
+/// The agent API. An agent is a class: a name, a grammar file that its changes must follow, the
+/// lock priorities it uses, filtered subscriptions to changes, timers, and actions (action.h),
+/// declared in setup(). It never talks to another agent: it reads the graph, acts, and writes.
+///
+/// The same class runs unchanged in either host:
+///  - an OS process over Cyclone DDS: `quiver::agents::run_process(agent, argc, argv)` or
+///    `quiver run ROLE` (process_host.h);
+///  - the deterministic simulator, many at once, with virtual time and faults
+///    (`quiver sim --scenario FILE`, sim/scenario.h).
+///
+/// Threading: everything an agent does happens on its host's thread, one call at a time.
+
+#include <functional>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "quiver/agents/runtime/action.h"
+#include "quiver/agents/runtime/context.h"
+#include "quiver/graph/graph.h"
+
+namespace quiver::agents {
+
+/// Which changes a subscription cares about: any batch that touches a node of one of these types,
+/// an edge of one of these types, or one of these attributes (on a node or an edge). An empty
+/// list does not narrow; a filter with all lists empty takes every batch.
+struct ChangeFilter {
+  std::vector<std::string> node_types;
+  std::vector<std::string> edge_types;
+  std::vector<std::string> attributes;
+
+  /// The part of `b` this filter lets through (`g`: the replica after the change, for the types
+  /// of deleted nodes the batch itself names). Empty when nothing matches.
+  graph::ChangeBatch select(const graph::ChangeBatch& b) const;
+};
+
+class Agent {
+ public:
+  explicit Agent(std::string name) : name_(std::move(name)) {}
+  virtual ~Agent() = default;
+  Agent(const Agent&) = delete;
+  Agent& operator=(const Agent&) = delete;
+
+  const std::string& name() const { return name_; }
+
+  /// Declares subscriptions, actions and timers. Called once by the host, with the replica
+  /// joined to its peers (or alone after a short wait).
+  virtual void setup(AgentContext& ctx) = 0;
+  /// Called on every host tick (about every 10 ms), after timers and actions.
+  virtual void on_tick(AgentContext& ctx) {}
+  /// Called once when the host stops (running actions have been cancelled).
+  virtual void teardown(AgentContext& ctx) {}
+
+  // ---- declarations (in the constructor or setup()) ----
+
+  /// Every change this agent commits must be one rule application of this grammar
+  /// (docs/grammar.md). Empty: no grammar check.
+  void set_grammar_file(std::string path) { grammar_file_ = std::move(path); }
+  const std::string& grammar_file() const { return grammar_file_; }
+  /// Grammar text given inline (e.g. embedded), checked like a file named `source`.
+  void set_grammar_text(std::string text, std::string source) {
+    grammar_text_ = std::move(text);
+    grammar_source_ = std::move(source);
+  }
+  const std::string& grammar_text() const { return grammar_text_; }
+  const std::string& grammar_source() const { return grammar_source_; }
+
+  using Subscriber = std::function<void(AgentContext&, const graph::ChangeBatch&)>;
+  /// Calls `fn` with the part of every change batch (local or merged) that `filter` selects.
+  void subscribe(ChangeFilter filter, Subscriber fn) { subscriptions_.push_back({std::move(filter), std::move(fn)}); }
+  /// Adds an action; the runtime evaluates actions in the order they were added. `interest`
+  /// narrows which changes make the runtime search for it again (timers and ticks always do).
+  void add_action(std::unique_ptr<Action> a, ChangeFilter interest = {}) {
+    actions_.push_back({std::move(a), std::move(interest)});
+  }
+
+  struct Subscription {
+    ChangeFilter filter;
+    Subscriber fn;
+  };
+  struct ActionEntry {
+    std::unique_ptr<Action> action;
+    ChangeFilter interest;
+  };
+  std::vector<Subscription>& subscriptions() { return subscriptions_; }
+  std::vector<ActionEntry>& actions() { return actions_; }
+
+ private:
+  std::string name_;
+  std::string grammar_file_, grammar_text_, grammar_source_;
+  std::vector<Subscription> subscriptions_;
+  std::vector<ActionEntry> actions_;
+};
+
+}  // namespace quiver::agents
