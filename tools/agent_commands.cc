@@ -1,9 +1,5 @@
 // quiver agent: a replicating agent process. quiver dump: an observer that prints the graph.
 
-#include <unistd.h>
-
-#include <csignal>
-#include <mutex>
 #include <cstdio>
 #include <iostream>
 #include <nlohmann/json.hpp>
@@ -11,8 +7,6 @@
 #include "commands.h"
 #include "dds_options.h"
 #include "quiver/agents/dds/dds_replica.h"
-#include "quiver/agents/replication/error_limiter.h"
-#include "quiver/agents/grammar/grammar_guard.h"
 #include "quiver/graph/world_file.h"
 #include "quiver/rng.h"
 #include "quiver/sim/workload.h"
@@ -23,158 +17,42 @@ namespace {
 using agents::DdsReplica;
 using agents::monotonic_ns;
 
-std::atomic<bool> g_stop{false};
-extern "C" void on_signal(int) { g_stop.store(true); }
-
-void install_signal_handlers() {
-  struct sigaction sa {};
-  sa.sa_handler = on_signal;
-  sigaction(SIGINT, &sa, nullptr);
-  sigaction(SIGTERM, &sa, nullptr);
-}
-
-// Resident memory of this process (Linux), for the status line: the rogue tests watch it.
-long resident_kb() {
-  long pages = 0, resident = 0;
-  if (FILE* f = std::fopen("/proc/self/statm", "r")) {
-    if (std::fscanf(f, "%ld %ld", &pages, &resident) != 2) resident = 0;
-    std::fclose(f);
+// The testing agent of `quiver agent`: random graph churn at a rate, for a while (or nothing: a
+// replica that only follows), under a grammar if given. Its status lines say whether it still
+// writes.
+class ChurnAgent : public agents::Agent {
+ public:
+  ChurnAgent(std::string name, double hz, double for_s) : Agent(std::move(name)), hz_(hz), for_s_(for_s) {}
+  void setup(agents::AgentContext& ctx) override {
+    start_ns_ = ctx.now();
+    clock_ = [&ctx] { return ctx.now(); };
+    if (hz_ <= 0) return;
+    ctx.every(static_cast<std::int64_t>(1e9 / hz_), [this, &ctx] {
+      if (churning(ctx.now())) churn_.step(ctx.graph(), ctx.rng(), ctx.now());
+    });
   }
-  return resident * (sysconf(_SC_PAGESIZE) / 1024);
-}
+  void status(nlohmann::json& out) const override { out["churning"] = clock_ && churning(clock_()); }
 
-nlohmann::json status(DdsReplica& a, bool churning) {
-  const auto& st = a.replicator().stats();
-  nlohmann::json j;
-  j["name"] = a.options().name;
-  j["replica"] = a.id().to_string();
-  j["nodes"] = a.graph().node_count();
-  j["edges"] = a.graph().edge_count();
-  j["digest"] = a.graph().digest().hex();
-  j["peers"] = a.replicator().live_peer_count();
-  j["synced"] = a.replicator().synced();
-  j["deltas_applied"] = st.deltas_applied;
-  j["states_applied"] = st.states_applied;
-  j["write_timeouts"] = a.transport().stats().write_timeouts;
-  j["rejected"] = st.rejected_packets;
-  j["equivocations"] = st.equivocations;
-  j["peers_known"] = a.replicator().peers().size();
-  j["rss_kb"] = resident_kb();
-  j["churning"] = churning;
-  j["t_ms"] = monotonic_ns() / 1'000'000;
-  return j;
-}
+ private:
+  bool churning(std::int64_t now) const { return hz_ > 0 && (for_s_ <= 0 || now - start_ns_ < for_s_ * 1e9); }
+  double hz_, for_s_;
+  std::int64_t start_ns_ = 0;
+  std::function<std::int64_t()> clock_;
+  sim::Churn churn_;
+};
 
 struct AgentFlags {
   std::string name;
-  std::string world;
   std::string grammar;
-  DdsFlags dds;
+  agents::ProcessFlags process;
   double churn_hz = 0;
   double churn_for_s = 0;
-  std::uint64_t seed = 1;
-  int status_ms = 0;
-  double run_for_s = 0;
 };
 
 int run_agent(const AgentFlags& f) {
-  agents::DdsReplicaOptions o;
-  o.name = f.name;
-  auto created = f.dds.create_agent(o);
-  if (!created.ok()) {
-    std::fprintf(stderr, "quiver agent: %s\n", created.error().to_string().c_str());
-    return 2;
-  }
-  DdsReplica& a = **created;
-  install_signal_handlers();
-
-  // A hostile peer can send thousands of bad packets a second: one line per kind of error, and
-  // a count of the rest every few seconds.
-  // Cyclone's own warnings (malformed packets, samples that do not deserialize) go the same way;
-  // they come from its threads, hence the lock.
-  std::mutex errors_mu;
-  agents::ErrorLimiter errors([&](const std::string& line) {
-    std::fprintf(stderr, "quiver agent %s: rejected: %s\n", f.name.c_str(), line.c_str());
-  });
-  auto report = [&](const Error& e) {
-    std::lock_guard<std::mutex> lock(errors_mu);
-    errors.report(e, monotonic_ns());
-  };
-  a.replicator().on_error(report);
-  // Peers coming and going: a handful per 5 s are named, invented ones by the thousand are not.
-  agents::ErrorLimiter membership([&](const std::string& line) {
-    std::fprintf(stderr, "quiver agent %s: %s\n", f.name.c_str(), line.c_str());
-  }, 5'000'000'000, 8);
-  a.replicator().on_membership([&](agents::Membership m, const agents::PeerInfo& p) {
-    const char* what = m == agents::Membership::kJoined ? "joined" : "left";
-    membership.report(what, std::string(what) + ": " + p.name + " (" + p.id.to_string() + ")", monotonic_ns());
-  });
-  agents::route_dds_log([&](const std::string& line) { report(make_error(ErrorCode::kTransport, "DDS: " + line)); });
-  struct Unroute {
-    ~Unroute() { agents::route_dds_log(nullptr); }  // before `errors` goes, on every return
-  } unroute;
-  std::fprintf(stderr, "quiver agent %s: replica %s on DDS domain %u (%s)\n", f.name.c_str(), a.id().to_string().c_str(),
-               f.dds.domain, f.dds.config.c_str());
-  if (!f.world.empty()) {
-    // The seed is a delta that depends only on the file: agents started together with the same
-    // world seed it once between them, however their starts interleave.
-    auto seed = graph::world_seed_file(f.world);
-    if (!seed.ok()) {
-      std::fprintf(stderr, "quiver agent: %s\n", seed.error().to_string().c_str());
-      return 2;
-    }
-    auto fresh = a.replicator().seed(seed->delta);
-    std::fprintf(stderr, "quiver agent %s: world %s (%zu nodes, %zu edges, %zu RT edges) %s\n", f.name.c_str(),
-                 f.world.c_str(), seed->info.nodes, seed->info.edges, seed->info.rt_edges,
-                 fresh.ok() && *fresh ? "seeded" : "already held");
-  }
-  // The grammar guards changes made from now on; the seed world is the initial state.
-  std::unique_ptr<agents::GrammarGuard> guard;
-  if (!f.grammar.empty()) {
-    auto g = agents::load_grammar_file(f.grammar);
-    if (!g.ok()) {
-      std::fprintf(stderr, "quiver agent: %s\n", g.error().to_string().c_str());
-      return 2;
-    }
-    guard = std::make_unique<agents::GrammarGuard>(a.graph(), agents::GrammarChecker(std::move(*g)), f.name);
-    guard->install();
-    guard->on_violation([&](const agents::Violation& v) {
-      std::fprintf(stderr, "quiver agent %s: violation %s\n", f.name.c_str(), v.to_string(a.graph()).c_str());
-    });
-    guard->on_unverified([&](const graph::ReplicaId& from, const Error& e) {
-      std::fprintf(stderr, "quiver agent %s: unverified change from %s: %s\n", f.name.c_str(), from.to_string().c_str(),
-                   e.message.c_str());
-    });
-  }
-  Rng rng(f.seed ^ a.id().incarnation);
-  sim::Churn churn;
-  const std::int64_t start = monotonic_ns();
-  std::int64_t next_churn = start, next_status = start;
-  const std::int64_t churn_period = f.churn_hz > 0 ? static_cast<std::int64_t>(1e9 / f.churn_hz) : 0;
-  auto churning = [&](std::int64_t now) {
-    return churn_period > 0 && (f.churn_for_s <= 0 || now - start < f.churn_for_s * 1e9);
-  };
-  while (!g_stop.load()) {
-    std::int64_t now = monotonic_ns();
-    if (f.run_for_s > 0 && now - start > static_cast<std::int64_t>(f.run_for_s * 1e9)) break;
-    if (churning(now) && now >= next_churn) {
-      churn.step(a.graph(), rng, now);
-      next_churn += churn_period;
-    }
-    if (f.status_ms > 0 && now >= next_status) {
-      std::cout << status(a, churning(now)).dump() << std::endl;
-      next_status = now + f.status_ms * 1'000'000LL;
-    }
-    a.spin_once(churn_period > 0 ? std::min<std::int64_t>(churn_period, 20'000'000) : 20'000'000);
-    if (guard) guard->tick();
-    {
-      std::lock_guard<std::mutex> lock(errors_mu);
-      errors.tick(monotonic_ns());
-    }
-    membership.tick(monotonic_ns());
-  }
-  std::cout << status(a, false).dump() << std::endl;
-  return 0;
+  ChurnAgent agent(f.name, f.churn_hz, f.churn_for_s);
+  if (!f.grammar.empty()) agent.set_grammar_file(f.grammar);
+  return agents::run_process(agent, f.process);
 }
 
 struct DumpFlags {
@@ -244,17 +122,12 @@ void add_agent_commands(CLI::App& app) {
   auto af = std::make_shared<AgentFlags>();
   auto* agent = app.add_subcommand("agent", "Run a replicating agent (one replica, Cyclone DDS, no executive)");
   agent->add_option("--name", af->name, "agent name (its id derives from it)")->required();
-  agent->add_option("--world", af->world, "seed the graph from a JSON world file (names already present are kept)");
   agent->add_option("--grammar", af->grammar, "check every local change against this grammar file (docs/grammar.md)");
-  af->dds.add_to(agent);
+  af->process.join_wait_s = 0;  // a test agent starts at once (before add_all: its default)
+  af->process.add_all(agent);
   agent->add_option("--churn-hz", af->churn_hz, "testing: make random changes at this many transactions per second")
       ->check(CLI::Range(0.0, 100000.0));
   agent->add_option("--churn-for", af->churn_for_s, "testing: stop the random changes after this many seconds")
-      ->check(CLI::Range(0.0, 1e7));
-  agent->add_option("--seed", af->seed, "testing: seed of the random changes")->check(CLI::NonNegativeNumber);
-  agent->add_option("--status-ms", af->status_ms, "print a JSON status line this often")
-      ->check(CLI::Range(0, 3'600'000));
-  agent->add_option("--run-for", af->run_for_s, "exit after this many seconds (default 0: until SIGINT/SIGTERM)")
       ->check(CLI::Range(0.0, 1e7));
   agent->callback([af] { set_exit_code(run_agent(*af)); });
 

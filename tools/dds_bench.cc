@@ -300,7 +300,7 @@ void listener_role(const RoleFlags& f) {
 
 std::vector<std::string> role_argv(const std::string& role, const DdsFlags& dds, std::vector<std::string> extra) {
   std::vector<std::string> argv = {self_exe(), "bench-dds-role", role, "--domain", std::to_string(dds.domain),
-                                   "--dds-config", dds.config, "--loss-permille", std::to_string(dds.loss_permille)};
+                                   "--dds-config", dds.dds_config, "--loss-permille", std::to_string(dds.loss_permille)};
   argv.insert(argv.end(), extra.begin(), extra.end());
   return argv;
 }

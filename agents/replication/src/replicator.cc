@@ -338,17 +338,42 @@ void Replicator::handle(const PeerId& from, const DeltaMsg& m) {
   const std::uint64_t digest = digest_of(*m.payload);
   if (applied_.includes(m.origin, m.lo, m.hi)) {
     const Seen* seen = recorded(m.origin, m.lo);
-    if (seen != nullptr && (seen->hi != m.hi || seen->digest != digest))
-      return equivocation("delta " + interval(m.origin, m.lo, m.hi) + " relayed by " + from.to_string() +
-                          " differs from the one already applied under that interval: not applied");
-    ++stats_.deltas_duplicate;
-    return;
+    if (seen == nullptr || seen->knows(m.hi, digest)) {
+      ++stats_.deltas_duplicate;
+      return;
+    }
+    return equivocate(from, m, digest, "differs from the one already applied under that interval");
   }
   if (applied_.intersects(m.origin, m.lo, m.hi))
-    return equivocation("delta " + interval(m.origin, m.lo, m.hi) + " relayed by " + from.to_string() +
-                        " overlaps intervals already applied: not applied");
+    return equivocate(from, m, digest, "overlaps intervals already applied");
   if (Status s = decode_delta(from, m); !s.ok()) return reject(s.error());
   apply_delta(from, m, digest);
+}
+
+// Two payloads under one (origin, seq): one of them is forged (or a replica is broken). Which,
+// nobody can tell without authenticated identities; refusing the second would leave replicas that
+// received them in different orders apart for good. So both are joined (a join does not care about
+// order), and the equivocation is reported, with both senders' evidence.
+//
+// Every version must reach every replica, whichever it got first: a replica that learns of a
+// second version sends it to all, with the version it had (from its relay buffer), once per
+// version; every replica does the same, so the versions flood and every replica joins all of them.
+void Replicator::equivocate(const PeerId& from, const DeltaMsg& m, std::uint64_t digest, const std::string& what) {
+  equivocation("delta " + interval(m.origin, m.lo, m.hi) + " relayed by " + from.to_string() + " " + what +
+               ": both are joined");
+  if (Status s = decode_delta(from, m); !s.ok()) return reject(s.error());
+  g_.merge(scratch_);
+  applied_.add_range(m.origin, m.lo, m.hi);
+  Seen* seen = recorded(m.origin, m.lo);
+  const bool first_other = seen != nullptr && seen->others.empty();
+  if (seen != nullptr) seen->others.push_back(digest);
+  queue(PeerId{}, DeltaMsg{m.origin, m.lo, m.hi, m.payload});
+  if (first_other) {
+    auto idx = buffer_index_.find(m.origin);
+    if (idx != buffer_index_.end())
+      if (auto it = idx->second.find(m.lo); it != idx->second.end())
+        queue(PeerId{}, DeltaMsg{m.origin, it->second->lo, it->second->hi, it->second->bytes});
+  }
 }
 
 // A delta that claims this replica as its origin. An echo of what we published is a duplicate;
@@ -357,9 +382,10 @@ void Replicator::handle_own(const PeerId& from, const DeltaMsg& m) {
   const std::uint64_t digest = digest_of(*m.payload);
   if (m.lo <= seq_) {
     const Seen* seen = recorded(self_, m.lo);
-    if (m.hi > seq_ || (seen != nullptr && (seen->hi != m.hi || seen->digest != digest)))
-      equivocation("delta " + interval(m.origin, m.lo, m.hi) + " relayed by " + from.to_string() +
-                   " claims to be ours but differs from what we published: not applied");
+    if (m.hi > seq_ || (seen != nullptr && !seen->knows(m.hi, digest))) {
+      if (m.hi > seq_) seq_ = m.hi;  // our next numbers go beyond it
+      equivocate(from, m, digest, "claims to be ours but differs from what we published");
+    }
     return;
   }
   // Beyond our last sequence number: someone publishes under our name. Peers may already hold

@@ -16,9 +16,9 @@
 /// Hostile or broken peers (docs/protocol.md, "Bad input"): every envelope is checked once
 /// (validate.h) before use; a delta's payload must name the interval it claims and carry only its
 /// origin's dots; the same (origin, seq) arriving with another payload is reported as an
-/// equivocation (kEquivocation) and not applied, and so is a delta published under this
-/// replica's own name that it never published (it is applied then, so that every replica holds
-/// the same, and this replica's later deltas take sequence numbers beyond it); state chunks are
+/// equivocation (kEquivocation), and both payloads are joined (so replicas that got them in
+/// either order converge), and so is a delta published under this replica's own name that it
+/// never published (this replica's later deltas then take sequence numbers beyond it); state chunks are
 /// accepted only in answer to this replica's own pull; the peer table, what each peer's summary
 /// may hold, the relay buffer and the equivocation record are bounded; a peer whose summaries
 /// claim changes it never delivers is ignored for a while; full-state answers to one peer are
@@ -27,6 +27,7 @@
 /// Threading: a Replicator and its Graph belong to one thread.
 
 #include <cstdint>
+#include <algorithm>
 #include <functional>
 #include <list>
 #include <map>
@@ -178,10 +179,15 @@ class Replicator {
     std::size_t received = 0, bytes = 0;
     crdt::CausalContext applied;
   };
-  // What each applied (origin, lo) carried, to tell a duplicate from an equivocation.
+  // What each applied (origin, lo) carried, to tell a duplicate from an equivocation: the digest
+  // of the first payload, and of any other that came under the same interval.
   struct Seen {
     std::uint64_t hi = 0;
     std::uint64_t digest = 0;
+    std::vector<std::uint64_t> others;
+    bool knows(std::uint64_t hi_, std::uint64_t d) const {
+      return hi == hi_ && (digest == d || std::find(others.begin(), others.end(), d) != others.end());
+    }
   };
   struct Outgoing {
     PeerId to;  // null = broadcast
@@ -196,7 +202,11 @@ class Replicator {
   void apply_delta(const PeerId& from, const DeltaMsg& m, std::uint64_t digest);
   void record(const PeerId& origin, std::uint64_t lo, std::uint64_t hi, std::uint64_t digest);
   const Seen* recorded(const PeerId& origin, std::uint64_t lo) const;
+  Seen* recorded(const PeerId& origin, std::uint64_t lo) {
+    return const_cast<Seen*>(static_cast<const Replicator*>(this)->recorded(origin, lo));
+  }
   void equivocation(const std::string& what);
+  void equivocate(const PeerId& from, const DeltaMsg& m, std::uint64_t digest, const std::string& what);
   bool counts(const Peer& p) const;
   void handle(const PeerId& from, const SummaryMsg& m);
   void handle(const PeerId& from, const DeltaMsg& m);

@@ -14,6 +14,7 @@
 
 #include <functional>
 #include <memory>
+#include <nlohmann/json_fwd.hpp>
 #include <string>
 #include <vector>
 
@@ -52,6 +53,8 @@ class Agent {
   virtual void on_tick(AgentContext& ctx) {}
   /// Called once when the host stops (running actions have been cancelled).
   virtual void teardown(AgentContext& ctx) {}
+  /// Adds the agent's own fields to the host's status lines (e.g. what it is doing).
+  virtual void status(nlohmann::json& out) const {}
 
   // ---- declarations (in the constructor or setup()) ----
 

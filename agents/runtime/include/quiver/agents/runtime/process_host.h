@@ -1,0 +1,55 @@
+#pragma once
+/// @file
+/// The process host: one agent as its own OS process over Cyclone DDS (the embedded loopback
+/// configuration unless told otherwise). It creates the replica, seeds a world file if given,
+/// waits briefly to join its peers, starts the agent, and runs it until SIGINT/SIGTERM (or
+/// --run-for), logging through spdlog with the agent's name; bad input and peers coming and going
+/// are logged rate-limited by kind. A user's main() is a few lines:
+///
+/// ```cpp
+/// int main(int argc, char** argv) {
+///   MyAgent agent;
+///   return quiver::agents::run_process(agent, argc, argv);
+/// }
+/// ```
+
+#include <CLI/CLI.hpp>
+#include <cstdint>
+#include <string>
+
+#include "quiver/agents/dds/dds_replica.h"
+#include "quiver/agents/runtime/agent.h"
+#include "quiver/result.h"
+
+namespace quiver::agents {
+
+/// The standard flags of an agent process (and of every command that joins a DDS domain).
+struct ProcessFlags {
+  std::uint32_t domain = 0;
+  std::string dds_config = "loopback";
+  int loss_permille = 0;
+  std::string world;
+  std::uint64_t seed = 1;
+  int status_ms = 0;
+  double run_for_s = 0;
+  double join_wait_s = 1.5;
+
+  /// --domain, --dds-config, --loss-permille (the DDS ones) on `cmd`.
+  void add_dds(CLI::App* cmd);
+  /// The DDS ones and --world, --seed, --status-ms, --run-for, --join-wait.
+  void add_all(CLI::App* cmd);
+  /// Sets the DDS configuration these flags choose (domain, source, loss) on `c`.
+  Status apply_to(DdsConfig& c) const;
+};
+
+/// Runs `agent` as this process's agent until SIGINT/SIGTERM or `flags.run_for_s`. Prints a JSON
+/// status line on stdout every `flags.status_ms` (and one at the end). @returns the exit status:
+/// 0, or 2 when it could not start (the reason on stderr).
+int run_process(Agent& agent, const ProcessFlags& flags);
+/// Parses the standard flags from the command line (--help lists them), then runs.
+int run_process(Agent& agent, int argc, char** argv);
+
+/// Resident memory of this process in KiB (Linux; 0 elsewhere).
+long resident_kb();
+
+}  // namespace quiver::agents

@@ -1,0 +1,218 @@
+#include "quiver/agents/runtime/process_host.h"
+
+#include <spdlog/sinks/stdout_color_sinks.h>
+#include <spdlog/spdlog.h>
+#include <unistd.h>
+
+#include <atomic>
+#include <csignal>
+#include <cstdio>
+#include <fstream>
+#include <iostream>
+#include <mutex>
+#include <nlohmann/json.hpp>
+#include <sstream>
+
+#include "quiver/agents/replication/error_limiter.h"
+#include "quiver/agents/runtime/runtime.h"
+#include "quiver/graph/world_file.h"
+
+namespace quiver::agents {
+namespace {
+
+std::atomic<bool> g_stop{false};
+extern "C" void on_signal(int) { g_stop.store(true); }
+
+void install_signal_handlers() {
+  struct sigaction sa {};
+  sa.sa_handler = on_signal;
+  sigaction(SIGINT, &sa, nullptr);
+  sigaction(SIGTERM, &sa, nullptr);
+}
+
+std::shared_ptr<spdlog::logger> make_logger(const std::string& name) {
+  auto existing = spdlog::get(name);
+  if (existing) return existing;
+  auto sink = std::make_shared<spdlog::sinks::stderr_color_sink_mt>(spdlog::color_mode::never);
+  auto logger = std::make_shared<spdlog::logger>(name, sink);
+  logger->set_pattern("%H:%M:%S.%e [%n] %l: %v");
+  spdlog::register_logger(logger);
+  return logger;
+}
+
+nlohmann::json status(Agent& agent, DdsReplica& r, const AgentRuntime& rt) {
+  const auto& st = r.replicator().stats();
+  nlohmann::json j;
+  j["name"] = agent.name();
+  j["replica"] = r.id().to_string();
+  j["nodes"] = r.graph().node_count();
+  j["edges"] = r.graph().edge_count();
+  j["digest"] = r.graph().digest().hex();
+  j["peers"] = r.replicator().live_peer_count();
+  j["synced"] = r.replicator().synced();
+  j["deltas_applied"] = st.deltas_applied;
+  j["states_applied"] = st.states_applied;
+  j["write_timeouts"] = r.transport().stats().write_timeouts;
+  j["rejected"] = st.rejected_packets;
+  j["equivocations"] = st.equivocations;
+  j["peers_known"] = r.replicator().peers().size();
+  j["rss_kb"] = resident_kb();
+  j["actions_started"] = rt.stats().started;
+  j["actions_finished"] = rt.stats().finished;
+  j["actions_cancelled"] = rt.stats().cancelled;
+  j["t_ms"] = monotonic_ns() / 1'000'000;
+  agent.status(j);
+  return j;
+}
+
+}  // namespace
+
+long resident_kb() {
+  long pages = 0, resident = 0;
+  if (FILE* f = std::fopen("/proc/self/statm", "r")) {
+    if (std::fscanf(f, "%ld %ld", &pages, &resident) != 2) resident = 0;
+    std::fclose(f);
+  }
+  return resident * (sysconf(_SC_PAGESIZE) / 1024);
+}
+
+void ProcessFlags::add_dds(CLI::App* cmd) {
+  cmd->add_option("--domain", domain, "DDS domain id")->check(CLI::Range(0, 230))->capture_default_str();
+  cmd->add_option("--dds-config", dds_config,
+                  "loopback (default: 127.0.0.1 only, multicast off), env (opt-in: use CYCLONEDDS_URI), "
+                  "or the path of a Cyclone XML file (opt-in, e.g. for several hosts)")
+      ->capture_default_str();
+  cmd->add_option("--loss-permille", loss_permille, "testing: Cyclone drops this share of sent packets")
+      ->check(CLI::Range(0, 999));
+}
+
+void ProcessFlags::add_all(CLI::App* cmd) {
+  add_dds(cmd);
+  cmd->add_option("--world", world, "seed the shared graph from this JSON world file (idempotent)");
+  cmd->add_option("--seed", seed, "the agent's random seed")->check(CLI::NonNegativeNumber);
+  cmd->add_option("--status-ms", status_ms, "print a JSON status line this often")->check(CLI::Range(0, 3'600'000));
+  cmd->add_option("--run-for", run_for_s, "exit after this many seconds (default 0: until SIGINT/SIGTERM)")
+      ->check(CLI::Range(0.0, 1e7));
+  cmd->add_option("--join-wait", join_wait_s, "before starting, wait this long to join the peers")
+      ->check(CLI::Range(0.0, 60.0))
+      ->capture_default_str();
+}
+
+Status ProcessFlags::apply_to(DdsConfig& c) const {
+  c.domain = domain;
+  c.xmit_loss_permille = loss_permille;
+  if (dds_config == "loopback") {
+    c.source = DdsConfig::Source::kLoopback;
+  } else if (dds_config == "env") {
+    c.source = DdsConfig::Source::kEnvironment;
+  } else {
+    std::ifstream in(dds_config);
+    if (!in) return make_error(ErrorCode::kIo, "--dds-config: cannot read '" + dds_config + "'");
+    std::ostringstream ss;
+    ss << in.rdbuf();
+    c.source = DdsConfig::Source::kXml;
+    c.xml = ss.str();
+  }
+  return {};
+}
+
+int run_process(Agent& agent, const ProcessFlags& f) {
+  auto log = make_logger(agent.name());
+  DdsReplicaOptions o;
+  o.name = agent.name();
+  if (Status s = f.apply_to(o.dds); !s.ok()) {
+    log->error("{}", s.error().to_string());
+    return 2;
+  }
+  auto created = DdsReplica::create(o);
+  if (!created.ok()) {
+    log->error("{}", created.error().to_string());
+    return 2;
+  }
+  DdsReplica& r = **created;
+  install_signal_handlers();
+  // A hostile peer can cause thousands of bad packets (and invented peers) a second: one line
+  // per kind, then a count every few seconds. Cyclone's own warnings come from its threads.
+  std::mutex errors_mu;
+  ErrorLimiter errors([&](const std::string& line) { log->warn("rejected: {}", line); });
+  auto report = [&](const Error& e) {
+    std::lock_guard<std::mutex> lock(errors_mu);
+    errors.report(e, monotonic_ns());
+  };
+  r.replicator().on_error(report);
+  ErrorLimiter membership([&](const std::string& line) { log->info("{}", line); }, 5'000'000'000, 8);
+  r.replicator().on_membership([&](Membership m, const PeerInfo& p) {
+    const char* what = m == Membership::kJoined ? "joined" : "left";
+    membership.report(what, std::string(what) + ": " + p.name + " (" + p.id.to_string() + ")", monotonic_ns());
+  });
+  route_dds_log([&](const std::string& line) { report(make_error(ErrorCode::kTransport, "DDS: " + line)); });
+  struct Unroute {
+    ~Unroute() { route_dds_log(nullptr); }  // before `errors` goes, on every return
+  } unroute;
+  log->info("replica {} on DDS domain {} ({})", r.id().to_string(), f.domain, f.dds_config);
+  if (!f.world.empty()) {
+    // A seed depends only on the file: agents started together with it hold one world.
+    auto seed = graph::world_seed_file(f.world);
+    if (!seed.ok()) {
+      log->error("{}", seed.error().to_string());
+      return 2;
+    }
+    auto fresh = r.replicator().seed(seed->delta);
+    log->info("world {} ({} nodes, {} edges, {} RT edges) {}", f.world, seed->info.nodes, seed->info.edges,
+              seed->info.rt_edges, fresh.ok() && *fresh ? "seeded" : "already held");
+  }
+  // Join the peers first, so that setup() sees the shared graph.
+  const auto wait = static_cast<std::int64_t>(f.join_wait_s * 1e9);
+  if (wait > 0) {
+    r.spin_until([&] { return r.replicator().live_peer_count() > 0 || g_stop.load(); }, wait);
+    if (r.replicator().live_peer_count() > 0)
+      r.spin_until([&] { return r.replicator().synced() || g_stop.load(); }, 4 * wait);
+  }
+  RuntimeOptions ro;
+  ro.seed = f.seed ^ r.id().incarnation;
+  ro.clock = [] { return monotonic_ns(); };
+  ro.log = [&](std::string_view line) { log->info("{}", line); };
+  AgentRuntime rt(agent, r.graph(), &r.replicator(), ro);
+  if (Status s = rt.start(); !s.ok()) {
+    log->error("{}", s.error().to_string());
+    return 2;
+  }
+  if (rt.guard())
+    rt.guard()->on_violation([&](const Violation& v) { log->warn("violation {}", v.to_string(r.graph())); });
+  const std::int64_t start = monotonic_ns();
+  std::int64_t next_tick = start, next_status = start;
+  constexpr std::int64_t kTick = 10'000'000;
+  while (!g_stop.load()) {
+    std::int64_t now = monotonic_ns();
+    if (f.run_for_s > 0 && now - start > static_cast<std::int64_t>(f.run_for_s * 1e9)) break;
+    r.spin_once(std::clamp<std::int64_t>(next_tick - now, 0, kTick));
+    rt.pump();
+    now = monotonic_ns();
+    if (now >= next_tick) {
+      rt.tick();
+      next_tick = now + kTick;
+      {
+        std::lock_guard<std::mutex> lock(errors_mu);
+        errors.tick(now);
+      }
+      membership.tick(now);
+    }
+    if (f.status_ms > 0 && now >= next_status) {
+      std::cout << status(agent, r, rt).dump() << std::endl;
+      next_status = now + f.status_ms * 1'000'000LL;
+    }
+  }
+  rt.stop();
+  std::cout << status(agent, r, rt).dump() << std::endl;
+  return 0;
+}
+
+int run_process(Agent& agent, int argc, char** argv) {
+  CLI::App app{"quiver agent process: " + agent.name()};
+  ProcessFlags f;
+  f.add_all(&app);
+  CLI11_PARSE(app, argc, argv);
+  return run_process(agent, f);
+}
+
+}  // namespace quiver::agents
