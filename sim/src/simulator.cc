@@ -19,25 +19,11 @@ using agents::PeerId;
 
 class Simulation;
 
-// Encodes every envelope into a real byte packet: the simulated network carries (and counts)
-// exactly what a byte transport would, and receivers decode it.
-class Endpoint : public agents::Transport {
- public:
-  Endpoint(Simulation* sim, int index) : sim_(sim), index_(index) {}
-  void send(const agents::Envelope& e) override;
-
- private:
-  Simulation* sim_;
-  int index_;
-};
-
 struct Agent {
   std::uint64_t agent_id = 0;
   std::uint64_t incarnation = 0;
   bool up = false;
-  int group = 0;
   std::unique_ptr<graph::Graph> graph;
-  std::unique_ptr<Endpoint> endpoint;
   std::unique_ptr<agents::Replicator> replicator;
   std::unique_ptr<agents::LockManager> locks;
   std::unique_ptr<agents::GrammarGuard> guard;
@@ -58,58 +44,46 @@ std::string rooms_grammar(bool repair) {
          (repair ? "  repair by agent0: delete oldest\n" : "") + "}\n";
 }
 
-struct Event {
-  std::int64_t t;
-  std::uint64_t seq;
-  enum Kind { kDeliver, kTick, kStep, kCrash, kRestart, kPartition, kHeal } kind;
-  int node;
-  std::shared_ptr<const std::vector<std::uint8_t>> packet;
-  std::vector<int> groups;  // kPartition: the group of every agent
-  int group = 0;            // kDeliver: the sender's group when it sent
-  bool operator>(const Event& o) const { return t != o.t ? t > o.t : seq > o.seq; }
-};
-
 class Simulation {
  public:
-  explicit Simulation(const SimConfig& cfg) : cfg_(cfg), rng_(cfg.seed), net_rng_(rng_.fork()) {
+  explicit Simulation(const SimConfig& cfg)
+      : cfg_(cfg), rng_(cfg.seed), net_(cfg.agents, rng_.fork(), cfg.faults) {
     result_.seed = cfg.seed;
     result_.agents = cfg.agents;
     result_.steps = cfg.steps;
-    faults_ = cfg.faults;
     ChurnMix mix = cfg.mix;
     if (cfg.locks.enabled) mix.delete_node = 0;  // keep the scope roots alive
     churn_ = Churn(mix);
     if (cfg.rooms.enabled)
       rooms_grammar_ = *agents::parse_grammar(rooms_grammar(cfg.rooms.repair), "rooms");
     agents_.resize(cfg.agents);
-    last_delivery_.assign(cfg.agents * cfg.agents, 0);
+    net_.after_each_event([this] { account_overlap(); });
   }
 
   SimResult run() {
     for (int i = 0; i < cfg_.agents; ++i) {
       agents_[i].agent_id = 0x5100 + static_cast<std::uint64_t>(i);
       boot(i);
-      schedule(Event{static_cast<std::int64_t>(rng_.below(cfg_.tick_interval_ns)), 0, Event::kTick, i, nullptr, {}});
+      net_.at(static_cast<std::int64_t>(rng_.below(cfg_.tick_interval_ns)), [this, i] { tick(i); });
     }
     const std::int64_t work_end = cfg_.steps * cfg_.step_interval_ns;
     if (cfg_.locks.enabled) create_scopes();
     if (cfg_.rooms.enabled) create_rooms();
-    for (int s = 0; s < cfg_.steps; ++s) schedule(Event{(s + 1) * cfg_.step_interval_ns, 0, Event::kStep, -1, nullptr, {}});
+    for (int s = 0; s < cfg_.steps; ++s) net_.at((s + 1) * cfg_.step_interval_ns, [this] { step(); });
     plan_faults(work_end);
     // Workload and faults.
-    run_until(work_end + cfg_.step_interval_ns);
+    net_.run_until(work_end + cfg_.step_interval_ns);
     // Heal: faults off, everyone up and connected; then wait for convergence.
     note("workload done (" + std::to_string(result_.ops) + " changes); faults off, partitions healed, crashed agents restart");
-    faults_.loss = 0;
-    faults_.dup = 0;
-    for (int i = 0; i < cfg_.agents; ++i) {
-      agents_[i].group = 0;
+    net_.faults().loss = 0;
+    net_.faults().dup = 0;
+    net_.heal();
+    for (int i = 0; i < cfg_.agents; ++i)
       if (!agents_[i].up) boot(i);
-    }
-    const std::int64_t heal_at = now_;
-    const std::int64_t deadline = now_ + cfg_.settle_limit_ns;
-    while (now_ < deadline) {
-      run_until(now_ + 50'000'000);
+    const std::int64_t heal_at = net_.now();
+    const std::int64_t deadline = net_.now() + cfg_.settle_limit_ns;
+    while (net_.now() < deadline) {
+      net_.run_until(net_.now() + 50'000'000);
       if (converged()) {
         result_.converged = true;
         note("converged: " + std::to_string(cfg_.agents) + " replicas hold digest " +
@@ -118,8 +92,12 @@ class Simulation {
       }
     }
     account_overlap();
-    result_.settle_ms = (now_ - heal_at) / 1'000'000;
-    result_.virtual_ms = now_ / 1'000'000;
+    result_.settle_ms = (net_.now() - heal_at) / 1'000'000;
+    result_.virtual_ms = net_.now() / 1'000'000;
+    result_.messages = net_.stats().messages;
+    result_.bytes = net_.stats().bytes;
+    result_.dropped = net_.stats().dropped;
+    result_.duplicated = net_.stats().duplicated;
     check_invariants_all();
     result_.digest = agents_[0].graph->digest().hex();
     result_.final_nodes = agents_[0].graph->node_count();
@@ -134,47 +112,9 @@ class Simulation {
     return result_;
   }
 
-  // Sends one encoded packet (shared by every copy in flight) to agent `to`, or to all if -1.
-  void transmit(int from, int to, std::shared_ptr<const std::vector<std::uint8_t>> shared) {
-    auto one = [&](int d) {
-      ++result_.messages;
-      result_.bytes += shared->size();
-      if (!agents_[d].up || agents_[d].group != agents_[from].group || net_rng_.chance(faults_.loss)) {
-        ++result_.dropped;
-        return;
-      }
-      int copies = net_rng_.chance(faults_.dup) ? 2 : 1;
-      result_.duplicated += copies - 1;
-      for (int c = 0; c < copies; ++c) {
-        std::int64_t delay = faults_.delay_min_ns +
-                             static_cast<std::int64_t>(net_rng_.below(faults_.delay_max_ns - faults_.delay_min_ns + 1));
-        if (faults_.reorder) delay += static_cast<std::int64_t>(net_rng_.below(faults_.reorder_jitter_ns));
-        std::int64_t t = now_ + delay;
-        std::int64_t& last = last_delivery_[from * cfg_.agents + d];
-        if (!faults_.reorder) t = std::max(t, last + 1);  // FIFO link
-        last = std::max(last, t);
-        schedule(Event{t, 0, Event::kDeliver, d, shared, {}, agents_[from].group});
-      }
-    };
-    if (to >= 0) one(to);
-    else
-      for (int d = 0; d < cfg_.agents; ++d)
-        if (d != from) one(d);
-  }
-  int index_of(const PeerId& id) const {
-    for (int i = 0; i < cfg_.agents; ++i)
-      if (agents_[i].up && agents_[i].agent_id == id.agent && agents_[i].incarnation == id.incarnation) return i;
-    return -1;
-  }
-
  private:
-  void schedule(Event e) {
-    e.seq = next_seq_++;
-    queue_.push(std::move(e));
-  }
-
   void note(const std::string& line) {
-    if (cfg_.log) cfg_.log(now_, line);
+    if (cfg_.log) cfg_.log(net_.now(), line);
   }
 
   void boot(int i) {
@@ -183,16 +123,20 @@ class Simulation {
     ++a.incarnation;
     a.up = true;
     a.graph = std::make_unique<graph::Graph>(graph::ReplicaId{a.agent_id, a.incarnation});
-    a.endpoint = std::make_unique<Endpoint>(this, i);
+    net_.set_up(i, true);
+    net_.set_address(i, a.graph->replica());
     agents::ReplicatorOptions opt = cfg_.replicator;
     opt.name = "agent" + std::to_string(i);
-    a.replicator = std::make_unique<agents::Replicator>(*a.graph, *a.endpoint, opt);
+    a.replicator = std::make_unique<agents::Replicator>(*a.graph, net_.endpoint(i), opt);
+    net_.set_receiver(i, [this, i](std::span<const std::uint8_t> packet, std::int64_t now) {
+      agents_[i].replicator->on_packet(packet, now);
+    });
     a.replicator->on_error([this, i](const Error& e) {
       const std::string line = "agent" + std::to_string(i) + " rejected: " + e.to_string();
-      if (result_.first_rejection.empty()) result_.first_rejection = "t=" + std::to_string(now_) + "ns " + line;
+      if (result_.first_rejection.empty()) result_.first_rejection = "t=" + std::to_string(net_.now()) + "ns " + line;
       note(line);
     });
-    a.replicator->start(now_);
+    a.replicator->start(net_.now());
     if (rooms_grammar_)
       a.guard = std::make_unique<agents::GrammarGuard>(
           *a.graph, agents::GrammarChecker(*rooms_grammar_), opt.name);
@@ -200,7 +144,7 @@ class Simulation {
       agents::LockOptions lo;
       lo.lease_ns = cfg_.locks.lease_ns;
       a.locks = std::make_unique<agents::LockManager>(
-          *a.graph, a.replicator.get(), [this] { return now_; }, lo);
+          *a.graph, a.replicator.get(), [this] { return net_.now(); }, lo);
       a.locks->on_event([this](const agents::LockEvent& e) {
         if (e.kind == agents::LockEventKind::kAcquired) {
           ++result_.lock_acquired;
@@ -282,7 +226,7 @@ class Simulation {
         (void)a.locks->release(root);
       } else {
         auto tx = a.graph->begin();
-        (void)tx.set(root, graph::Symbol("work"), graph::Value(static_cast<std::int64_t>(now_)));
+        (void)tx.set(root, graph::Symbol("work"), graph::Value(static_cast<std::int64_t>(net_.now())));
         (void)tx.commit();
       }
       return;
@@ -312,17 +256,17 @@ class Simulation {
         for (std::size_t y = x + 1; y < holders.size(); ++y) {
           Agent& a = agents_[holders[x]];
           Agent& b = agents_[holders[y]];
-          bool hear = a.group == b.group && a.replicator->peer_alive(b.graph->replica()) &&
+          bool hear = net_.group(holders[x]) == net_.group(holders[y]) && a.replicator->peer_alive(b.graph->replica()) &&
                       b.replicator->peer_alive(a.graph->replica());
           (hear ? connected : partitioned) = true;
         }
     }
-    if (overlap_since_connected_ >= 0) result_.lock_overlap_connected_ns += now_ - overlap_since_connected_;
-    if (overlap_since_partitioned_ >= 0) result_.lock_overlap_partitioned_ns += now_ - overlap_since_partitioned_;
-    overlap_since_connected_ = connected ? now_ : -1;
-    overlap_since_partitioned_ = partitioned ? now_ : -1;
+    if (overlap_since_connected_ >= 0) result_.lock_overlap_connected_ns += net_.now() - overlap_since_connected_;
+    if (overlap_since_partitioned_ >= 0) result_.lock_overlap_partitioned_ns += net_.now() - overlap_since_partitioned_;
+    overlap_since_connected_ = connected ? net_.now() : -1;
+    overlap_since_partitioned_ = partitioned ? net_.now() : -1;
     if (connected && result_.first_violation.empty())
-      result_.first_violation = "t=" + std::to_string(now_) + "ns: two connected agents both hold a scope";
+      result_.first_violation = "t=" + std::to_string(net_.now()) + "ns: two connected agents both hold a scope";
   }
 
   void crash(int i) {
@@ -330,6 +274,7 @@ class Simulation {
     if (!a.up) return;
     // The process dies: its memory (graph, buffers) is gone, nothing is said to anyone.
     a.up = false;
+    net_.set_up(i, false);
     add_stats(a);
     a.guard.reset();
     a.locks.reset();
@@ -340,7 +285,7 @@ class Simulation {
   }
 
   void plan_faults(std::int64_t work_end) {
-    if (faults_.partitions && cfg_.agents >= 2) {
+    if (cfg_.faults.partitions && cfg_.agents >= 2) {
       int episodes = 1 + static_cast<int>(rng_.below(3));
       std::vector<std::int64_t> starts;
       for (int e = 0; e < episodes; ++e) starts.push_back(static_cast<std::int64_t>(rng_.below(work_end)));
@@ -353,66 +298,45 @@ class Simulation {
         std::vector<int> groups(cfg_.agents);
         for (int i = 0; i < cfg_.agents; ++i) groups[i] = i < ngroups ? i : static_cast<int>(rng_.below(ngroups));
         rng_.shuffle(groups);
-        schedule(Event{starts[e], 0, Event::kPartition, -1, nullptr, groups});
-        schedule(Event{end, 0, Event::kHeal, -1, nullptr, {}});
+        net_.at(starts[e], [this, groups] { partition(groups); });
+        net_.at(end, [this] {
+          net_.heal();
+          note("partition healed");
+        });
       }
     }
-    if (faults_.crashes) {
+    if (cfg_.faults.crashes) {
       int n = 1 + static_cast<int>(rng_.below(std::max(1, cfg_.agents / 3)));
       for (int k = 0; k < n; ++k) {
         int who = static_cast<int>(rng_.below(cfg_.agents));
         std::int64_t at = static_cast<std::int64_t>(rng_.below(work_end));
         std::int64_t back = at + 20'000'000 + static_cast<std::int64_t>(rng_.below(1'500'000'000));
-        schedule(Event{at, 0, Event::kCrash, who, nullptr, {}});
-        if (back < work_end) schedule(Event{back, 0, Event::kRestart, who, nullptr, {}});
+        net_.at(at, [this, who] { crash(who); });
+        if (back < work_end)
+          net_.at(back, [this, who] {
+            if (!agents_[who].up) boot(who);
+          });
       }
     }
   }
 
-  void run_until(std::int64_t t_end) {
-    while (!queue_.empty() && queue_.top().t <= t_end) {
-      Event e = queue_.top();
-      queue_.pop();
-      now_ = std::max(now_, e.t);
-      switch (e.kind) {
-        case Event::kDeliver: {
-          Agent& a = agents_[e.node];
-          // A packet sent across a partition that formed meanwhile is lost too.
-          if (a.up && a.group == e.group) a.replicator->on_packet(*e.packet, now_);
-          else ++result_.dropped;
-          break;
-        }
-        case Event::kTick:
-          if (agents_[e.node].up) {
-            agents_[e.node].replicator->tick(now_);
-            if (agents_[e.node].locks) agents_[e.node].locks->tick();
-            if (agents_[e.node].guard) agents_[e.node].guard->tick();
-          }
-          schedule(Event{now_ + cfg_.tick_interval_ns, 0, Event::kTick, e.node, nullptr, {}});
-          break;
-        case Event::kStep: step(); break;
-        case Event::kCrash: crash(e.node); break;
-        case Event::kRestart:
-          if (!agents_[e.node].up) boot(e.node);
-          break;
-        case Event::kPartition: {
-          ++result_.partitions;
-          std::string split;
-          for (int i = 0; i < cfg_.agents; ++i) {
-            agents_[i].group = e.groups[i];
-            split += (i ? " " : "") + std::to_string(e.groups[i]);
-          }
-          note("partition: groups by agent [" + split + "]");
-          break;
-        }
-        case Event::kHeal:
-          for (auto& a : agents_) a.group = 0;
-          note("partition healed");
-          break;
-      }
-      account_overlap();
+  void tick(int i) {
+    if (agents_[i].up) {
+      agents_[i].replicator->tick(net_.now());
+      if (agents_[i].locks) agents_[i].locks->tick();
+      if (agents_[i].guard) agents_[i].guard->tick();
     }
-    now_ = std::max(now_, t_end);
+    net_.at(net_.now() + cfg_.tick_interval_ns, [this, i] { tick(i); });
+  }
+
+  void partition(const std::vector<int>& groups) {
+    ++result_.partitions;
+    std::string split;
+    for (int i = 0; i < cfg_.agents; ++i) {
+      net_.set_group(i, groups[i]);
+      split += (i ? " " : "") + std::to_string(groups[i]);
+    }
+    note("partition: groups by agent [" + split + "]");
   }
 
   void step() {
@@ -423,7 +347,7 @@ class Simulation {
     int who = rng_.pick(up);
     if (cfg_.rooms.enabled) rooms_step(who);
     else if (cfg_.locks.enabled && rng_.chance(0.5)) lock_step(who);
-    else result_.ops += churn_.step(*agents_[who].graph, rng_, now_);
+    else result_.ops += churn_.step(*agents_[who].graph, rng_, net_.now());
     if (cfg_.check_every_step) check_invariants_all();
   }
 
@@ -444,7 +368,7 @@ class Simulation {
       if (!a.up) continue;
       auto v = a.graph->check_invariants();
       if (!v.empty() && result_.first_violation.empty())
-        result_.first_violation = "t=" + std::to_string(now_) + "ns agent " + a.graph->replica().to_string() + ": " + v[0];
+        result_.first_violation = "t=" + std::to_string(net_.now()) + "ns agent " + a.graph->replica().to_string() + ": " + v[0];
       result_.invariant_violations += v.size();
     }
   }
@@ -464,14 +388,9 @@ class Simulation {
   }
 
   SimConfig cfg_;
-  FaultConfig faults_;
   Rng rng_;
-  Rng net_rng_;
+  VirtualNetwork net_;
   std::vector<Agent> agents_;
-  std::priority_queue<Event, std::vector<Event>, std::greater<Event>> queue_;
-  std::uint64_t next_seq_ = 0;
-  std::int64_t now_ = 0;
-  std::vector<std::int64_t> last_delivery_;
   std::optional<agents::Grammar> rooms_grammar_;  // parsed once, copied into every agent's guard
   std::vector<graph::NodeId> scope_roots_;        // "scope0", ... as create_scopes made them
   Churn churn_{ChurnMix{}};
@@ -479,13 +398,6 @@ class Simulation {
   std::int64_t overlap_since_connected_ = -1;
   std::int64_t overlap_since_partitioned_ = -1;
 };
-
-void Endpoint::send(const agents::Envelope& e) {
-  const int d = e.to.is_null() ? -1 : sim_->index_of(e.to);
-  if (d < 0 && !e.to.is_null()) return;  // no such agent: nothing to encode
-  sim_->transmit(index_, d,
-                 std::make_shared<const std::vector<std::uint8_t>>(agents::encode_packet(e)));
-}
 
 }  // namespace
 

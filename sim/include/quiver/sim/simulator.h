@@ -16,20 +16,10 @@
 #include <vector>
 
 #include "quiver/agents/replication/replicator.h"
+#include "quiver/sim/network.h"
 #include "quiver/sim/workload.h"
 
 namespace quiver::sim {
-
-struct FaultConfig {
-  double loss = 0.0;                 ///< probability a packet is dropped on a link
-  double dup = 0.0;                  ///< probability a packet is delivered twice
-  bool reorder = false;              ///< packets on a link may overtake each other
-  bool partitions = false;           ///< split the agents into groups for a while, then heal
-  bool crashes = false;              ///< kill agents (state lost) and restart them later
-  std::int64_t delay_min_ns = 100'000;
-  std::int64_t delay_max_ns = 2'000'000;
-  std::int64_t reorder_jitter_ns = 30'000'000;
-};
 
 /// Agents competing for priority locks on a few scopes while the usual churn goes on.
 struct LockWorkload {

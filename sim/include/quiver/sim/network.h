@@ -1,0 +1,113 @@
+#pragma once
+/// @file
+/// The simulated world's clock and network, shared by every simulation: one event queue in
+/// virtual time, and a network of nodes that exchange real encoded packets (packet_codec.h) with
+/// per-link loss, duplication, delay and reordering, partitions (nodes in different groups do not
+/// hear each other) and nodes that are down. Deterministic: every draw comes from the one Rng it
+/// is given, and events at equal times run in the order they were scheduled.
+
+#include <cstdint>
+#include <functional>
+#include <memory>
+#include <queue>
+#include <span>
+#include <vector>
+
+#include "quiver/agents/replication/transport.h"
+#include "quiver/rng.h"
+
+namespace quiver::sim {
+
+struct FaultConfig {
+  double loss = 0.0;                 ///< probability a packet is dropped on a link
+  double dup = 0.0;                  ///< probability a packet is delivered twice
+  bool reorder = false;              ///< packets on a link may overtake each other
+  bool partitions = false;           ///< split the agents into groups for a while, then heal
+  bool crashes = false;              ///< kill agents (state lost) and restart them later
+  std::int64_t delay_min_ns = 100'000;
+  std::int64_t delay_max_ns = 2'000'000;
+  std::int64_t reorder_jitter_ns = 30'000'000;
+};
+
+struct NetworkStats {
+  std::uint64_t messages = 0;  ///< packets handed to the network, per destination
+  std::uint64_t bytes = 0;
+  std::uint64_t dropped = 0;
+  std::uint64_t duplicated = 0;
+};
+
+class VirtualNetwork {
+ public:
+  using Receiver = std::function<void(std::span<const std::uint8_t> packet, std::int64_t now)>;
+
+  VirtualNetwork(int nodes, Rng rng, FaultConfig faults);
+  ~VirtualNetwork();
+  VirtualNetwork(const VirtualNetwork&) = delete;
+  VirtualNetwork& operator=(const VirtualNetwork&) = delete;
+
+  std::int64_t now() const { return now_; }
+  /// Runs `fn` at virtual time `t` (now if earlier).
+  void at(std::int64_t t, std::function<void()> fn);
+  /// Runs every event up to `t_end`; then now() is at least `t_end`.
+  void run_until(std::int64_t t_end);
+  /// Called after every event (e.g. to check an invariant continuously).
+  void after_each_event(std::function<void()> fn) { after_event_ = std::move(fn); }
+
+  /// Where packets for `node` go (the node's replicator), while it is up.
+  void set_receiver(int node, Receiver r) { nodes_[node].receiver = std::move(r); }
+  /// The replica id packets addressed to `node` carry (unicast), while it is up.
+  void set_address(int node, const agents::PeerId& id) { nodes_[node].address = id; }
+  /// A transport for `node`: envelopes it sends are encoded once and carried to the others.
+  agents::Transport& endpoint(int node);
+
+  /// A node that is down neither sends nor receives (packets in flight to it are lost).
+  void set_up(int node, bool up) { nodes_[node].up = up; }
+  bool up(int node) const { return nodes_[node].up; }
+  /// Nodes hear each other only within one group (a packet sent across groups, or to a node whose
+  /// group changed while it was in flight, is lost).
+  void set_group(int node, int group) { nodes_[node].group = group; }
+  int group(int node) const { return nodes_[node].group; }
+  void heal() {
+    for (auto& n : nodes_) n.group = 0;
+  }
+  FaultConfig& faults() { return faults_; }
+  const NetworkStats& stats() const { return stats_; }
+  int size() const { return static_cast<int>(nodes_.size()); }
+  /// The node a replica id addresses (up), or -1.
+  int index_of(const agents::PeerId& id) const;
+
+  /// Hands an encoded packet from `from` to `to` (-1: every other node).
+  void transmit(int from, int to, std::shared_ptr<const std::vector<std::uint8_t>> packet);
+
+ private:
+  struct Event {
+    std::int64_t t = 0;
+    std::uint64_t seq = 0;
+    int node = -1;   // a delivery to this node, or -1: a call
+    int group = 0;   // the sender's group when it sent
+    std::shared_ptr<const std::vector<std::uint8_t>> packet;
+    std::function<void()> fn;
+    bool operator>(const Event& o) const { return t != o.t ? t > o.t : seq > o.seq; }
+  };
+  struct Endpoint;
+  struct Node {
+    bool up = false;  // until the simulation starts it
+    int group = 0;
+    agents::PeerId address;
+    Receiver receiver;
+    std::unique_ptr<Endpoint> endpoint;
+  };
+  void push(Event e);
+
+  Rng rng_;
+  FaultConfig faults_;
+  std::vector<Node> nodes_;
+  std::priority_queue<Event, std::vector<Event>, std::greater<Event>> queue_;
+  std::uint64_t next_seq_ = 0;
+  std::int64_t now_ = 0;
+  std::vector<std::int64_t> last_delivery_;  // FIFO links: per (from, to)
+  NetworkStats stats_;
+  std::function<void()> after_event_;
+};
+
+}  // namespace quiver::sim
