@@ -11,6 +11,7 @@ packages=(
   libeigen3-dev libfcl-dev liburdfdom-dev liburdfdom-headers-dev libconsole-bridge-dev
   libtf2-dev
   nlohmann-json3-dev libcli11-dev libspdlog-dev
+  espeak-ng libopencv-dev
   iproute2 procps
 )
 
