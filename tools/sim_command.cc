@@ -2,6 +2,9 @@
 #include <iostream>
 
 #include "commands.h"
+#include <nlohmann/json.hpp>
+
+#include "quiver/sim/scenario.h"
 #include "quiver/sim/simulator.h"
 
 namespace quiver::tools {
@@ -29,7 +32,45 @@ void add_sim_command(CLI::App& app) {
   cmd->add_flag("--rooms", cfg->rooms.enabled, "agents move a robot between rooms under a grammar (violations repaired)");
   auto verbose = std::make_shared<bool>(false);
   cmd->add_flag("-v,--verbose", *verbose, "narrate faults and phases on stderr");
-  cmd->callback([cfg, verbose] {
+  auto scenario = std::make_shared<std::string>();
+  auto schedules = std::make_shared<int>(0);
+  cmd->add_option("--scenario", *scenario, "run a Barthel scenario file (agents, patient, faults, checks) instead")
+      ->check(CLI::ExistingFile);
+  cmd->add_option("--schedules", *schedules,
+                  "run N random fault schedules of the Barthel scenario (seeds --seed .. --seed+N-1)")
+      ->check(CLI::Range(1, 1'000'000));
+  cmd->callback([cfg, verbose, scenario, schedules] {
+    auto narrate = [](std::int64_t t, const std::string& line) {
+      std::fprintf(stderr, "  [%8.3f s] %s\n", static_cast<double>(t) / 1e9, line.c_str());
+    };
+    if (!scenario->empty() || *schedules > 0) {
+      std::vector<std::pair<sim::Scenario, std::uint64_t>> runs;
+      if (!scenario->empty()) {
+        auto s = sim::Scenario::load(*scenario);
+        if (!s.ok()) {
+          std::fprintf(stderr, "quiver sim: %s\n", s.error().to_string().c_str());
+          set_exit_code(2);
+          return;
+        }
+        runs.emplace_back(*s, cfg->seed);
+      }
+      for (int k = 0; k < *schedules; ++k) runs.emplace_back(sim::Scenario::random_faults(cfg->seed + k), cfg->seed + k);
+      int failed = 0;
+      for (auto& [s, seed] : runs) {
+        if (*verbose) std::fprintf(stderr, "quiver sim: scenario %s, seed %llu\n", s.name.c_str(), static_cast<unsigned long long>(seed));
+        sim::ScenarioResult r = sim::run_scenario(s, seed, *verbose ? narrate : std::function<void(std::int64_t, const std::string&)>{});
+        if (!r.passed) ++failed;
+        if (!r.passed || runs.size() == 1) {
+          nlohmann::json j = r.to_json();
+          if (!r.passed) j["replay"] = scenario->empty() ? "quiver sim --schedules 1 --seed " + std::to_string(seed) : "quiver sim --scenario " + *scenario + " --seed " + std::to_string(seed);
+          std::cout << j.dump() << std::endl;
+        }
+      }
+      if (runs.size() > 1)
+        std::cout << nlohmann::json{{"schedules", runs.size()}, {"passed", runs.size() - static_cast<std::size_t>(failed)}, {"failed", failed}, {"first_seed", cfg->seed}}.dump() << std::endl;
+      set_exit_code(failed ? 1 : 0);
+      return;
+    }
     if (*verbose)
       cfg->log = [](std::int64_t t, const std::string& line) {
         std::fprintf(stderr, "  [%8.3f s] %s\n", static_cast<double>(t) / 1e9, line.c_str());

@@ -14,7 +14,8 @@ GrammarGuard::GrammarGuard(graph::Graph& g, GrammarChecker checker, std::string 
   sub_ = g_.subscribe([this](const graph::ChangeBatch& b) { on_changes(b); });
   g_.set_merge_observer([this](const graph::Graph& before, const graph::GraphDelta& d) {
     if (d.kind != graph::GraphDelta::Kind::kDelta) return;  // states carry no single rule
-    Status s = checker_.verify_delta(before, d);
+    auto peer = peers_.find(d.origin.agent);
+    Status s = (peer == peers_.end() ? checker_ : peer->second).verify_delta(before, d);
     if (s.ok()) {
       if (!d.rule.empty()) ++verified_;
       return;
@@ -37,6 +38,10 @@ graph::Graph::CommitValidator GrammarGuard::validator() {
     if (s.ok() && !m.rule.empty()) return g_.annotate_commit(std::move(m.rule), std::move(m.binding));
     return s;
   };
+}
+
+void GrammarGuard::verify_with(std::uint64_t agent_id, GrammarChecker checker) {
+  peers_.insert_or_assign(agent_id, std::move(checker));
 }
 
 void GrammarGuard::install() { g_.set_commit_validator(validator()); }

@@ -1,5 +1,7 @@
 #include "quiver/agents/runtime/runtime.h"
 
+#include "quiver/hash.h"
+
 #include <algorithm>
 
 namespace quiver::agents {
@@ -51,6 +53,13 @@ AgentRuntime::~AgentRuntime() {
   if (started_) g_.set_commit_validator(nullptr);
 }
 
+bool AgentRuntime::hears(std::string_view agent_name) const {
+  if (!rep_) return false;
+  for (const PeerInfo& p : rep_->peers())
+    if (p.alive && !p.suspect && !p.observer && p.name == agent_name) return true;
+  return false;
+}
+
 void AgentRuntime::log(std::string_view line) {
   if (opt_.log) opt_.log(line);
 }
@@ -62,6 +71,11 @@ Status AgentRuntime::start() {
   if (!agent_.grammar_text().empty() || !agent_.grammar_file().empty()) {
     if (!grammar.ok()) return grammar.error();
     guard_ = std::make_unique<GrammarGuard>(g_, GrammarChecker(std::move(*grammar)), agent_.name());
+    for (const Agent::PeerGrammar& pg : agent_.peer_grammars()) {
+      auto pgram = parse_grammar(pg.text, pg.source);
+      if (!pgram.ok()) return pgram.error();
+      guard_->verify_with(fnv1a64(pg.agent), GrammarChecker(std::move(*pgram)));
+    }
     guard_->on_unverified([this](const graph::ReplicaId& from, const Error& e) {
       log("unverified change from " + from.to_string() + ": " + e.message);
     });

@@ -7,6 +7,7 @@
 /// the forbidden match, by Lamport order of its insertion - a deterministic choice).
 
 #include <functional>
+#include <map>
 #include <set>
 #include <string>
 #include <vector>
@@ -31,6 +32,9 @@ class GrammarGuard {
   /// Performs pending repairs (outside of merge callbacks). Call periodically.
   void tick();
 
+  /// Deltas from the agent with this id (its name's hash: ReplicaId::agent) are verified against
+  /// `checker`, that agent's own grammar; deltas from agents without one, against this agent's.
+  void verify_with(std::uint64_t agent_id, GrammarChecker checker);
   void on_violation(std::function<void(const Violation&)> cb) { cb_ = std::move(cb); }
   /// Called for every incoming delta whose claimed rule does not verify (or whose structural
   /// change claims none): the origin and why. The delta is still merged (replicas converge);
@@ -51,6 +55,7 @@ class GrammarGuard {
 
   graph::Graph& g_;
   GrammarChecker checker_;
+  std::map<std::uint64_t, GrammarChecker> peers_;
   std::string name_;
   graph::Graph::SubscriptionId sub_ = 0;
   std::function<void(const Violation&)> cb_;

@@ -70,6 +70,16 @@ class Agent {
   const std::string& grammar_text() const { return grammar_text_; }
   const std::string& grammar_source() const { return grammar_source_; }
 
+  /// The grammar of another agent (by name): its changes are verified against it when they arrive
+  /// (without one, against this agent's own grammar).
+  struct PeerGrammar {
+    std::string agent, text, source;
+  };
+  void add_peer_grammar(std::string agent, std::string text, std::string source) {
+    peer_grammars_.push_back({std::move(agent), std::move(text), std::move(source)});
+  }
+  const std::vector<PeerGrammar>& peer_grammars() const { return peer_grammars_; }
+
   using Subscriber = std::function<void(AgentContext&, const graph::ChangeBatch&)>;
   /// Calls `fn` with the part of every change batch (local or merged) that `filter` selects.
   void subscribe(ChangeFilter filter, Subscriber fn) { subscriptions_.push_back({std::move(filter), std::move(fn)}); }
@@ -93,6 +103,7 @@ class Agent {
  private:
   std::string name_;
   std::string grammar_file_, grammar_text_, grammar_source_;
+  std::vector<PeerGrammar> peer_grammars_;
   std::vector<Subscription> subscriptions_;
   std::vector<ActionEntry> actions_;
 };

@@ -34,6 +34,9 @@ class AgentContext {
   virtual LockManager& locks() = 0;
   /// The one seeded random source of this agent (a seed replays exactly in the simulator).
   virtual Rng& rng() = 0;
+  /// True while this agent hears a live agent of that name (its replica's heartbeats arrive, and
+  /// it has not lied in its summaries). Without a network (a lone replica): false.
+  virtual bool hears(std::string_view agent_name) const = 0;
   /// A line for the agent's log (named, timed by the host).
   virtual void log(std::string_view line) = 0;
 

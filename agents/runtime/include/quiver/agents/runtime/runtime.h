@@ -84,6 +84,7 @@ class AgentRuntime final : public AgentContext {
   std::int64_t now() const override { return opt_.clock(); }
   LockManager& locks() override { return *locks_; }
   Rng& rng() override { return rng_; }
+  bool hears(std::string_view agent_name) const override;
   void log(std::string_view line) override;
   TimerId after(std::int64_t delay_ns, std::function<void()> fn) override;
   TimerId every(std::int64_t period_ns, std::function<void()> fn) override;

@@ -1,0 +1,14 @@
+#pragma once
+/// @file
+/// The files the Barthel agents ship with, embedded so that `quiver run ROLE` works anywhere:
+/// each agent's grammar (agents/barthel/grammars/ROLE.aggl) and the world (world/barthel.json).
+#include <string_view>
+
+namespace quiver::agents::barthel {
+
+/// The grammar of `role` (planner, speech, panel, person, patient); empty if there is none.
+std::string_view role_grammar(std::string_view role);
+/// The Barthel world file (JSON).
+std::string_view world_json();
+
+}  // namespace quiver::agents::barthel

@@ -1,0 +1,137 @@
+#include "quiver/agents/barthel/panel.h"
+
+#include <nlohmann/json.hpp>
+
+#include "quiver/agents/barthel/grammars.h"
+#include "quiver/agents/barthel/schema.h"
+
+namespace quiver::agents::barthel {
+
+using graph::NodeId;
+using graph::Symbol;
+
+class Panel::Display final : public Action {
+ public:
+  explicit Display(Panel& p) : Action("display"), p_(p) {}
+
+  std::vector<Match> find(AgentContext& ctx) override {
+    auto p = newest(ctx);
+    if (!p) return {};
+    Match m;
+    m.key = "s" + std::to_string(p->seq) + "@" + p->id.to_string();
+    m.nodes["utterance"] = p->id;
+    return {m};
+  }
+
+  bool holds(AgentContext& ctx, const Match& m) override {
+    auto p = newest(ctx);
+    return p && p->id == m.at("utterance");
+  }
+
+  std::optional<LockNeed> lock(AgentContext& ctx, const Match&) override {
+    return LockNeed{node_id(ctx.graph(), node::kPanel), p_.opt_.lock_priority};
+  }
+
+  Status start(AgentContext& ctx, const Match& m) override {
+    graph::Graph& g = ctx.graph();
+    auto p = prompt_at(g, m.at("utterance"));
+    if (!p) return make_error(ErrorCode::kNotFound, "display: the prompt is gone");
+    devices::ScreenContent c;
+    c.title = p->title;
+    c.text = p->screen_text;
+    if (p->buttons) c.options = p->options;
+    if (Status s = p_.screen_->show(c, ctx.now()); !s.ok()) return s;
+    graph::Transaction tx = g.begin();
+    if (Status s = tx.insert_edge(node_id(g, node::kPanel), p->id, edge::kShowing); !s.ok()) return s;
+    ++p_.shown_;
+    auto c2 = tx.commit();
+    return c2.ok() ? Status{} : Status(c2.error());
+  }
+
+  Progress process(AgentContext&, const Match&) override { return Progress::kRunning; }
+  Status finish(AgentContext&, const Match&) override { return {}; }
+
+  void cancel(AgentContext& ctx, const Match& m, CancelReason) override {
+    (void)p_.screen_->clear(ctx.now());
+    ++p_.cleared_;
+    graph::Graph& g = ctx.graph();
+    NodeId panel = node_id(g, node::kPanel), u = m.at("utterance");
+    if (!g.has_edge(panel, u, Symbol(edge::kShowing))) return;
+    graph::Transaction tx = g.begin();
+    if (tx.delete_edge(panel, u, Symbol(edge::kShowing)).ok()) (void)tx.commit();
+  }
+
+ private:
+  // The newest prompt with something for the screen, while the patient is there and the test runs.
+  std::optional<Prompt> newest(AgentContext& ctx) const {
+    const graph::Graph& g = ctx.graph();
+    if (!patient_in_front(g, ctx.now(), p_.opt_.presence_stale_ns)) return std::nullopt;
+    if (attr_string(g, node_id(g, node::kTest), "status") != "running") return std::nullopt;
+    auto all = prompts(g);
+    for (auto it = all.rbegin(); it != all.rend(); ++it)
+      if (it->has_screen() && !attr_bool(g, it->id, "obsolete")) return *it;
+    return std::nullopt;
+  }
+  Panel& p_;
+};
+
+Panel::Panel(std::unique_ptr<devices::Screen> screen, std::unique_ptr<TouchInput> touch, PanelOptions o,
+             std::string name)
+    : Agent(std::move(name)), screen_(std::move(screen)), touch_(std::move(touch)), opt_(o) {
+  set_grammar_text(std::string(role_grammar("panel")), "panel.aggl");
+}
+
+Panel::~Panel() = default;
+
+void Panel::setup(AgentContext& ctx) {
+  // A screen mark left by an earlier incarnation: this screen shows nothing yet.
+  graph::Graph& g = ctx.graph();
+  NodeId panel = node_id(g, node::kPanel);
+  for (const graph::EdgeKey& e : g.edges_from(panel, Symbol(edge::kShowing))) {
+    graph::Transaction tx = g.begin();
+    if (tx.delete_edge(e.from, e.to, e.type).ok()) (void)tx.commit();
+  }
+  ChangeFilter interest;
+  interest.edge_types = {std::string(edge::kSay), std::string(edge::kInFrontOf)};
+  interest.attributes = {"obsolete", "status", "seen_ns", "present"};
+  add_action(std::make_unique<Display>(*this), interest);
+  if (touch_) ctx.every(opt_.touch_period_ns, [this, &ctx] { poll_touch(ctx); });
+}
+
+void Panel::poll_touch(AgentContext& ctx) {
+  auto t = touch_->last(ctx.graph());
+  if (!t || t->seq <= handled_touch_) return;
+  graph::Graph& g = ctx.graph();
+  auto p = prompt_by_seq(g, t->for_seq);
+  if (!p) return;  // not replicated here yet
+  NodeId panel = node_id(g, node::kPanel);
+  // A touch counts on the screen it was made on, while that shows buttons (a restarted Panel
+  // counts it once it shows that screen again).
+  if (!p->is_question() || !p->buttons || t->option < 0 || static_cast<std::size_t>(t->option) >= p->options.size() ||
+      g.has_edge(panel, p->id, Symbol(edge::kTapped))) {
+    handled_touch_ = t->seq;
+    return;
+  }
+  if (!g.has_edge(panel, p->id, Symbol(edge::kShowing))) return;
+  handled_touch_ = t->seq;
+  graph::Transaction tx = g.begin();
+  if (!tx.insert_edge(panel, p->id, edge::kTapped,
+                      {{Symbol("option"), graph::Value(static_cast<std::int64_t>(t->option))},
+                       {Symbol("text"), graph::Value(p->options[static_cast<std::size_t>(t->option)])}})
+           .ok())
+    return;
+  if (auto c = tx.commit(); c.ok()) {
+    ++taps_;
+    ctx.log("touched \"" + p->options[static_cast<std::size_t>(t->option)] + "\" for #" + std::to_string(p->seq));
+  } else {
+    handled_touch_ = t->seq - 1;
+  }
+}
+
+void Panel::status(nlohmann::json& out) const {
+  out["shown"] = shown_;
+  out["cleared"] = cleared_;
+  out["taps"] = taps_;
+}
+
+}  // namespace quiver::agents::barthel

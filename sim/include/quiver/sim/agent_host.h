@@ -1,0 +1,101 @@
+#pragma once
+/// @file
+/// The simulator as a host of agents (agents/runtime): many agents at once, each with its own
+/// replica, replicator and runtime, joined by the virtual network (network.h) in virtual time.
+/// Agents run exactly the code they run as processes; the host gives them the virtual clock, a
+/// seeded random source, and the faults: partitions, packet loss, kill -9 (the agent and its
+/// replica vanish) and restart (a fresh incarnation with an empty replica that rejoins).
+/// Deterministic: one seed replays a run exactly.
+#include <cstdint>
+#include <functional>
+#include <memory>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "quiver/agents/locks/locks.h"
+#include "quiver/agents/replication/replicator.h"
+#include "quiver/agents/runtime/runtime.h"
+#include "quiver/sim/network.h"
+
+namespace quiver::sim {
+
+struct SimAgentSpec {
+  std::string name;
+  /// Makes the agent (again, on every restart).
+  std::function<std::unique_ptr<agents::Agent>()> make;
+};
+
+struct AgentHostOptions {
+  std::uint64_t seed = 1;
+  FaultConfig links;                      ///< delays and base faults of every link
+  agents::ReplicatorOptions replicator;   ///< defaults: SimConfig::default_replicator()
+  agents::LockOptions locks;
+  std::int64_t tick_ns = 10'000'000;
+  std::int64_t join_wait_ns = 300'000'000;  ///< before a (re)started agent's setup(): to sync first
+  std::string world_json;                   ///< seeded into every replica at boot (may be empty)
+  std::function<void(std::int64_t t_ns, const std::string& line)> log;
+};
+
+class AgentHost {
+ public:
+  AgentHost(std::vector<SimAgentSpec> agents, AgentHostOptions o);
+  ~AgentHost();
+  AgentHost(const AgentHost&) = delete;
+  AgentHost& operator=(const AgentHost&) = delete;
+
+  /// Boots every agent. @returns the world file's error, if any.
+  Status start();
+  std::int64_t now() const { return net_.now(); }
+  void run_until(std::int64_t t_ns) { net_.run_until(t_ns); }
+  /// Runs `fn` every `period_ns` of virtual time (observers and checks).
+  void every(std::int64_t period_ns, std::function<void()> fn);
+  void at(std::int64_t t_ns, std::function<void()> fn) { net_.at(t_ns, std::move(fn)); }
+
+  int size() const { return static_cast<int>(agents_.size()); }
+  /// The index of the agent called `name`, or -1.
+  int index(std::string_view name) const;
+  const std::string& name(int i) const;
+  bool up(int i) const;
+  /// While up: the agent, its replica, its runtime (null while down or before its setup()).
+  agents::Agent* agent(int i);
+  graph::Graph* graph(int i);
+  agents::AgentRuntime* runtime(int i);
+  agents::Replicator* replicator(int i);
+  int incarnation(int i) const;
+
+  /// kill -9: the agent, its devices and its replica vanish at once (no teardown, no goodbye).
+  void kill(int i);
+  /// A fresh incarnation with an empty replica.
+  void restart(int i);
+  /// Agents hear each other only within a group; agents not named form one more group.
+  void partition(const std::vector<std::vector<std::string>>& groups);
+  void heal() { net_.heal(); }
+  void set_loss(double p) { net_.faults().loss = p; }
+  VirtualNetwork& network() { return net_; }
+
+  /// Every action event of every agent (index, event).
+  void on_action_event(std::function<void(int, const agents::ActionEvent&)> cb) { action_cb_ = std::move(cb); }
+  /// Called right after an agent's runtime started (its setup() ran).
+  void on_agent_started(std::function<void(int)> cb) { started_cb_ = std::move(cb); }
+  std::uint64_t rejected() const { return rejected_; }
+
+ private:
+  struct Slot;
+  void boot(int i);
+  void try_setup(int i, int incarnation, std::int64_t give_up_at);
+  void tick(int i, int incarnation);
+  void note(const std::string& line);
+  void repeat(std::int64_t period_ns, std::shared_ptr<std::function<void()>> fn);
+
+  AgentHostOptions opt_;
+  Rng rng_;
+  VirtualNetwork net_;
+  std::vector<std::unique_ptr<Slot>> agents_;
+  std::unique_ptr<graph::GraphDelta> world_;
+  std::function<void(int, const agents::ActionEvent&)> action_cb_;
+  std::function<void(int)> started_cb_;
+  std::uint64_t rejected_ = 0;
+};
+
+}  // namespace quiver::sim

@@ -1,0 +1,178 @@
+#include "quiver/sim/agent_host.h"
+
+#include "quiver/graph/world_file.h"
+#include "quiver/hash.h"
+#include "quiver/sim/simulator.h"
+
+namespace quiver::sim {
+
+struct AgentHost::Slot {
+  SimAgentSpec spec;
+  int incarnation = 0;
+  bool up = false;
+  std::unique_ptr<graph::Graph> graph;
+  std::unique_ptr<agents::Replicator> replicator;
+  std::unique_ptr<agents::Agent> agent;
+  std::unique_ptr<agents::AgentRuntime> runtime;
+};
+
+AgentHost::AgentHost(std::vector<SimAgentSpec> agents, AgentHostOptions o)
+    : opt_(std::move(o)), rng_(opt_.seed), net_(static_cast<int>(agents.size()), Rng(opt_.seed ^ 0x9e3779b97f4a7c15ULL), opt_.links) {
+  for (auto& a : agents) {
+    auto s = std::make_unique<Slot>();
+    s->spec = std::move(a);
+    agents_.push_back(std::move(s));
+  }
+}
+
+AgentHost::~AgentHost() {
+  // Runtimes first: they refer to the replicas and agents.
+  for (auto& s : agents_) {
+    s->runtime.reset();
+    s->agent.reset();
+    s->replicator.reset();
+    s->graph.reset();
+  }
+}
+
+void AgentHost::note(const std::string& line) {
+  if (opt_.log) opt_.log(net_.now(), line);
+}
+
+Status AgentHost::start() {
+  if (!opt_.world_json.empty()) {
+    auto seed = graph::world_seed(opt_.world_json, "world");
+    if (!seed.ok()) return seed.error();
+    world_ = std::make_unique<graph::GraphDelta>(std::move(seed->delta));
+  }
+  for (int i = 0; i < size(); ++i) boot(i);
+  return {};
+}
+
+int AgentHost::index(std::string_view name) const {
+  for (int i = 0; i < size(); ++i)
+    if (agents_[static_cast<std::size_t>(i)]->spec.name == name) return i;
+  return -1;
+}
+
+const std::string& AgentHost::name(int i) const { return agents_[static_cast<std::size_t>(i)]->spec.name; }
+bool AgentHost::up(int i) const { return agents_[static_cast<std::size_t>(i)]->up; }
+int AgentHost::incarnation(int i) const { return agents_[static_cast<std::size_t>(i)]->incarnation; }
+agents::Agent* AgentHost::agent(int i) {
+  Slot& s = *agents_[static_cast<std::size_t>(i)];
+  return s.runtime ? s.agent.get() : nullptr;
+}
+graph::Graph* AgentHost::graph(int i) { return agents_[static_cast<std::size_t>(i)]->graph.get(); }
+agents::AgentRuntime* AgentHost::runtime(int i) { return agents_[static_cast<std::size_t>(i)]->runtime.get(); }
+agents::Replicator* AgentHost::replicator(int i) { return agents_[static_cast<std::size_t>(i)]->replicator.get(); }
+
+void AgentHost::every(std::int64_t period_ns, std::function<void()> fn) {
+  repeat(period_ns, std::make_shared<std::function<void()>>(std::move(fn)));
+}
+
+void AgentHost::repeat(std::int64_t period_ns, std::shared_ptr<std::function<void()>> fn) {
+  net_.at(net_.now() + period_ns, [this, period_ns, fn] {
+    (*fn)();
+    repeat(period_ns, fn);
+  });
+}
+
+void AgentHost::boot(int i) {
+  Slot& s = *agents_[static_cast<std::size_t>(i)];
+  ++s.incarnation;
+  s.up = true;
+  const int inc = s.incarnation;
+  s.graph = std::make_unique<graph::Graph>(graph::ReplicaId{fnv1a64(s.spec.name), static_cast<std::uint64_t>(inc)});
+  net_.set_up(i, true);
+  net_.set_address(i, s.graph->replica());
+  agents::ReplicatorOptions ro = opt_.replicator;
+  ro.name = s.spec.name;
+  s.replicator = std::make_unique<agents::Replicator>(*s.graph, net_.endpoint(i), ro);
+  net_.set_receiver(i, [this, i](std::span<const std::uint8_t> packet, std::int64_t now) {
+    Slot& t = *agents_[static_cast<std::size_t>(i)];
+    t.replicator->on_packet(packet, now);
+    if (t.runtime) t.runtime->pump();
+  });
+  s.replicator->on_error([this, i](const Error& e) {
+    ++rejected_;
+    note(name(i) + " rejected: " + e.to_string());
+  });
+  s.replicator->start(net_.now());
+  if (world_) (void)s.replicator->seed(*world_);
+  note(name(i) + (inc > 1 ? " restarts (incarnation " + std::to_string(inc) + ", empty replica)" : " starts"));
+  net_.at(net_.now() + static_cast<std::int64_t>(rng_.below(static_cast<std::uint64_t>(opt_.tick_ns))),
+          [this, i, inc] { tick(i, inc); });
+  net_.at(net_.now() + opt_.join_wait_ns, [this, i, inc] { try_setup(i, inc, net_.now() + 4 * opt_.join_wait_ns); });
+}
+
+void AgentHost::try_setup(int i, int inc, std::int64_t give_up_at) {
+  Slot& s = *agents_[static_cast<std::size_t>(i)];
+  if (!s.up || s.incarnation != inc || s.runtime) return;
+  // Join the peers first, so that setup() sees the shared graph (as the process host does).
+  const bool ready = s.replicator->live_peer_count() == 0 || s.replicator->synced();
+  if (!ready && net_.now() < give_up_at) {
+    net_.at(net_.now() + 20'000'000, [this, i, inc, give_up_at] { try_setup(i, inc, give_up_at); });
+    return;
+  }
+  s.agent = s.spec.make();
+  agents::RuntimeOptions ro;
+  ro.seed = opt_.seed ^ fnv1a64(s.spec.name) ^ static_cast<std::uint64_t>(inc);
+  ro.locks = opt_.locks;
+  ro.clock = [this] { return net_.now(); };
+  ro.log = [this, i](std::string_view line) { note(name(i) + ": " + std::string(line)); };
+  s.runtime = std::make_unique<agents::AgentRuntime>(*s.agent, *s.graph, s.replicator.get(), ro);
+  s.runtime->on_action_event([this, i](const agents::ActionEvent& e) {
+    if (action_cb_) action_cb_(i, e);
+  });
+  if (Status st = s.runtime->start(); !st.ok()) {
+    note(name(i) + " could not start: " + st.error().to_string());
+    s.runtime.reset();
+    s.agent.reset();
+    return;
+  }
+  if (started_cb_) started_cb_(i);
+}
+
+void AgentHost::tick(int i, int inc) {
+  Slot& s = *agents_[static_cast<std::size_t>(i)];
+  if (!s.up || s.incarnation != inc) return;
+  s.replicator->tick(net_.now());
+  if (s.runtime) {
+    s.runtime->pump();
+    s.runtime->tick();
+  }
+  net_.at(net_.now() + opt_.tick_ns, [this, i, inc] { tick(i, inc); });
+}
+
+void AgentHost::kill(int i) {
+  Slot& s = *agents_[static_cast<std::size_t>(i)];
+  if (!s.up) return;
+  s.up = false;
+  net_.set_up(i, false);
+  s.runtime.reset();
+  s.agent.reset();
+  s.replicator.reset();
+  s.graph.reset();
+  note(name(i) + " killed (kill -9: its replica and devices are gone)");
+}
+
+void AgentHost::restart(int i) {
+  if (agents_[static_cast<std::size_t>(i)]->up) kill(i);
+  boot(i);
+}
+
+void AgentHost::partition(const std::vector<std::vector<std::string>>& groups) {
+  for (int i = 0; i < size(); ++i) net_.set_group(i, static_cast<int>(groups.size()) + 1);
+  for (std::size_t g = 0; g < groups.size(); ++g)
+    for (const std::string& n : groups[g])
+      if (int i = index(n); i >= 0) net_.set_group(i, static_cast<int>(g) + 1);
+  std::string desc;
+  for (const auto& g : groups) {
+    desc += desc.empty() ? "{" : " | {";
+    for (std::size_t k = 0; k < g.size(); ++k) desc += (k ? "," : "") + g[k];
+    desc += "}";
+  }
+  note("partition " + desc);
+}
+
+}  // namespace quiver::sim
