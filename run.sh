@@ -26,12 +26,9 @@ build() {
 case "${1:-}" in
   demo)
     build
-    echo "== 16 agents, random graph churn from all of them at once, 20% loss, duplication,"
-    echo "== reordering, partitions and kill -9 crashes; then heal and check convergence"
-    build/quiver sim --agents 16 --steps 2000 --seed "${QUIVER_SEED:-1}" \
-      --loss 0.2 --dup 0.05 --reorder --partitions --crashes --verbose
-    echo
-    scripts/demo-dds.sh
+    echo "== The Barthel test (seed 000) by five agent processes over Cyclone DDS on loopback, no executive:"
+    echo "== the patient leaves mid-sentence once; the Planner is killed with SIGKILL and restarted mid-test"
+    isolated build/quiver scenario barthel ${QUIVER_OUT:+--out "$QUIVER_OUT"}
     ;;
   test)
     build

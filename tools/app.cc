@@ -12,6 +12,7 @@ void build_app(CLI::App& app) {
   add_agent_commands(app);
   add_dds_bench_commands(app);
   add_agents_bench_commands(app);
+  add_barthel_commands(app);
 }
 
 }  // namespace quiver::tools

@@ -38,7 +38,7 @@ Result<std::unique_ptr<Agent>> make_agent(std::string_view role, const RoleOptio
   }
   if (role == "speech") {
     std::unique_ptr<devices::SpeechOutput> out;
-    if (real) out = std::make_unique<devices::EspeakSpeechOutput>(o.out_dir + "/speech");
+    if (real && !o.simulated_speech) out = std::make_unique<devices::EspeakSpeechOutput>(o.out_dir + "/speech");
     else out = std::make_unique<devices::SimulatedSpeechOutput>(o.sim_ns_per_word, o.sim_base_ns);
     return std::unique_ptr<Agent>(
         std::make_unique<Speech>(std::move(out), simulated_speech_input(o.truth), o.speech, name(role)));

@@ -106,7 +106,10 @@ class Speech::Speak final : public Action {
         if (s_.reaction_cb_) s_.reaction_cb_(Reaction{lost, now});
       }
     }
-    ctx.log(std::string("stops speaking (") + to_string(why) + (person_present(g) ? "" : ": the person was lost") + ")");
+    std::string line = std::string("stops speaking (") + to_string(why) + (person_present(g) ? "" : ": the person was lost");
+    if (!person_present(g) && s_.last_reaction_ns_ >= 0)
+      line += ", " + std::to_string(s_.last_reaction_ns_ / 1000) + " us after Person committed the loss";
+    ctx.log(line + ")");
     unmark(ctx, m.at("utterance"));
   }
 

@@ -150,9 +150,9 @@ int run_process(Agent& agent, const ProcessFlags& f) {
     ~Unroute() { route_dds_log(nullptr); }  // before `errors` goes, on every return
   } unroute;
   log->info("replica {} on DDS domain {} ({})", r.id().to_string(), f.domain, f.dds_config);
-  if (!f.world.empty()) {
+  if (!f.world.empty() || !f.world_text.empty()) {
     // A seed depends only on the file: agents started together with it hold one world.
-    auto seed = graph::world_seed_file(f.world);
+    auto seed = f.world.empty() ? graph::world_seed(f.world_text, "embedded world") : graph::world_seed_file(f.world);
     if (!seed.ok()) {
       log->error("{}", seed.error().to_string());
       return 2;

@@ -21,6 +21,7 @@ namespace quiver::agents::barthel {
 
 struct RoleOptions {
   std::string out_dir;  ///< real devices write here; empty: simulated devices
+  bool simulated_speech = false;  ///< simulated speech even with out_dir (quick tests)
   std::string name;     ///< the agent's name; empty: the role's own (a second planner needs another)
   TruthSource truth;    ///< the simulated patient's truth; empty: the agent's own replica
   PatientScript script = PatientScript::random(1);

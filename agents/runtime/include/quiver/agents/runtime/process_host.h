@@ -29,6 +29,7 @@ struct ProcessFlags {
   std::string dds_config = "loopback";
   int loss_permille = 0;
   std::string world;
+  std::string world_text;  ///< a world given as text (when `world` names no file), e.g. embedded
   std::uint64_t seed = 1;
   int status_ms = 0;
   double run_for_s = 0;

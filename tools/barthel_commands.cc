@@ -1,0 +1,261 @@
+// quiver run ROLE (one Barthel agent as a process) and quiver scenario barthel (all of them, one
+// process each, over DDS on loopback, with a live transcript read from the graph).
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <csignal>
+#include <cstdio>
+#include <fstream>
+#include <iostream>
+#include <map>
+#include <nlohmann/json.hpp>
+
+#include "commands.h"
+#include "dds_options.h"
+#include "quiver/agents/barthel/grammars.h"
+#include "quiver/agents/barthel/roles.h"
+#include "quiver/agents/barthel/transcript.h"
+#include "quiver/agents/devices/barthel_items.h"
+#include "subprocess.h"
+
+namespace quiver::tools {
+namespace {
+
+namespace barthel = agents::barthel;
+using nlohmann::json;
+
+struct RunFlags {
+  agents::ProcessFlags process;
+  std::string role, out, script, name;
+  std::uint64_t patient_seed = 1;
+  bool simulated_speech = false;
+  double answer_timeout_s = 8;
+  double words_ms = 250;
+};
+
+Result<barthel::PatientScript> load_script(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) return Error{ErrorCode::kIo, path + ": cannot open the patient script"};
+  try {
+    auto s = barthel::PatientScript::from_json(json::parse(in));
+    if (!s.ok()) return Error{s.error().code, path + ":" + s.error().message};
+    return s;
+  } catch (const json::parse_error& e) {
+    return Error{ErrorCode::kInvalidArgument, path + ": not JSON: " + e.what()};
+  }
+}
+
+int run_role(RunFlags f) {
+  barthel::RoleOptions ro;
+  ro.out_dir = f.out;
+  ro.name = f.name;
+  ro.simulated_speech = f.simulated_speech;
+  ro.sim_ns_per_word = static_cast<std::int64_t>(f.words_ms * 1e6);
+  ro.planner.answer_timeout_ns = static_cast<std::int64_t>(f.answer_timeout_s * 1e9);
+  if (!f.script.empty()) {
+    auto s = load_script(f.script);
+    if (!s.ok()) {
+      std::fprintf(stderr, "quiver run: %s\n", s.error().to_string().c_str());
+      return 2;
+    }
+    ro.script = *s;
+  } else {
+    ro.script = barthel::PatientScript::random(f.patient_seed);
+  }
+  auto agent = barthel::make_role(f.role, ro);
+  if (!agent.ok()) {
+    std::fprintf(stderr, "quiver run: %s\n", agent.error().to_string().c_str());
+    return 2;
+  }
+  if (f.process.world.empty()) f.process.world_text = std::string(barthel::world_json());
+  return agents::run_process(**agent, f.process);
+}
+
+struct ScenarioFlags {
+  DdsFlags dds;
+  std::string out, script, kill = "planner";
+  int kill_at_item = 4;
+  double restart_after_s = 1.0;
+  double timeout_s = 600;
+  bool simulated_speech = false;
+  bool second_planner = false;
+  double answer_timeout_s = 8;
+  double words_ms = 250;
+};
+
+// The demo's patient: answers by voice, once stays silent and then touches the screen, once
+// says something the robot cannot understand, and leaves the chair in the middle of a question.
+barthel::PatientScript demo_script() {
+  using barthel::ReplyKind;
+  barthel::PatientScript s = barthel::PatientScript::random(7);
+  s.items[1].first = {ReplyKind::kSilent, 0};
+  s.items[1].second = {ReplyKind::kTouch, 1};
+  s.items[3].first = {ReplyKind::kMisunderstand, 0};
+  s.items[3].second = {ReplyKind::kVoice, 2};
+  s.leaves.push_back({2, 1'500'000'000, 4'000'000'000});
+  return s;
+}
+
+std::string self_exe() {
+  char buf[4096];
+  ssize_t n = readlink("/proc/self/exe", buf, sizeof buf - 1);
+  return n > 0 ? std::string(buf, static_cast<std::size_t>(n)) : "quiver";
+}
+
+int run_barthel(const ScenarioFlags& f) {
+  std::string out = f.out;
+  if (out.empty()) {
+    char tmpl[] = "/tmp/quiver-barthel-XXXXXX";
+    if (!mkdtemp(tmpl)) {
+      std::perror("quiver scenario: mkdtemp");
+      return 2;
+    }
+    out = tmpl;
+  }
+  ::mkdir(out.c_str(), 0755);
+  ::mkdir((out + "/logs").c_str(), 0755);
+  barthel::PatientScript script = demo_script();
+  if (!f.script.empty()) {
+    auto s = load_script(f.script);
+    if (!s.ok()) {
+      std::fprintf(stderr, "quiver scenario: %s\n", s.error().to_string().c_str());
+      return 2;
+    }
+    script = *s;
+  }
+  const std::string script_path = out + "/patient.json";
+  std::ofstream(script_path) << script.to_json().dump(1) << "\n";
+
+  const std::string exe = self_exe();
+  auto argv_of = [&](const std::string& role, const std::string& name) {
+    std::vector<std::string> a = {exe, "run", role, "--domain", std::to_string(f.dds.domain), "--dds-config", f.dds.dds_config,
+                                  "--out", out, "--script", script_path, "--join-wait", "1",
+                                  "--answer-timeout", std::to_string(f.answer_timeout_s)};
+    if (!name.empty()) a.insert(a.end(), {"--name", name});
+    if (f.simulated_speech) a.insert(a.end(), {"--simulated-speech", "--words-ms", std::to_string(f.words_ms)});
+    return a;
+  };
+  std::map<std::string, Subprocess> procs;
+  auto spawn = [&](const std::string& role, const std::string& name = "") {
+    const std::string key = name.empty() ? role : name;
+    auto p = Subprocess::spawn(argv_of(role, name), out + "/logs/" + key + ".log");
+    if (!p) return false;
+    procs.erase(key);
+    procs.emplace(key, std::move(*p));
+    return true;
+  };
+
+  agents::DdsReplicaOptions o;
+  o.name = "transcript";
+  o.observer = true;
+  auto created = f.dds.create_agent(o);
+  if (!created.ok()) {
+    std::fprintf(stderr, "quiver scenario: %s\n", created.error().to_string().c_str());
+    return 2;
+  }
+  agents::DdsReplica& obs = **created;
+  const auto t0 = std::chrono::steady_clock::now();
+  auto elapsed = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(); };
+  barthel::Transcript transcript(obs.graph(), [&](const std::string& line) {
+    std::printf("[%6.1f s] %s\n", elapsed(), line.c_str());
+    std::fflush(stdout);
+  });
+  obs.graph().subscribe([&](const graph::ChangeBatch& b) { transcript.on_changes(b); });
+
+  std::printf("Barthel test over Cyclone DDS (domain %u, loopback): planner, speech, panel, person and the simulated "
+              "patient, one process each, no executive.\nOutput folder: %s\n\n",
+              f.dds.domain, out.c_str());
+  for (const auto& r : barthel::role_names())
+    if (!spawn(r)) {
+      std::fprintf(stderr, "quiver scenario: cannot start %s\n", exe.c_str());
+      return 2;
+    }
+  if (f.second_planner) spawn("planner", "planner-2");
+
+  bool killed = false, restarted = false;
+  double killed_at = 0, final_at = -1;
+  while (elapsed() < f.timeout_s) {
+    obs.spin_once(20'000'000);
+    if (!f.kill.empty() && !killed && transcript.item() >= f.kill_at_item) {
+      auto it = procs.find(f.kill);
+      if (it != procs.end()) {
+        it->second.kill(SIGKILL);
+        it->second.wait(2000);
+        std::printf("[%6.1f s] *** kill -9 %s (pid %d) during item %d\n", elapsed(), f.kill.c_str(), it->second.pid(),
+                    transcript.item());
+        killed = true;
+        killed_at = elapsed();
+      }
+    }
+    if (killed && !restarted && elapsed() - killed_at >= f.restart_after_s) {
+      spawn(f.kill);
+      std::printf("[%6.1f s] *** %s restarted (empty replica; it continues from what the graph holds)\n", elapsed(),
+                  f.kill.c_str());
+      restarted = true;
+    }
+    const bool final = transcript.status() == "done" || transcript.status() == "clinician_called";
+    if (final && final_at < 0) final_at = elapsed();
+    if (final && (transcript.goodbye_said() || elapsed() - final_at > 30)) break;
+  }
+  for (auto& [name, p] : procs) p.kill(SIGTERM);
+  for (auto& [name, p] : procs) p.wait(5000);
+
+  // The result the clinician validates, against what the patient's script implies.
+  std::ifstream rin(out + "/result.json");
+  json result = rin ? json::parse(rin, nullptr, false) : json();
+  const auto expected = script.expected();
+  std::printf("\nResult (%s/result.json): ", out.c_str());
+  int rc = 0;
+  if (!result.is_object()) {
+    std::printf("none stored\n");
+    rc = 1;
+  } else {
+    const std::string status = result.value("status", "");
+    const int total = result.value("total", -1);
+    std::printf("%s, %d of 100 (the patient's script implies %s, %d)\n", status.c_str(), total, expected.status.c_str(),
+                expected.total);
+    if (status != expected.status || total != expected.total) rc = 1;
+    std::printf(rc == 0 ? "The stored result matches the patient's script.\n" : "The stored result DIFFERS from the patient's script.\n");
+  }
+  std::printf("Audio: %s/speech/*.wav   Screens: %s/screen/*.png   Pages: %s/pages.jsonl   Logs: %s/logs/\n",
+              out.c_str(), out.c_str(), out.c_str(), out.c_str());
+  return rc;
+}
+
+}  // namespace
+
+void add_barthel_commands(CLI::App& app) {
+  auto rf = std::make_shared<RunFlags>();
+  auto* run = app.add_subcommand("run", "Run one agent of the Barthel test as this process (over DDS)");
+  run->add_option("role", rf->role, "planner | speech | panel | person | patient")->required();
+  rf->process.add_all(run);
+  run->add_option("--out", rf->out, "real devices write here (WAVs, screen PNGs, result.json); none: simulated devices");
+  run->add_option("--name", rf->name, "the agent's name (default: the role; a second planner needs another)");
+  run->add_option("--script", rf->script, "patient: the script (JSON) it follows")->check(CLI::ExistingFile);
+  run->add_option("--patient-seed", rf->patient_seed, "patient: draw a cooperative script from this seed");
+  run->add_flag("--simulated-speech", rf->simulated_speech, "speech: simulated durations instead of espeak-ng");
+  run->add_option("--words-ms", rf->words_ms, "simulated speech: milliseconds per word")->check(CLI::Range(1.0, 5000.0));
+  run->add_option("--answer-timeout", rf->answer_timeout_s, "planner: seconds to wait for an answer")
+      ->check(CLI::Range(0.1, 600.0));
+  run->callback([rf] { set_exit_code(run_role(*rf)); });
+
+  auto sf = std::make_shared<ScenarioFlags>();
+  auto* sc = app.add_subcommand("scenario", "Run a scenario as one process per agent over DDS on loopback");
+  auto* b = sc->add_subcommand("barthel", "The Barthel test: five agent processes, a live transcript from the graph");
+  sf->dds.add_to(b);
+  b->add_option("--out", sf->out, "output folder (default: a new /tmp/quiver-barthel-*)");
+  b->add_option("--script", sf->script, "the patient's script (JSON; default: the demo patient)")->check(CLI::ExistingFile);
+  b->add_option("--kill", sf->kill, "kill -9 this agent mid-test and restart it (\"\" for none)");
+  b->add_option("--kill-at-item", sf->kill_at_item, "... when the test reaches this item")->check(CLI::Range(0, 9));
+  b->add_option("--restart-after", sf->restart_after_s, "... and restart it this many seconds later")->check(CLI::Range(0.0, 60.0));
+  b->add_option("--timeout", sf->timeout_s, "give up after this many seconds")->check(CLI::Range(1.0, 86400.0));
+  b->add_option("--answer-timeout", sf->answer_timeout_s, "seconds the planner waits for an answer")->check(CLI::Range(0.1, 600.0));
+  b->add_option("--words-ms", sf->words_ms, "simulated speech: milliseconds per word")->check(CLI::Range(1.0, 5000.0));
+  b->add_flag("--simulated-speech", sf->simulated_speech, "simulated speech durations instead of espeak-ng (faster)");
+  b->add_flag("--second-planner", sf->second_planner, "start a second planner instance too (it waits; it takes over if needed)");
+  b->callback([sf] { set_exit_code(run_barthel(*sf)); });
+  sc->require_subcommand(1);
+}
+
+}  // namespace quiver::tools
