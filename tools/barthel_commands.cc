@@ -233,7 +233,8 @@ void add_barthel_commands(CLI::App& app) {
   run->add_option("--out", rf->out, "real devices write here (WAVs, screen PNGs, result.json); none: simulated devices");
   run->add_option("--name", rf->name, "the agent's name (default: the role; a second planner needs another)");
   run->add_option("--script", rf->script, "patient: the script (JSON) it follows")->check(CLI::ExistingFile);
-  run->add_option("--patient-seed", rf->patient_seed, "patient: draw a cooperative script from this seed");
+  run->add_option("--patient-seed", rf->patient_seed, "patient: draw a cooperative script from this seed")
+      ->check(CLI::NonNegativeNumber);
   run->add_flag("--simulated-speech", rf->simulated_speech, "speech: simulated durations instead of espeak-ng");
   run->add_option("--words-ms", rf->words_ms, "simulated speech: milliseconds per word")->check(CLI::Range(1.0, 5000.0));
   run->add_option("--answer-timeout", rf->answer_timeout_s, "planner: seconds to wait for an answer")
