@@ -54,11 +54,7 @@ class Panel::Display final : public Action {
   void cancel(AgentContext& ctx, const Match& m, CancelReason) override {
     (void)p_.screen_->clear(ctx.now());
     ++p_.cleared_;
-    graph::Graph& g = ctx.graph();
-    NodeId panel = node_id(g, node::kPanel), u = m.at("utterance");
-    if (!g.has_edge(panel, u, Symbol(edge::kShowing))) return;
-    graph::Transaction tx = g.begin();
-    if (tx.delete_edge(panel, u, Symbol(edge::kShowing)).ok()) (void)tx.commit();
+    (void)take_back(ctx.graph(), node::kPanel, edge::kShowing, m.at("utterance"));
   }
 
  private:
@@ -85,12 +81,7 @@ Panel::~Panel() = default;
 
 void Panel::setup(AgentContext& ctx) {
   // A screen mark left by an earlier incarnation: this screen shows nothing yet.
-  graph::Graph& g = ctx.graph();
-  NodeId panel = node_id(g, node::kPanel);
-  for (const graph::EdgeKey& e : g.edges_from(panel, Symbol(edge::kShowing))) {
-    graph::Transaction tx = g.begin();
-    if (tx.delete_edge(e.from, e.to, e.type).ok()) (void)tx.commit();
-  }
+  (void)take_back(ctx.graph(), node::kPanel, edge::kShowing);
   ChangeFilter interest;
   interest.edge_types = {std::string(edge::kSay), std::string(edge::kInFrontOf)};
   interest.attributes = {"obsolete", "status", "seen_ns", "present"};

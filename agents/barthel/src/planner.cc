@@ -88,27 +88,31 @@ struct Step {
 
 }  // namespace
 
-devices::TestResult result_from_graph(const graph::Graph& g, std::int64_t now_ns) {
+namespace {
+
+// The result the answers so far make (items in the standard order; unanswered ones without score).
+devices::TestResult result_of(const json& answers, std::string patient, std::string status, std::int64_t now_ns) {
   devices::TestResult r;
-  NodeId test = node_id(g, node::kTest);
-  r.patient = attr_string(g, test, "patient", "patient");
-  r.status = attr_string(g, test, "status", "waiting");
-  const json a = answers_of(g, test);
-  for (const auto& item : items()) {
-    if (!a.contains(item.id)) continue;
-    const json& x = a[item.id];
-    devices::ItemResult ir;
-    ir.item = item.id;
-    if (x.contains("score")) {
-      ir.score = x["score"].get<int>();
-      r.total += *ir.score;
-    }
-    ir.answer = x.value("answer", "");
-    ir.channel = x.value("channel", "");
+  r.patient = std::move(patient);
+  r.status = std::move(status);
+  for (const auto& it : items()) {
+    if (!answers.contains(it.id)) continue;
+    const json& x = answers[it.id];
+    devices::ItemResult ir{it.id, std::nullopt, x.value("answer", ""), x.value("channel", "")};
+    if (x.contains("score")) ir.score = x["score"].get<int>();
+    if (ir.score) r.total += *ir.score;
     r.items.push_back(ir);
   }
   r.finished_ns = now_ns;
   return r;
+}
+
+}  // namespace
+
+devices::TestResult result_from_graph(const graph::Graph& g, std::int64_t now_ns) {
+  NodeId test = node_id(g, node::kTest);
+  return result_of(answers_of(g, test), attr_string(g, test, "patient", "patient"),
+                   attr_string(g, test, "status", "waiting"), now_ns);
 }
 
 class Planner::Conduct final : public Action {
@@ -307,17 +311,8 @@ class Planner::Conduct final : public Action {
   Status next(AgentContext& ctx, Step& st, int item, const json& answers) {
     if (static_cast<std::size_t>(item) + 1 < items().size()) return ask(st, item + 1, 1, "");
     // Every item asked: store the result, say goodbye.
-    devices::TestResult r = result_from_graph(st.g, ctx.now());
-    r.status = "completed";
-    r.items.clear();
-    r.total = 0;
-    for (const auto& it : items()) {
-      if (!answers.contains(it.id)) continue;
-      devices::ItemResult ir{it.id, std::nullopt, answers[it.id].value("answer", ""), answers[it.id].value("channel", "")};
-      if (answers[it.id].contains("score")) ir.score = answers[it.id]["score"].get<int>();
-      if (ir.score) r.total += *ir.score;
-      r.items.push_back(ir);
-    }
+    devices::TestResult r =
+        result_of(answers, attr_string(st.g, st.test, "patient", "patient"), "completed", ctx.now());
     if (Status s = p_.store_.store(r); !s.ok()) return s;
     auto u = st.say("goodbye", "The test is finished. Your score is " + std::to_string(r.total) +
                                    " out of 100. Thank you very much.");
@@ -338,17 +333,8 @@ class Planner::Conduct final : public Action {
     ctx.log("item " + std::to_string(item) + " unanswered (" + std::to_string(n) + ")");
     if (n < 2) return next(ctx, st, item, ans);
     // Two unanswered items: page the clinician, store what we have.
-    devices::TestResult r;
-    r.patient = attr_string(st.g, st.test, "patient", "patient");
-    r.status = "clinician_called";
-    for (const auto& it : items()) {
-      if (!ans.contains(it.id)) continue;
-      devices::ItemResult ir{it.id, std::nullopt, ans[it.id].value("answer", ""), ans[it.id].value("channel", "")};
-      if (ans[it.id].contains("score")) ir.score = ans[it.id]["score"].get<int>();
-      if (ir.score) r.total += *ir.score;
-      r.items.push_back(ir);
-    }
-    r.finished_ns = ctx.now();
+    devices::TestResult r =
+        result_of(ans, attr_string(st.g, st.test, "patient", "patient"), "clinician_called", ctx.now());
     if (Status s = p_.pager_.page("Barthel test of " + r.patient + ": two items unanswered (last: " +
                                       items()[static_cast<std::size_t>(item)].name + "); please come.",
                                   ctx.now());

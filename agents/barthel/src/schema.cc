@@ -35,6 +35,18 @@ std::int64_t person_seen_ns(const graph::Graph& g) {
   return p.is_null() ? 0 : attr_int(g, p, "seen_ns");
 }
 
+Status take_back(graph::Graph& g, std::string_view from, std::string_view type, NodeId to) {
+  NodeId f = node_id(g, from);
+  if (f.is_null()) return {};
+  for (const graph::EdgeKey& e : g.edges_from(f, Symbol(type))) {
+    if (!to.is_null() && e.to != to) continue;
+    graph::Transaction tx = g.begin();
+    if (Status s = tx.delete_edge(e.from, e.to, e.type); !s.ok()) return s;
+    if (auto c = tx.commit(); !c.ok()) return c.error();
+  }
+  return {};
+}
+
 std::string attr_string(const graph::Graph& g, NodeId n, std::string_view name, std::string fallback) {
   const graph::Value* v = g.attr(n, name);
   if (!v) return fallback;

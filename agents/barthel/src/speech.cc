@@ -120,14 +120,8 @@ class Speech::Speak final : public Action {
                                     : patient_in_front(ctx.graph(), ctx.now(), s_.opt_.presence_stale_ns);
   }
   static void unmark(AgentContext& ctx, NodeId u) {
-    graph::Graph& g = ctx.graph();
-    NodeId sp = node_id(g, node::kSpeaker);
-    if (!g.has_edge(sp, u, Symbol(edge::kSpeaking))) return;
-    graph::Transaction tx = g.begin();
-    if (tx.delete_edge(sp, u, Symbol(edge::kSpeaking)).ok()) {
-      auto c = tx.commit();
-      if (!c.ok()) ctx.log("could not take back the speaking mark: " + c.error().to_string());
-    }
+    if (Status s = take_back(ctx.graph(), node::kSpeaker, edge::kSpeaking, u); !s.ok())
+      ctx.log("could not take back the speaking mark: " + s.error().to_string());
   }
   Speech& s_;
 };
@@ -143,12 +137,7 @@ Speech::~Speech() = default;
 void Speech::setup(AgentContext& ctx) {
   // A speaking mark left by an earlier incarnation (killed mid-sentence) goes back to not
   // speaking: that sentence was not said to the end.
-  graph::Graph& g = ctx.graph();
-  NodeId sp = node_id(g, node::kSpeaker);
-  for (const graph::EdgeKey& e : g.edges_from(sp, Symbol(edge::kSpeaking))) {
-    graph::Transaction tx = g.begin();
-    if (tx.delete_edge(e.from, e.to, e.type).ok()) (void)tx.commit();
-  }
+  (void)take_back(ctx.graph(), node::kSpeaker, edge::kSpeaking);
   ChangeFilter interest;
   interest.edge_types = {std::string(edge::kSay), std::string(edge::kInFrontOf), std::string(edge::kSpoke)};
   interest.attributes = {"obsolete", "seen_ns", "present"};

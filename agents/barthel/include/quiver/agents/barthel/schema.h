@@ -101,6 +101,10 @@ bool marked(const graph::Graph& g, std::string_view from, std::string_view type,
 /// The answer given to `u` (voice first), if any.
 std::optional<Answer> answer_to(const graph::Graph& g, graph::NodeId u);
 
+/// Takes a mark back: deletes `from -[type]-> to`, or every `from -[type]->` edge when `to` is
+/// null, one commit per edge (each is one rule application). Missing edges are no error.
+Status take_back(graph::Graph& g, std::string_view from, std::string_view type, graph::NodeId to = {});
+
 /// Attribute readers that give `fallback` when the attribute is missing or of another type.
 std::string attr_string(const graph::Graph& g, graph::NodeId n, std::string_view name,
                         std::string fallback = {});
