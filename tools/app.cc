@@ -13,6 +13,7 @@ void build_app(CLI::App& app) {
   add_dds_bench_commands(app);
   add_agents_bench_commands(app);
   add_barthel_commands(app);
+  add_reaction_bench_command(app);
 }
 
 }  // namespace quiver::tools

@@ -13,11 +13,12 @@
 
 #include "commands.h"
 #include "dds_options.h"
+#include "quiver/agents/barthel/checks.h"
 #include "quiver/agents/barthel/grammars.h"
 #include "quiver/agents/barthel/roles.h"
 #include "quiver/agents/barthel/transcript.h"
-#include "quiver/agents/devices/barthel_items.h"
-#include "subprocess.h"
+#include "quiver/agents/devices/json_result_store.h"
+#include "barthel_processes.h"
 
 namespace quiver::tools {
 namespace {
@@ -82,6 +83,8 @@ struct ScenarioFlags {
   bool second_planner = false;
   double answer_timeout_s = 8;
   double words_ms = 250;
+  double never_speaking_absent_ms = 300;
+  bool expect_interruption = false;
 };
 
 // The demo's patient: answers by voice, once stays silent and then touches the screen, once
@@ -97,12 +100,6 @@ barthel::PatientScript demo_script() {
   return s;
 }
 
-std::string self_exe() {
-  char buf[4096];
-  ssize_t n = readlink("/proc/self/exe", buf, sizeof buf - 1);
-  return n > 0 ? std::string(buf, static_cast<std::size_t>(n)) : "quiver";
-}
-
 int run_barthel(const ScenarioFlags& f) {
   std::string out = f.out;
   if (out.empty()) {
@@ -114,7 +111,6 @@ int run_barthel(const ScenarioFlags& f) {
     out = tmpl;
   }
   ::mkdir(out.c_str(), 0755);
-  ::mkdir((out + "/logs").c_str(), 0755);
   barthel::PatientScript script = demo_script();
   if (!f.script.empty()) {
     auto s = load_script(f.script);
@@ -127,25 +123,7 @@ int run_barthel(const ScenarioFlags& f) {
   const std::string script_path = out + "/patient.json";
   std::ofstream(script_path) << script.to_json().dump(1) << "\n";
 
-  const std::string exe = self_exe();
-  auto argv_of = [&](const std::string& role, const std::string& name) {
-    std::vector<std::string> a = {exe, "run", role, "--domain", std::to_string(f.dds.domain), "--dds-config", f.dds.dds_config,
-                                  "--out", out, "--script", script_path, "--join-wait", "1",
-                                  "--answer-timeout", std::to_string(f.answer_timeout_s)};
-    if (!name.empty()) a.insert(a.end(), {"--name", name});
-    if (f.simulated_speech) a.insert(a.end(), {"--simulated-speech", "--words-ms", std::to_string(f.words_ms)});
-    return a;
-  };
-  std::map<std::string, Subprocess> procs;
-  auto spawn = [&](const std::string& role, const std::string& name = "") {
-    const std::string key = name.empty() ? role : name;
-    auto p = Subprocess::spawn(argv_of(role, name), out + "/logs/" + key + ".log");
-    if (!p) return false;
-    procs.erase(key);
-    procs.emplace(key, std::move(*p));
-    return true;
-  };
-
+  BarthelProcesses procs({f.dds.domain, f.dds.dds_config, out, script_path, f.answer_timeout_s, f.simulated_speech, f.words_ms});
   agents::DdsReplicaOptions o;
   o.name = "transcript";
   o.observer = true;
@@ -157,39 +135,47 @@ int run_barthel(const ScenarioFlags& f) {
   agents::DdsReplica& obs = **created;
   const auto t0 = std::chrono::steady_clock::now();
   auto elapsed = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(); };
+  int interruptions = 0;
   barthel::Transcript transcript(obs.graph(), [&](const std::string& line) {
+    if (line.find("stops mid-sentence") != std::string::npos) ++interruptions;
     std::printf("[%6.1f s] %s\n", elapsed(), line.c_str());
     std::fflush(stdout);
   });
-  obs.graph().subscribe([&](const graph::ChangeBatch& b) { transcript.on_changes(b); });
+  // Checked over time from this replica: never speaking to the patient while the person is away.
+  barthel::AbsenceWatch absence;
+  auto sample = [&] {
+    absence.sample(agents::monotonic_ns(), barthel::patient_present_truth(obs.graph()), barthel::speaking_to_patient(obs.graph()));
+  };
+  obs.graph().subscribe([&](const graph::ChangeBatch& b) {
+    transcript.on_changes(b);
+    sample();
+  });
 
   std::printf("Barthel test over Cyclone DDS (domain %u, loopback): planner, speech, panel, person and the simulated "
               "patient, one process each, no executive.\nOutput folder: %s\n\n",
               f.dds.domain, out.c_str());
   for (const auto& r : barthel::role_names())
-    if (!spawn(r)) {
-      std::fprintf(stderr, "quiver scenario: cannot start %s\n", exe.c_str());
+    if (!procs.start(r)) {
+      std::fprintf(stderr, "quiver scenario: cannot start %s\n", self_executable().c_str());
       return 2;
     }
-  if (f.second_planner) spawn("planner", "planner-2");
+  if (f.second_planner) procs.start("planner", "planner-2");
 
   bool killed = false, restarted = false;
   double killed_at = 0, final_at = -1;
   while (elapsed() < f.timeout_s) {
     obs.spin_once(20'000'000);
+    sample();
     if (!f.kill.empty() && !killed && transcript.item() >= f.kill_at_item) {
-      auto it = procs.find(f.kill);
-      if (it != procs.end()) {
-        it->second.kill(SIGKILL);
-        it->second.wait(2000);
-        std::printf("[%6.1f s] *** kill -9 %s (pid %d) during item %d\n", elapsed(), f.kill.c_str(), it->second.pid(),
-                    transcript.item());
+      const int pid = procs.kill(f.kill, SIGKILL);
+      if (pid > 0) {
+        std::printf("[%6.1f s] *** kill -9 %s (pid %d) during item %d\n", elapsed(), f.kill.c_str(), pid, transcript.item());
         killed = true;
         killed_at = elapsed();
       }
     }
     if (killed && !restarted && elapsed() - killed_at >= f.restart_after_s) {
-      spawn(f.kill);
+      procs.start(f.kill);
       std::printf("[%6.1f s] *** %s restarted (empty replica; it continues from what the graph holds)\n", elapsed(),
                   f.kill.c_str());
       restarted = true;
@@ -198,29 +184,40 @@ int run_barthel(const ScenarioFlags& f) {
     if (final && final_at < 0) final_at = elapsed();
     if (final && (transcript.goodbye_said() || elapsed() - final_at > 30)) break;
   }
-  for (auto& [name, p] : procs) p.kill(SIGTERM);
-  for (auto& [name, p] : procs) p.wait(5000);
+  procs.stop_all();
 
-  // The result the clinician validates, against what the patient's script implies.
-  std::ifstream rin(out + "/result.json");
-  json result = rin ? json::parse(rin, nullptr, false) : json();
+  // The result the clinician validates, against what the patient's script implies; the checks.
+  std::vector<std::string> failures;
   const auto expected = script.expected();
   std::printf("\nResult (%s/result.json): ", out.c_str());
-  int rc = 0;
-  if (!result.is_object()) {
+  auto result = agents::devices::load_test_result(out + "/result.json");
+  if (!result.ok()) {
     std::printf("none stored\n");
-    rc = 1;
+    failures.push_back(result.error().to_string());
   } else {
-    const std::string status = result.value("status", "");
-    const int total = result.value("total", -1);
-    std::printf("%s, %d of 100 (the patient's script implies %s, %d)\n", status.c_str(), total, expected.status.c_str(),
-                expected.total);
-    if (status != expected.status || total != expected.total) rc = 1;
-    std::printf(rc == 0 ? "The stored result matches the patient's script.\n" : "The stored result DIFFERS from the patient's script.\n");
+    std::printf("%s, %d of 100 (the patient's script implies %s, %d)\n", result->status.c_str(), result->total,
+                expected.status.c_str(), expected.total);
+    for (auto& d : barthel::result_differences(*result, expected)) failures.push_back(d);
   }
+  for (auto& d : barthel::questions_asked_twice(obs.graph())) failures.push_back(d);
+  if (absence.max_ms() > f.never_speaking_absent_ms)
+  {
+    char why[160];
+    std::snprintf(why, sizeof why, "spoke to the patient %.1f ms after the person had left (limit %.0f ms)", absence.max_ms(),
+                  f.never_speaking_absent_ms);
+    failures.push_back(why);
+  }
+  if (f.expect_interruption && interruptions == 0)
+    failures.push_back("the person left but the robot was never stopped mid-sentence");
+  std::printf("Checks: every item's score as the script implies, no question asked twice, never speaking to the "
+              "patient more than %.0f ms after the person left (longest: %.0f ms), %d sentence(s) stopped mid-way.\n",
+              f.never_speaking_absent_ms, absence.max_ms(), interruptions);
+  for (const auto& d : failures) std::printf("  FAILED: %s\n", d.c_str());
+  std::printf(failures.empty() ? "The stored result matches the patient's script.\n"
+                               : "The run FAILED its checks.\n");
   std::printf("Audio: %s/speech/*.wav   Screens: %s/screen/*.png   Pages: %s/pages.jsonl   Logs: %s/logs/\n",
               out.c_str(), out.c_str(), out.c_str(), out.c_str());
-  return rc;
+  return failures.empty() ? 0 : 1;
 }
 
 }  // namespace
@@ -254,6 +251,9 @@ void add_barthel_commands(CLI::App& app) {
   b->add_option("--answer-timeout", sf->answer_timeout_s, "seconds the planner waits for an answer")->check(CLI::Range(0.1, 600.0));
   b->add_option("--words-ms", sf->words_ms, "simulated speech: milliseconds per word")->check(CLI::Range(1.0, 5000.0));
   b->add_flag("--simulated-speech", sf->simulated_speech, "simulated speech durations instead of espeak-ng (faster)");
+  b->add_option("--never-speaking-absent-ms", sf->never_speaking_absent_ms,
+                "check: never speaking to the patient longer than this after the person left")->check(CLI::Range(1.0, 600000.0));
+  b->add_flag("--expect-interruption", sf->expect_interruption, "check: the person's leaving stops the robot mid-sentence at least once");
   b->add_flag("--second-planner", sf->second_planner, "start a second planner instance too (it waits; it takes over if needed)");
   b->callback([sf] { set_exit_code(run_barthel(*sf)); });
   sc->require_subcommand(1);

@@ -1,14 +1,13 @@
 #include "quiver/sim/scenario.h"
 
 #include <fstream>
-#include <map>
 #include <nlohmann/json.hpp>
 #include <sstream>
 
+#include "quiver/agents/barthel/checks.h"
 #include "quiver/agents/barthel/grammars.h"
 #include "quiver/agents/barthel/roles.h"
 #include "quiver/agents/barthel/schema.h"
-#include "quiver/agents/devices/barthel_items.h"
 #include "quiver/agents/devices/memory_pager.h"
 #include "quiver/agents/devices/memory_result_store.h"
 #include "quiver/sim/agent_host.h"
@@ -395,28 +394,17 @@ ScenarioResult run_scenario(const Scenario& s, std::uint64_t seed,
 
   // Check over time: never speaking to the patient while the person has been away too long.
   const int speech = host.index("speech");
-  std::int64_t absent_since = -1;
+  barthel::AbsenceWatch absence;
   host.every(10'000'000, [&] {
     const graph::Graph* t = truth();
     if (!t) return;
-    const bool present = barthel::attr_bool(*t, barthel::node_id(*t, barthel::node::kSimPatient), "present", true);
-    if (present) {
-      absent_since = -1;
-      return;
+    bool speaking = false;
+    if (speech >= 0 && host.up(speech) && host.agent(speech)) {
+      auto* sp = dynamic_cast<barthel::Speech*>(host.agent(speech));
+      speaking = sp && sp->output().playing(host.now()) && barthel::speaking_to_patient(*host.graph(speech));
     }
-    if (absent_since < 0) absent_since = host.now();
-    if (speech < 0 || !host.up(speech) || !host.agent(speech)) return;
-    auto* sp = dynamic_cast<barthel::Speech*>(host.agent(speech));
-    const graph::Graph& g = *host.graph(speech);
-    if (!sp || !sp->output().playing(host.now())) return;
-    bool to_patient = false;
-    for (const graph::EdgeKey& e : g.edges_from(barthel::node_id(g, barthel::node::kSpeaker), graph::Symbol(barthel::edge::kSpeaking))) {
-      auto p = barthel::prompt_at(g, e.to);
-      to_patient = to_patient || (p && p->purpose != "call_back");
-    }
-    if (!to_patient) return;
-    const double ms = (host.now() - absent_since) / 1e6;
-    r.max_speaking_absent_ms = std::max(r.max_speaking_absent_ms, ms);
+    absence.sample(host.now(), barthel::patient_present_truth(*t), speaking);
+    r.max_speaking_absent_ms = absence.max_ms();
   });
 
   // Run until the result is stored and the closing words said (or the limit).
@@ -447,37 +435,15 @@ ScenarioResult run_scenario(const Scenario& s, std::uint64_t seed,
       fail("status " + result->status + ", expected " + *s.checks.status);
     if (s.checks.total && *s.checks.total != result->total)
       fail("total " + std::to_string(result->total) + ", expected " + std::to_string(*s.checks.total));
-    if (s.checks.result_matches_script) {
-      if (result->status != expected.status) fail("status " + result->status + " but the script implies " + expected.status);
-      if (result->total != expected.total)
-        fail("total " + std::to_string(result->total) + " but the script implies " + std::to_string(expected.total));
-      const auto& items = devices::barthel_items();
-      std::map<std::string, std::optional<int>> got;
-      for (const auto& ir : result->items) got[ir.item] = ir.score;
-      for (std::size_t i = 0; i < expected.scores.size(); ++i) {
-        auto it = got.find(items[i].id);
-        if (it == got.end()) fail("item " + items[i].id + " missing from the result (skipped)");
-        else if (it->second != expected.scores[i])
-          fail("item " + items[i].id + ": score " + (it->second ? std::to_string(*it->second) : "none") + ", the script implies " +
-               (expected.scores[i] ? std::to_string(*expected.scores[i]) : "none"));
-      }
-      if (result->items.size() != expected.scores.size())
-        fail(std::to_string(result->items.size()) + " items in the result, the script implies " + std::to_string(expected.scores.size()));
-    }
+    if (s.checks.result_matches_script)
+      for (const auto& d : barthel::result_differences(*result, expected)) fail(d);
   }
   if (s.checks.no_item_asked_twice) {
     // Read the patient's replica (never killed): every prompt the robot said to the end.
     const graph::Graph* g = truth();
-    if (!g) {
-      fail("no replica to check the questions in");
-    } else {
-      std::map<std::pair<int, int>, int> said;
-      for (const auto& p : barthel::prompts(*g))
-        if (p.is_question() && barthel::marked(*g, barthel::node::kSpeaker, barthel::edge::kSpoke, p.id)) ++said[{p.item, p.attempt}];
-      for (const auto& [k, n] : said)
-        if (n > 1)
-          fail("item " + std::to_string(k.first) + " attempt " + std::to_string(k.second) + " asked " + std::to_string(n) + " times");
-    }
+    if (!g) fail("no replica to check the questions in");
+    else
+      for (const auto& d : barthel::questions_asked_twice(*g)) fail(d);
   }
   r.passed = r.failures.empty();
   return r;

@@ -4,7 +4,7 @@
 
 #include "quiver/agents/barthel/grammars.h"
 #include "quiver/agents/barthel/schema.h"
-#include "quiver/agents/devices/barthel_items.h"
+#include "quiver/agents/barthel/items.h"
 
 namespace quiver::agents::barthel {
 
@@ -86,7 +86,7 @@ void Patient::on_tick(AgentContext& ctx) {
   if (q->item < 0 || static_cast<std::size_t>(q->item) >= script_.items.size()) return;
   const ItemPlan& plan = script_.items[static_cast<std::size_t>(q->item)];
   const Reply& r = q->attempt <= 1 ? plan.first : plan.second;
-  const auto& options = devices::barthel_items()[static_cast<std::size_t>(q->item)].options;
+  const auto& options = barthel_items()[static_cast<std::size_t>(q->item)].options;
   Status s;
   switch (r.kind) {
     case ReplyKind::kVoice:

@@ -2,7 +2,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "quiver/agents/devices/barthel_items.h"
+#include "quiver/agents/barthel/items.h"
 #include "quiver/rng.h"
 
 namespace quiver::agents::barthel {
@@ -60,7 +60,7 @@ Result<Reply> parse_reply(const nlohmann::json& j, const std::string& where, std
 PatientScript PatientScript::random(std::uint64_t seed) {
   Rng rng(seed);
   PatientScript s;
-  for (const auto& item : devices::barthel_items()) {
+  for (const auto& item : barthel_items()) {
     ItemPlan p;
     p.first.kind = ReplyKind::kVoice;
     p.first.option = static_cast<int>(rng.below(item.options.size()));
@@ -73,7 +73,7 @@ PatientScript PatientScript::random(std::uint64_t seed) {
 PatientScript PatientScript::varied(std::uint64_t seed) {
   Rng rng(seed);
   PatientScript s;
-  const auto& table = devices::barthel_items();
+  const auto& table = barthel_items();
   auto draw = [&](std::size_t n, bool touch_ok) {
     Reply r;
     const double x = rng.uniform();
@@ -102,7 +102,7 @@ PatientScript PatientScript::varied(std::uint64_t seed) {
 }
 
 Result<PatientScript> PatientScript::from_json(const nlohmann::json& j) {
-  const auto& items = devices::barthel_items();
+  const auto& items = barthel_items();
   PatientScript s;
   if (!j.is_object()) return make_error(ErrorCode::kInvalidArgument, "/: the patient script must be an object");
   if (j.contains("patient")) {
@@ -170,7 +170,7 @@ nlohmann::json PatientScript::to_json() const {
 }
 
 PatientScript::Outcome PatientScript::expected() const {
-  const auto& table = devices::barthel_items();
+  const auto& table = barthel_items();
   Outcome o;
   o.status = "completed";
   int unanswered = 0;

@@ -4,7 +4,7 @@
 
 #include "quiver/agents/barthel/grammars.h"
 #include "quiver/agents/barthel/schema.h"
-#include "quiver/agents/devices/barthel_items.h"
+#include "quiver/agents/barthel/items.h"
 
 namespace quiver::agents::barthel {
 
@@ -15,9 +15,9 @@ using nlohmann::json;
 
 namespace {
 
-const std::vector<devices::BarthelItem>& items() { return devices::barthel_items(); }
+const std::vector<BarthelItem>& items() { return barthel_items(); }
 
-std::vector<std::string> labels(const devices::BarthelItem& item) {
+std::vector<std::string> labels(const BarthelItem& item) {
   std::vector<std::string> out;
   for (const auto& o : item.options) out.push_back(o.label);
   return out;

@@ -103,6 +103,7 @@ class Speech::Speak final : public Action {
       const std::int64_t lost = attr_int(g, node_id(g, node::kPerson), "lost_ns", 0);
       if (lost > 0 && now >= lost) {
         s_.last_reaction_ns_ = now - lost;
+        if (s_.reactions_ns_.size() < kMaxReactionsKept) s_.reactions_ns_.push_back(now - lost);
         if (s_.reaction_cb_) s_.reaction_cb_(Reaction{lost, now});
       }
     }
@@ -177,6 +178,8 @@ void Speech::status(nlohmann::json& out) const {
   out["interrupted"] = interrupted_;
   out["heard"] = heard_;
   if (last_reaction_ns_ >= 0) out["last_reaction_ms"] = last_reaction_ns_ / 1e6;
+  auto& us = out["reactions_us"] = nlohmann::json::array();
+  for (std::int64_t ns : reactions_ns_) us.push_back(static_cast<double>(ns) / 1e3);
 }
 
 }  // namespace quiver::agents::barthel

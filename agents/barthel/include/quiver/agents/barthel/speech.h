@@ -11,6 +11,7 @@
 #include <functional>
 #include <memory>
 #include <string>
+#include <vector>
 
 #include "quiver/agents/barthel/inputs.h"
 #include "quiver/agents/devices/speech_output.h"
@@ -53,6 +54,8 @@ class Speech final : public Agent {
   std::int64_t handled_heard_ = 0;
   std::uint64_t spoken_ = 0, interrupted_ = 0, heard_ = 0;
   std::int64_t last_reaction_ns_ = -1;
+  static constexpr std::size_t kMaxReactionsKept = 100'000;
+  std::vector<std::int64_t> reactions_ns_;  ///< each stop since start (status: reactions_us)
 };
 
 /// The option of `options` that `text` names (case-insensitive; the longest label contained in

@@ -1,6 +1,6 @@
 #pragma once
 /// @file
-/// An agent: one graph replica, its replicator, and the Cyclone DDS transport, driven by one
+/// A replica on DDS: one graph replica, its replicator, and the Cyclone DDS transport, driven by one
 /// owner thread. The owner thread is whichever thread calls spin_*(); every graph read and
 /// write, every change event and every protocol step happens there. Other threads talk to the
 /// agent only through post() and stop(), which are thread-safe.

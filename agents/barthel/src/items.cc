@@ -1,8 +1,8 @@
-#include "quiver/agents/devices/barthel_items.h"
+#include "quiver/agents/barthel/items.h"
 
 #include <set>
 
-namespace quiver::agents::devices {
+namespace quiver::agents::barthel {
 
 const std::vector<BarthelItem>& barthel_items() {
   static const std::vector<BarthelItem> kItems = {
@@ -117,4 +117,4 @@ Status check_barthel_items(const std::vector<BarthelItem>& items) {
   return Status::Ok();
 }
 
-}  // namespace quiver::agents::devices
+}  // namespace quiver::agents::barthel

@@ -1,8 +1,7 @@
 #pragma once
 /// @file
 /// The ten items of the Barthel index of activities of daily living (Mahoney & Barthel, 1965,
-/// in its usual 0-100 scoring), with their standard options and scores. Data, not a device: it
-/// sits in devices/ until the Barthel agents get a folder of their own.
+/// in its usual 0-100 scoring), with their standard options and scores.
 
 #include <string>
 #include <string_view>
@@ -10,7 +9,7 @@
 
 #include "quiver/result.h"
 
-namespace quiver::agents::devices {
+namespace quiver::agents::barthel {
 
 /// One answer to an item and its score.
 struct BarthelOption {
@@ -42,4 +41,4 @@ int max_total();
 /// @returns kInvalidArgument naming the item and the value that breaks a rule.
 Status check_barthel_items(const std::vector<BarthelItem>& items);
 
-}  // namespace quiver::agents::devices
+}  // namespace quiver::agents::barthel

@@ -1,0 +1,65 @@
+#include "barthel_processes.h"
+
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <csignal>
+
+namespace quiver::tools {
+
+std::string self_executable() {
+  char buf[4096];
+  ssize_t n = readlink("/proc/self/exe", buf, sizeof buf - 1);
+  return n > 0 ? std::string(buf, static_cast<std::size_t>(n)) : "quiver";
+}
+
+BarthelProcesses::BarthelProcesses(BarthelProcessOptions o) : o_(std::move(o)), exe_(self_executable()) {
+  ::mkdir(o_.out.c_str(), 0755);
+  ::mkdir((o_.out + "/logs").c_str(), 0755);
+}
+
+BarthelProcesses::~BarthelProcesses() { stop_all(); }
+
+std::vector<std::string> BarthelProcesses::argv_of(const std::string& role, const std::string& name) const {
+  std::vector<std::string> a = {exe_,       "run",         role,          "--domain",    std::to_string(o_.domain),
+                                "--dds-config", o_.dds_config, "--out",   o_.out,        "--script",
+                                o_.script_path, "--join-wait", "1",       "--answer-timeout", std::to_string(o_.answer_timeout_s)};
+  if (!name.empty()) a.insert(a.end(), {"--name", name});
+  if (o_.simulated_speech) a.insert(a.end(), {"--simulated-speech", "--words-ms", std::to_string(o_.words_ms)});
+  return a;
+}
+
+bool BarthelProcesses::start(const std::string& role, const std::string& name) {
+  const std::string key = name.empty() ? role : name;
+  auto p = Subprocess::spawn(argv_of(role, name), o_.out + "/logs/" + key + ".log");
+  if (!p) return false;
+  procs_.erase(key);
+  procs_.emplace(key, std::move(*p));
+  return true;
+}
+
+int BarthelProcesses::kill(const std::string& name, int sig) {
+  auto it = procs_.find(name);
+  if (it == procs_.end()) return -1;
+  it->second.kill(sig);
+  if (sig == SIGKILL) it->second.wait(2000);
+  return it->second.pid();
+}
+
+void BarthelProcesses::stop_all() {
+  for (auto& [name, p] : procs_) p.kill(SIGTERM);
+  for (auto& [name, p] : procs_) p.wait(5000);
+}
+
+std::optional<nlohmann::json> BarthelProcesses::last_status(const std::string& name) {
+  auto it = procs_.find(name);
+  if (it == procs_.end()) return std::nullopt;
+  std::optional<nlohmann::json> last;
+  while (auto line = it->second.read_line(0)) {
+    auto j = nlohmann::json::parse(*line, nullptr, false);
+    if (j.is_object()) last = std::move(j);
+  }
+  return last;
+}
+
+}  // namespace quiver::tools

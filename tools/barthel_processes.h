@@ -1,0 +1,53 @@
+#pragma once
+// The Barthel agents as one OS process each (`quiver run ROLE`), over DDS on loopback: started,
+// killed and restarted by name, their stderr logged in OUT/logs/NAME.log. Used by
+// `quiver scenario barthel` and `quiver bench reaction`.
+#include <cstdint>
+#include <map>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "subprocess.h"
+
+namespace quiver::tools {
+
+struct BarthelProcessOptions {
+  std::uint32_t domain = 0;
+  std::string dds_config = "loopback";
+  std::string out;          ///< devices write here; logs go to out/logs
+  std::string script_path;  ///< the patient's script (JSON)
+  double answer_timeout_s = 8;
+  bool simulated_speech = false;
+  double words_ms = 250;
+};
+
+class BarthelProcesses {
+ public:
+  explicit BarthelProcesses(BarthelProcessOptions o);
+  ~BarthelProcesses();
+  BarthelProcesses(const BarthelProcesses&) = delete;
+  BarthelProcesses& operator=(const BarthelProcesses&) = delete;
+
+  /// Starts (or restarts) `role` as the agent `name` (default: the role). False when it cannot.
+  bool start(const std::string& role, const std::string& name = "");
+  /// Sends `sig` to the agent `name` and, for SIGKILL, reaps it. @returns its pid, or -1.
+  int kill(const std::string& name, int sig);
+  /// SIGTERM to every agent, then waits for them (each prints its final status line).
+  void stop_all();
+  /// The last JSON status line agent `name` printed on stdout (after stop_all: its final one).
+  std::optional<nlohmann::json> last_status(const std::string& name);
+
+ private:
+  std::vector<std::string> argv_of(const std::string& role, const std::string& name) const;
+  BarthelProcessOptions o_;
+  std::string exe_;
+  std::map<std::string, Subprocess> procs_;
+};
+
+/// The path of the running executable (to start its `run` subcommand).
+std::string self_executable();
+
+}  // namespace quiver::tools

@@ -1,0 +1,149 @@
+// quiver bench reaction: how fast Speech stops talking when the person leaves. The Barthel agents
+// run as one process each over DDS on loopback; the simulated patient leaves the chair in the
+// middle of the first question again and again. Each time, Person commits the loss
+// (person.lost_ns, on the machine's monotonic clock that every process shares) and Speech stops
+// the audio when the change reaches it; Speech records the difference. One JSON line per run,
+// then the medians over runs.
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <cstdio>
+#include <fstream>
+#include <iostream>
+#include <nlohmann/json.hpp>
+#include <set>
+#include <thread>
+
+#include "barthel_processes.h"
+#include "bench_stats.h"
+#include "commands.h"
+#include "dds_options.h"
+#include "quiver/agents/barthel/patient_script.h"
+#include "quiver/agents/barthel/roles.h"
+#include "quiver/agents/barthel/schema.h"
+
+namespace quiver::tools {
+namespace {
+
+namespace barthel = agents::barthel;
+using nlohmann::json;
+
+struct ReactionFlags {
+  DdsFlags dds;
+  int leaves = 100;
+  int runs = 3;
+  double words_ms = 60;
+  double leave_after_ms = 300;
+  double away_ms = 400;
+  std::string out;
+};
+
+// A patient who answers every question by voice but leaves mid-question `n` times on the first item.
+barthel::PatientScript restless_patient(const ReactionFlags& f) {
+  barthel::PatientScript s = barthel::PatientScript::random(1);
+  for (auto& it : s.items) it.first = it.second = {barthel::ReplyKind::kVoice, 0};
+  s.leaves.clear();
+  for (int i = 0; i < f.leaves; ++i)
+    s.leaves.push_back({0, static_cast<std::int64_t>(f.leave_after_ms * 1e6), static_cast<std::int64_t>(f.away_ms * 1e6)});
+  return s;
+}
+
+std::string make_dir(const std::string& base, int run) {
+  if (!base.empty()) {
+    const std::string d = base + "/run-" + std::to_string(run);
+    ::mkdir(base.c_str(), 0755);
+    ::mkdir(d.c_str(), 0755);
+    return d;
+  }
+  char tmpl[] = "/tmp/quiver-reaction-XXXXXX";
+  return mkdtemp(tmpl) ? std::string(tmpl) : std::string();
+}
+
+// One run: the reactions Speech measured, in milliseconds (empty when the run could not start).
+std::vector<double> one_run(const ReactionFlags& f, int run, std::string& dir) {
+  dir = make_dir(f.out, run);
+  if (dir.empty()) return {};
+  const std::string script_path = dir + "/patient.json";
+  std::ofstream(script_path) << restless_patient(f).to_json().dump(1) << "\n";
+
+  agents::DdsReplicaOptions o;
+  o.name = "reaction-observer";
+  o.observer = true;
+  auto obs = f.dds.create_agent(o);
+  if (!obs.ok()) {
+    std::fprintf(stderr, "quiver bench reaction: %s\n", obs.error().to_string().c_str());
+    return {};
+  }
+  BarthelProcesses procs({f.dds.domain, f.dds.dds_config, dir, script_path, 8, true, f.words_ms});
+  for (const auto& r : barthel::role_names())
+    if (!procs.start(r)) return {};
+
+  // Watch the losses Person commits until the patient has left `leaves` times and come back.
+  std::set<std::int64_t> losses;
+  const graph::Graph& g = (*obs)->graph();
+  const auto t0 = std::chrono::steady_clock::now();
+  const double limit_s = 30 + f.leaves * 6.0;
+  std::int64_t done_at = -1;
+  for (;;) {
+    (*obs)->spin_once(20'000'000);
+    const graph::NodeId person = barthel::node_id(g, barthel::node::kPerson);
+    if (const std::int64_t lost = barthel::attr_int(g, person, "lost_ns", 0); lost > 0) losses.insert(lost);
+    const double t = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    if (done_at < 0 && static_cast<int>(losses.size()) >= f.leaves && barthel::person_present(g)) done_at = agents::monotonic_ns();
+    if (done_at >= 0 && agents::monotonic_ns() - done_at > 500'000'000) break;
+    if (t > limit_s) {
+      std::fprintf(stderr, "quiver bench reaction: run %d saw %zu of %d losses in %.0f s; stopping\n", run, losses.size(),
+                   f.leaves, limit_s);
+      break;
+    }
+  }
+  procs.stop_all();
+  std::vector<double> ms;
+  if (auto st = procs.last_status("speech"); st && st->contains("reactions_us"))
+    for (const auto& v : (*st)["reactions_us"]) ms.push_back(v.get<double>() / 1e3);
+  return ms;
+}
+
+double median(std::vector<double> v) { return Percentiles(std::move(v)).at(0.5); }
+
+int run_bench_reaction(const ReactionFlags& f) {
+  std::vector<double> p50s, p99s;
+  for (int run = 0; run < f.runs; ++run) {
+    std::string dir;
+    const std::vector<double> ms = one_run(f, run, dir);
+    const Percentiles pct(ms);
+    json j = {{"bench", "reaction"}, {"run", run}, {"leaves", f.leaves}, {"reactions", ms.size()},
+              {"p50_ms", round_to(pct.at(0.5), 3)}, {"p99_ms", round_to(pct.at(0.99), 3)},
+              {"max_ms", round_to(pct.at(1.0), 3)}, {"out", dir}};
+    std::cout << j.dump() << std::endl;
+    if (ms.empty()) return 1;
+    p50s.push_back(pct.at(0.5));
+    p99s.push_back(pct.at(0.99));
+  }
+  json s = {{"bench", "reaction"}, {"runs", f.runs}, {"transport", "dds-loopback"},
+            {"p50_ms_median", round_to(median(p50s), 3)}, {"p99_ms_median", round_to(median(p99s), 3)},
+            {"target_p50_ms", 5}, {"target_p99_ms", 50}};
+  std::cout << s.dump() << std::endl;
+  return 0;
+}
+
+}  // namespace
+
+void add_reaction_bench_command(CLI::App& app) {
+  CLI::App* bench = app.get_subcommand("bench");
+  auto f = std::make_shared<ReactionFlags>();
+  f->dds.domain = 81;
+  auto* r = bench->add_subcommand("reaction",
+                                  "Person lost -> Speech stops the audio: the Barthel agents as processes over DDS (loopback)");
+  f->dds.add_to(r);
+  r->add_option("--leaves", f->leaves, "times the patient leaves mid-question per run")->check(CLI::Range(1, 100'000))->capture_default_str();
+  r->add_option("--runs", f->runs, "runs (the summary gives the median of their percentiles)")->check(CLI::Range(1, 1000))->capture_default_str();
+  r->add_option("--words-ms", f->words_ms, "simulated speech: milliseconds per word")->check(CLI::Range(1.0, 5000.0))->capture_default_str();
+  r->add_option("--leave-after-ms", f->leave_after_ms, "the patient leaves this long into the question")->check(CLI::Range(1.0, 60000.0))->capture_default_str();
+  r->add_option("--away-ms", f->away_ms, "and comes back this much later")->check(CLI::Range(1.0, 60000.0))->capture_default_str();
+  r->add_option("--out", f->out, "keep each run's logs, script and result in OUT/run-K (default: new /tmp folders)");
+  r->callback([f] { set_exit_code(run_bench_reaction(*f)); });
+}
+
+}  // namespace quiver::tools
