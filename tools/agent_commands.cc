@@ -5,6 +5,7 @@
 #include <nlohmann/json.hpp>
 
 #include "commands.h"
+#include "quiver/agents/runtime/logging.h"
 #include "dds_options.h"
 #include "quiver/agents/dds/dds_replica.h"
 #include "quiver/graph/world_file.h"
@@ -84,13 +85,13 @@ int run_dump(const DumpFlags& f) {
   o.observer = true;
   auto created = f.dds.create_agent(o);
   if (!created.ok()) {
-    std::fprintf(stderr, "quiver dump: %s\n", created.error().to_string().c_str());
+    agents::named_logger("quiver dump")->error("{}", created.error().to_string());
     return 2;
   }
   DdsReplica& a = **created;
   const std::int64_t timeout = static_cast<std::int64_t>(f.timeout_s * 1e9);
   if (!a.spin_until([&] { return a.replicator().live_peer_count() > 0; }, timeout)) {
-    std::fprintf(stderr, "quiver dump: no agent answered on DDS domain %u within %.1f s\n", f.dds.domain, f.timeout_s);
+    agents::named_logger("quiver dump")->error("no agent answered on DDS domain {} within {:.1f} s", f.dds.domain, f.timeout_s);
     return 1;
   }
   // Synced = we hold everything every live peer says it holds; require it to stay so briefly.
@@ -106,8 +107,8 @@ int run_dump(const DumpFlags& f) {
       },
       timeout);
   if (!ok) {
-    std::fprintf(stderr, "quiver dump: could not sync with the %zu live agents within %.1f s\n",
-                 a.replicator().live_peer_count(), f.timeout_s);
+    agents::named_logger("quiver dump")->error("could not sync with the {} live agents within {:.1f} s",
+                                              a.replicator().live_peer_count(), f.timeout_s);
     return 1;
   }
   if (f.digest) std::cout << a.graph().digest().hex() << std::endl;

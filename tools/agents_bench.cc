@@ -10,6 +10,7 @@
 
 #include "bench_stats.h"
 #include "commands.h"
+#include "quiver/agents/runtime/logging.h"
 #include "quiver/agents/dds/dds_replica.h"
 #include "quiver/agents/grammar/grammar.h"
 #include "quiver/agents/locks/locks.h"
@@ -47,7 +48,7 @@ std::string synthetic_grammar(int rules) {
 int run_bench_grammar(int nodes, int rules, int checks) {
   auto parsed = agents::parse_grammar(synthetic_grammar(rules), "bench");
   if (!parsed.ok()) {
-    std::fprintf(stderr, "%s\n", parsed.error().to_string().c_str());
+    agents::named_logger("quiver bench grammar")->error("{}", parsed.error().to_string());
     return 2;
   }
   agents::GrammarChecker checker(std::move(*parsed));
@@ -154,7 +155,7 @@ json lock_latency_over_dds(int agents, int rounds, std::uint32_t domain) {
     o.dds.own_domain_instance = true;
     auto a = agents::DdsReplica::create(o);
     if (!a.ok()) {
-      std::fprintf(stderr, "%s\n", a.error().to_string().c_str());
+      agents::named_logger("quiver bench locks")->error("{}", a.error().to_string());
       return json();
     }
     auto r = std::make_unique<Runner>();

@@ -1,11 +1,42 @@
 #include <CLI/CLI.hpp>
 
+#include <memory>
+#include <string>
+
 #include "commands.h"
+#include "quiver/agents/runtime/logging.h"
 
 namespace quiver::tools {
+namespace {
+
+// A command made only of subcommands says which word it did not know, and lists the ones it
+// does, instead of CLI11's "A subcommand is required".
+void require_known_subcommand(CLI::App* a, const std::string& path) {
+  auto word = std::make_shared<std::string>();
+  a->require_subcommand(0, 1);
+  a->add_option("command", *word)->group("");  // hidden: catches a word that is no subcommand
+  a->callback([a, path, word] {
+    if (!a->get_subcommands().empty()) return;
+    std::string known;
+    for (const CLI::App* s : a->get_subcommands({}))
+      if (!s->get_group().empty()) known += (known.empty() ? "" : ", ") + s->get_name();
+    const std::string what = word->empty() ? path + ": which command? (" : path + ": unknown command '" + *word + "' (";
+    throw CLI::ParseError(what + "the commands are: " + known + "; " + path + " --help tells more)", CLI::ExitCodes::ExtrasError);
+  });
+}
+
+}  // namespace
 
 void build_app(CLI::App& app) {
-  app.require_subcommand(1);
+  app.set_version_flag("--version", std::string("quiver ") + QUIVER_VERSION);
+  app.add_option_function<std::string>(
+         "--log-level",
+         [](const std::string& level) {
+           if (!agents::set_log_level(level))
+             throw CLI::ValidationError("--log-level", "'" + level + "' is none of trace, debug, info, warn, error, critical, off");
+         },
+         "messages at least this severe are logged to stderr (default info)")
+      ->envname("QUIVER_LOG_LEVEL");
   add_sim_command(app);
   add_bench_commands(app);
   add_kinematics_commands(app);  // adds to `bench`: after add_bench_commands
@@ -14,6 +45,9 @@ void build_app(CLI::App& app) {
   add_agents_bench_commands(app);
   add_barthel_commands(app);
   add_reaction_bench_command(app);
+  require_known_subcommand(&app, "quiver");
+  for (CLI::App* sub : app.get_subcommands({}))
+    if (!sub->get_subcommands({}).empty()) require_known_subcommand(sub, "quiver " + sub->get_name());
 }
 
 }  // namespace quiver::tools

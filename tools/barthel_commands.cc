@@ -12,6 +12,7 @@
 #include <nlohmann/json.hpp>
 
 #include "commands.h"
+#include "quiver/agents/runtime/logging.h"
 #include "dds_options.h"
 #include "quiver/agents/barthel/checks.h"
 #include "quiver/agents/barthel/grammars.h"
@@ -57,7 +58,7 @@ int run_role(RunFlags f) {
   if (!f.script.empty()) {
     auto s = load_script(f.script);
     if (!s.ok()) {
-      std::fprintf(stderr, "quiver run: %s\n", s.error().to_string().c_str());
+      agents::named_logger("quiver run")->error("{}", s.error().to_string());
       return 2;
     }
     ro.script = *s;
@@ -66,7 +67,7 @@ int run_role(RunFlags f) {
   }
   auto agent = barthel::make_role(f.role, ro);
   if (!agent.ok()) {
-    std::fprintf(stderr, "quiver run: %s\n", agent.error().to_string().c_str());
+    agents::named_logger("quiver run")->error("{}", agent.error().to_string());
     return 2;
   }
   if (f.process.world.empty()) f.process.world_text = std::string(barthel::world_json());
@@ -115,7 +116,7 @@ int run_barthel(const ScenarioFlags& f) {
   if (!f.script.empty()) {
     auto s = load_script(f.script);
     if (!s.ok()) {
-      std::fprintf(stderr, "quiver scenario: %s\n", s.error().to_string().c_str());
+      agents::named_logger("quiver scenario")->error("{}", s.error().to_string());
       return 2;
     }
     script = *s;
@@ -129,7 +130,7 @@ int run_barthel(const ScenarioFlags& f) {
   o.observer = true;
   auto created = f.dds.create_agent(o);
   if (!created.ok()) {
-    std::fprintf(stderr, "quiver scenario: %s\n", created.error().to_string().c_str());
+    agents::named_logger("quiver scenario")->error("{}", created.error().to_string());
     return 2;
   }
   agents::DdsReplica& obs = **created;
@@ -156,7 +157,7 @@ int run_barthel(const ScenarioFlags& f) {
               f.dds.domain, out.c_str());
   for (const auto& r : barthel::role_names())
     if (!procs.start(r)) {
-      std::fprintf(stderr, "quiver scenario: cannot start %s\n", self_executable().c_str());
+      agents::named_logger("quiver scenario")->error("cannot start {} run {}", self_executable(), r);
       return 2;
     }
   if (f.second_planner) procs.start("planner", "planner-2");

@@ -8,6 +8,7 @@
 #include "bench_stats.h"
 #include "bench_util.h"
 #include "commands.h"
+#include "quiver/agents/runtime/logging.h"
 #include "quiver/graph/codec.h"
 #include "quiver/graph/graph.h"
 #include "quiver/graph/world_file.h"
@@ -80,7 +81,7 @@ void run_crdt_bench(const CrdtBench& b) {
   for (std::size_t i = setup_msgs; i < deltas.size(); ++i) {
     Status s = decode(deltas[i], scratch);
     if (!s.ok()) {
-      std::fprintf(stderr, "decode failed: %s\n", s.error().to_string().c_str());
+      agents::named_logger("quiver bench crdt")->error("decode failed: {}", s.error().to_string());
       set_exit_code(2);
       return;
     }
@@ -145,7 +146,7 @@ void run_load_bench(const LoadBench& b) {
     for (int i = 1; i < b.frames; ++i) {
       NodeId n = *tx.create_node("frame", "f" + std::to_string(i));
       if (!tx.set_rt(prev, n, step, 0).ok()) {
-        std::fprintf(stderr, "quiver bench load: set_rt refused at frame %d\n", i);
+        agents::named_logger("quiver bench load")->error("set_rt refused at frame {}", i);
         set_exit_code(2);
         return;
       }
@@ -156,7 +157,7 @@ void run_load_bench(const LoadBench& b) {
     auto c = tx.commit();
     commit_ms.push_back(seconds_since(t1) * 1e3);
     if (!c.ok()) {
-      std::fprintf(stderr, "quiver bench load: %s\n", c.error().to_string().c_str());
+      agents::named_logger("quiver bench load")->error("{}", c.error().to_string());
       set_exit_code(2);
       return;
     }

@@ -16,6 +16,7 @@
 
 #include "bench_stats.h"
 #include "commands.h"
+#include "quiver/agents/runtime/logging.h"
 #include "dds_options.h"
 #include "quiver/agents/dds/dds_replica.h"
 #include "quiver/graph/graph.h"
@@ -46,7 +47,7 @@ std::unique_ptr<DdsReplica> make_agent(const std::string& name, const DdsFlags& 
   o.dds.max_blocking_ns = 2 * kSec;  // a benchmark wants back-pressure, not drops
   auto a = dds.create_agent(o);
   if (!a.ok()) {
-    std::fprintf(stderr, "%s: %s\n", name.c_str(), a.error().to_string().c_str());
+    agents::named_logger(name)->error("{}", a.error().to_string());
     std::exit(2);
   }
   return std::move(*a);
@@ -85,7 +86,7 @@ void writer_role(const RoleFlags& f) {
   DdsReplica& a = *agent;
   graph::Graph& g = a.graph();
   if (!a.spin_until([&] { return a.replicator().live_peer_count() >= static_cast<std::size_t>(f.readers); }, 30 * kSec)) {
-    std::fprintf(stderr, "bench writer: only %zu of %d readers appeared\n", a.replicator().live_peer_count(), f.readers);
+    agents::named_logger("bench writer")->error("only {} of {} readers appeared", a.replicator().live_peer_count(), f.readers);
     std::exit(1);
   }
   std::vector<Symbol> attrs;
@@ -109,7 +110,7 @@ void writer_role(const RoleFlags& f) {
   }
   for (int i = 0; i < 1000; i += 250) add_nodes(i, i + 250);
   if (!wait_all_hold(a, 30 * kSec))
-    std::fprintf(stderr, "bench writer: readers did not confirm the seed\n");
+    agents::named_logger("bench writer")->warn("readers did not confirm the seed");
 
   // Throughput: N random writes in transactions of `batch`.
   Rng rng(1);
@@ -126,7 +127,7 @@ void writer_role(const RoleFlags& f) {
   const std::int64_t t_local = monotonic_ns();
   set_phase(g, control, "throughput-done");
   if (!wait_all_hold(a, 60 * kSec))
-    std::fprintf(stderr, "bench writer: readers did not confirm the throughput phase\n");
+    agents::named_logger("bench writer")->warn("readers did not confirm the throughput phase");
 
   // Latency: single unbatched writes, spaced so they do not queue behind each other.
   set_phase(g, control, "latency");
@@ -143,7 +144,7 @@ void writer_role(const RoleFlags& f) {
   for (int i = 1000; i < f.join_nodes; i += 500) add_nodes(i, std::min(i + 500, f.join_nodes));
   set_phase(g, control, "join");
   if (!wait_all_hold(a, 60 * kSec))
-    std::fprintf(stderr, "bench writer: readers did not confirm the join graph\n");
+    agents::named_logger("bench writer")->warn("readers did not confirm the join graph");
   json ready;
   ready["role"] = "writer";
   ready["phase"] = "ready-for-joiner";
@@ -324,7 +325,7 @@ std::optional<json> read_json(Subprocess& p, const char* who, int timeout_ms) {
   for (;;) {
     auto line = p.read_line(timeout_ms);
     if (!line) {
-      std::fprintf(stderr, "bench: no result from the %s process\n", who);
+      agents::named_logger("quiver bench dds")->error("no result from the {} process", who);
       return std::nullopt;
     }
     auto j = json::parse(*line, nullptr, false);

@@ -19,6 +19,7 @@
 #include "bench_stats.h"
 #include "bench_util.h"
 #include "commands.h"
+#include "quiver/agents/runtime/logging.h"
 #include "quiver/graph/graph.h"
 #include "quiver/graph/world_file.h"
 #include "quiver/kinematics/collision_scene.h"
@@ -56,15 +57,14 @@ void run_lookup(const LookupArgs& args) {
   Graph g(ReplicaId{fnv1a64("quiver-lookup"), 1});
   auto loaded = graph::load_world_file(g, args.world);
   if (!loaded.ok()) {
-    std::fprintf(stderr, "quiver lookup: %s\n", loaded.error().message.c_str());
+    agents::named_logger("quiver lookup")->error("{}", loaded.error().message);
     set_exit_code(2);
     return;
   }
   kinematics::FrameTree tree(g);
   auto X = args.at ? tree.lookup_at(args.a, args.b, *args.at) : tree.lookup(args.a, args.b);
   if (!X.ok()) {
-    std::fprintf(stderr, "quiver lookup: %s: %s\n", to_string(X.error().code),
-                 X.error().message.c_str());
+    agents::named_logger("quiver lookup")->error("{}: {}", to_string(X.error().code), X.error().message);
     set_exit_code(1);
     return;
   }
@@ -121,13 +121,13 @@ void run_import(const ImportArgs& args) {
   opt.prefix = args.prefix;
   auto info = kinematics::import_urdf_file(g, args.urdf, opt);
   if (!info.ok()) {
-    std::fprintf(stderr, "quiver import-urdf: %s\n", info.error().message.c_str());
+    agents::named_logger("quiver import-urdf")->error("{}", info.error().message);
     set_exit_code(1);
     return;
   }
   Status s = graph::save_world_file(g, args.out);
   if (!s.ok()) {
-    std::fprintf(stderr, "quiver import-urdf: %s\n", s.error().message.c_str());
+    agents::named_logger("quiver import-urdf")->error("{}", s.error().message);
     set_exit_code(2);
     return;
   }

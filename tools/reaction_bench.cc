@@ -18,6 +18,7 @@
 #include "barthel_processes.h"
 #include "bench_stats.h"
 #include "commands.h"
+#include "quiver/agents/runtime/logging.h"
 #include "dds_options.h"
 #include "quiver/agents/barthel/patient_script.h"
 #include "quiver/agents/barthel/roles.h"
@@ -72,7 +73,7 @@ std::vector<double> one_run(const ReactionFlags& f, int run, std::string& dir) {
   o.observer = true;
   auto obs = f.dds.create_agent(o);
   if (!obs.ok()) {
-    std::fprintf(stderr, "quiver bench reaction: %s\n", obs.error().to_string().c_str());
+    agents::named_logger("quiver bench reaction")->error("{}", obs.error().to_string());
     return {};
   }
   BarthelProcesses procs({f.dds.domain, f.dds.dds_config, dir, script_path, 8, true, f.words_ms});
@@ -93,8 +94,7 @@ std::vector<double> one_run(const ReactionFlags& f, int run, std::string& dir) {
     if (done_at < 0 && static_cast<int>(losses.size()) >= f.leaves && barthel::person_present(g)) done_at = agents::monotonic_ns();
     if (done_at >= 0 && agents::monotonic_ns() - done_at > 500'000'000) break;
     if (t > limit_s) {
-      std::fprintf(stderr, "quiver bench reaction: run %d saw %zu of %d losses in %.0f s; stopping\n", run, losses.size(),
-                   f.leaves, limit_s);
+      agents::named_logger("quiver bench reaction")->warn("run {} saw {} of {} losses in {:.0f} s; stopping", run, losses.size(), f.leaves, limit_s);
       break;
     }
   }

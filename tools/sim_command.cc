@@ -2,6 +2,8 @@
 #include <iostream>
 
 #include "commands.h"
+#include "progress.h"
+#include "quiver/agents/runtime/logging.h"
 #include <nlohmann/json.hpp>
 
 #include "quiver/sim/scenario.h"
@@ -40,15 +42,14 @@ void add_sim_command(CLI::App& app) {
                   "run N random fault schedules of the Barthel scenario (seeds --seed .. --seed+N-1)")
       ->check(CLI::Range(1, 1'000'000));
   cmd->callback([cfg, verbose, scenario, schedules] {
-    auto narrate = [](std::int64_t t, const std::string& line) {
-      std::fprintf(stderr, "  [%8.3f s] %s\n", static_cast<double>(t) / 1e9, line.c_str());
-    };
+    auto log = agents::named_logger("quiver sim");
+    auto narrate = [log](std::int64_t t, const std::string& line) { log->info("[{:8.3f} s] {}", static_cast<double>(t) / 1e9, line); };
     if (!scenario->empty() || *schedules > 0) {
       std::vector<std::pair<sim::Scenario, std::uint64_t>> runs;
       if (!scenario->empty()) {
         auto s = sim::Scenario::load(*scenario);
         if (!s.ok()) {
-          std::fprintf(stderr, "quiver sim: %s\n", s.error().to_string().c_str());
+          agents::named_logger("quiver sim")->error("{}", s.error().to_string());
           set_exit_code(2);
           return;
         }
@@ -56,29 +57,33 @@ void add_sim_command(CLI::App& app) {
       }
       for (int k = 0; k < *schedules; ++k) runs.emplace_back(sim::Scenario::random_faults(cfg->seed + k), cfg->seed + k);
       int failed = 0;
+      ProgressLine progress("schedules", static_cast<long>(runs.size()));
+      long done = 0;
       for (auto& [s, seed] : runs) {
-        if (*verbose) std::fprintf(stderr, "quiver sim: scenario %s, seed %llu\n", s.name.c_str(), static_cast<unsigned long long>(seed));
+        if (*verbose) log->info("scenario {}, seed {}", s.name, seed);
         sim::ScenarioResult r = sim::run_scenario(s, seed, *verbose ? narrate : std::function<void(std::int64_t, const std::string&)>{});
         if (!r.passed) ++failed;
+        progress.update(++done, std::to_string(failed) + " failed");
         if (!r.passed || runs.size() == 1) {
+          progress.clear();
           nlohmann::json j = r.to_json();
           if (!r.passed) j["replay"] = scenario->empty() ? "quiver sim --schedules 1 --seed " + std::to_string(seed) : "quiver sim --scenario " + *scenario + " --seed " + std::to_string(seed);
           std::cout << j.dump() << std::endl;
         }
       }
+      progress.finish();
       if (runs.size() > 1)
         std::cout << nlohmann::json{{"schedules", runs.size()}, {"passed", runs.size() - static_cast<std::size_t>(failed)}, {"failed", failed}, {"first_seed", cfg->seed}}.dump() << std::endl;
       set_exit_code(failed ? 1 : 0);
       return;
     }
-    if (*verbose)
-      cfg->log = [](std::int64_t t, const std::string& line) {
-        std::fprintf(stderr, "  [%8.3f s] %s\n", static_cast<double>(t) / 1e9, line.c_str());
-      };
-    std::fprintf(stderr, "quiver sim: seed %llu, %d agents, %d steps (replay with --seed %llu)\n",
-                 static_cast<unsigned long long>(cfg->seed), cfg->agents, cfg->steps,
-                 static_cast<unsigned long long>(cfg->seed));
+    if (*verbose) cfg->log = narrate;
+    ProgressLine progress("steps", cfg->steps);
+    cfg->progress = [&progress](int done, int) { progress.update(done); };
+    log->info("seed {}, {} agents, {} steps (replay with --seed {})", cfg->seed, cfg->agents, cfg->steps, cfg->seed);
     sim::SimResult r = sim::run_simulation(*cfg);
+    cfg->progress = nullptr;
+    progress.finish();
     std::cout << r.to_json() << std::endl;
     set_exit_code(r.ok() ? 0 : 1);
   });

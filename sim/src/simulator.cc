@@ -340,6 +340,8 @@ class Simulation {
   }
 
   void step() {
+    ++steps_done_;
+    if (cfg_.progress) cfg_.progress(steps_done_, cfg_.steps);
     std::vector<int> up;
     for (int i = 0; i < cfg_.agents; ++i)
       if (agents_[i].up) up.push_back(i);
@@ -388,6 +390,7 @@ class Simulation {
   }
 
   SimConfig cfg_;
+  int steps_done_ = 0;
   Rng rng_;
   VirtualNetwork net_;
   std::vector<Agent> agents_;

@@ -1,6 +1,5 @@
 #include "quiver/agents/runtime/process_host.h"
 
-#include <spdlog/sinks/stdout_color_sinks.h>
 #include <spdlog/spdlog.h>
 #include <unistd.h>
 
@@ -14,6 +13,7 @@
 #include <sstream>
 
 #include "quiver/agents/replication/error_limiter.h"
+#include "quiver/agents/runtime/logging.h"
 #include "quiver/agents/runtime/runtime.h"
 #include "quiver/graph/world_file.h"
 
@@ -28,16 +28,6 @@ void install_signal_handlers() {
   sa.sa_handler = on_signal;
   sigaction(SIGINT, &sa, nullptr);
   sigaction(SIGTERM, &sa, nullptr);
-}
-
-std::shared_ptr<spdlog::logger> make_logger(const std::string& name) {
-  auto existing = spdlog::get(name);
-  if (existing) return existing;
-  auto sink = std::make_shared<spdlog::sinks::stderr_color_sink_mt>(spdlog::color_mode::never);
-  auto logger = std::make_shared<spdlog::logger>(name, sink);
-  logger->set_pattern("%H:%M:%S.%e [%n] %l: %v");
-  spdlog::register_logger(logger);
-  return logger;
 }
 
 nlohmann::json status(Agent& agent, DdsReplica& r, const AgentRuntime& rt) {
@@ -117,7 +107,7 @@ Status ProcessFlags::apply_to(DdsConfig& c) const {
 }
 
 int run_process(Agent& agent, const ProcessFlags& f) {
-  auto log = make_logger(agent.name());
+  auto log = named_logger(agent.name());
   DdsReplicaOptions o;
   o.name = agent.name();
   if (Status s = f.apply_to(o.dds); !s.ok()) {

@@ -56,6 +56,8 @@ struct SimConfig {
   std::function<void(const std::vector<const graph::Graph*>&)> inspect;
   /// Receives a human-readable line for every fault and phase change (virtual time in ns).
   std::function<void(std::int64_t, const std::string&)> log;
+  /// Called after each workload step with (steps done, steps in all), e.g. to show progress.
+  std::function<void(int, int)> progress;
 
   /// Replicator settings scaled for simulated time: short heartbeats and a small relay buffer
   /// so that both recovery paths (buffered deltas and state diffs) are exercised.
