@@ -2,12 +2,21 @@
 
 #include <memory>
 #include <string>
+#include <vector>
 
 #include "commands.h"
 #include "quiver/agents/runtime/logging.h"
 
 namespace quiver::tools {
 namespace {
+
+// The commands under `a` (CLI11 keeps option groups as subcommands too).
+std::vector<CLI::App*> commands_of(CLI::App* a) {
+  std::vector<CLI::App*> out;
+  for (CLI::App* s : a->get_subcommands([](CLI::App* s) { return dynamic_cast<CLI::Option_group*>(s) == nullptr; }))
+    out.push_back(s);
+  return out;
+}
 
 // A command made only of subcommands says which word it did not know, and lists the ones it
 // does, instead of CLI11's "A subcommand is required".
@@ -18,7 +27,7 @@ void require_known_subcommand(CLI::App* a, const std::string& path) {
   a->callback([a, path, word] {
     if (!a->get_subcommands().empty()) return;
     std::string known;
-    for (const CLI::App* s : a->get_subcommands({}))
+    for (const CLI::App* s : commands_of(a))
       if (!s->get_group().empty()) known += (known.empty() ? "" : ", ") + s->get_name();
     const std::string what = word->empty() ? path + ": which command? (" : path + ": unknown command '" + *word + "' (";
     throw CLI::ParseError(what + "the commands are: " + known + "; " + path + " --help tells more)", CLI::ExitCodes::ExtrasError);
@@ -46,8 +55,8 @@ void build_app(CLI::App& app) {
   add_barthel_commands(app);
   add_reaction_bench_command(app);
   require_known_subcommand(&app, "quiver");
-  for (CLI::App* sub : app.get_subcommands({}))
-    if (!sub->get_subcommands({}).empty()) require_known_subcommand(sub, "quiver " + sub->get_name());
+  for (CLI::App* sub : commands_of(&app))
+    if (!commands_of(sub).empty()) require_known_subcommand(sub, "quiver " + sub->get_name());
 }
 
 }  // namespace quiver::tools
