@@ -176,6 +176,42 @@ TEST(ReplicatorHardeningTest, TheSameIntervalWithAnotherPayloadIsReportedAndJoin
   expect_converged(net);
 }
 
+// A forged delta under a victim's name covering numbers beyond one real delta: a replica that got
+// the forgery first takes the victim's next real delta for a duplicate of it and never applies
+// it, while (origin, seq) summaries agree everywhere. The periodic state digest finds the two
+// replicas apart and a whole-state pull joins them.
+TEST(ReplicatorHardeningTest, AForgedIntervalCoveringRealDeltasIsFoundByTheDigestAndRepaired) {
+  Net net;
+  int a = net.add(1), b = net.add(2);
+  net.pump();
+  add_node(*net.nodes[a].g, "x");
+  net.pump();
+  const PeerId victim = net.nodes[a].g->replica();
+  GraphDelta forged;
+  forged.origin = victim;
+  forged.seq_lo = 2;
+  forged.seq_hi = 1000;
+  forged.context.add_range(victim, 500, 500);
+  GraphDelta::NodeOp op;
+  op.id = NodeId{graph::Dot{victim, 500}};
+  op.has_header = true;
+  op.type = Symbol("thing");
+  op.name = "forged";
+  forged.nodes.push_back(op);
+  inject(net, b, kRogue, DeltaMsg{victim, 2, 1000, bytes_of(forged)});
+  add_node(*net.nodes[a].g, "y");  // the victim's real 2: an equivocation at b, joined
+  add_node(*net.nodes[a].g, "z");  // the victim's real 3: inside the forged interval at b
+  net.pump();
+  net.advance(5'000'000'000);
+  for (int i : {a, b}) {
+    for (const char* name : {"x", "y", "z", "forged"})
+      EXPECT_TRUE(net.nodes[i].g->find_node(name).has_value()) << name << " at replica " << i;
+  }
+  EXPECT_GE(net.nodes[a].rep->stats().divergences + net.nodes[b].rep->stats().divergences, 1u)
+      << "the digest found the replicas apart (the case this test is about happened)";
+  expect_converged(net);
+}
+
 // Defect 5: someone publishes under the victim's name, ahead of it. The victim notices, reports,
 // takes numbers beyond it, and its own writes keep arriving everywhere.
 TEST(ReplicatorHardeningTest, AForgeryUnderOurNameIsReportedAndOurWritesStillFlow) {

@@ -56,8 +56,9 @@ struct BodyWriter {
   void operator()(const SummaryMsg& m) {
     w.u8(kSummary);
     w.string(m.name);
-    w.varint(m.observer ? 1 : 0);
+    w.varint((m.observer ? 1 : 0) | (m.digest != 0 ? 2 : 0));
     encode_ranges(m.applied, w);
+    if (m.digest != 0) w.fixed64(m.digest);
   }
   void operator()(const DeltaMsg& m) {
     w.u8(kDelta);
@@ -69,6 +70,7 @@ struct BodyWriter {
   void operator()(const PullMsg& m) {
     w.u8(kPull);
     w.varint(m.request);
+    w.varint(m.whole_state ? 1 : 0);
     encode_ranges(m.applied, w);
     encode_ranges(m.context, w);
   }
@@ -143,9 +145,10 @@ Result<Envelope> decode_packet(std::span<const std::uint8_t> packet) {
         SummaryMsg m;
         m.name = std::string(b.string("agent name", kMaxBody));
         std::uint64_t flags = b.varint("flags");
-        if (b.ok() && flags > 1) b.fail(ErrorCode::kMalformed, "flags", "unknown flag bits");
+        if (b.ok() && flags > 3) b.fail(ErrorCode::kMalformed, "flags", "unknown flag bits");
         m.observer = flags & 1;
         decode_ranges(b, m.applied);
+        if (flags & 2) m.digest = b.fixed64("state digest");
         e.messages.emplace_back(std::move(m));
         break;
       }
@@ -162,6 +165,9 @@ Result<Envelope> decode_packet(std::span<const std::uint8_t> packet) {
       case kPull: {
         PullMsg m;
         m.request = b.varint("request id");
+        const std::uint64_t flags = b.varint("flags");
+        if (b.ok() && flags > 1) b.fail(ErrorCode::kMalformed, "flags", "unknown flag bits");
+        m.whole_state = flags & 1;
         decode_ranges(b, m.applied);
         decode_ranges(b, m.context);
         e.messages.emplace_back(std::move(m));

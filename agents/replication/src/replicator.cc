@@ -39,6 +39,7 @@ Replicator::~Replicator() { g_.set_delta_sink(nullptr); }
 // ------------------------------------------------------------------ local deltas
 
 void Replicator::on_local_delta(const graph::GraphDelta& d) {
+  ++state_version_;
   if (opt_.coalesce) {
     const std::size_t bytes = approx_bytes(d);
     // An interval covers at most max_interval commits and stays within a delta's size limit.
@@ -91,6 +92,7 @@ Result<bool> Replicator::seed(const graph::GraphDelta& d) {
   if (applied_.includes(d.origin, d.seq_lo, d.seq_hi)) return false;
   auto bytes = std::make_shared<const std::vector<std::uint8_t>>(graph::encode(d));
   g_.merge(d);
+  ++state_version_;
   applied_.add_range(d.origin, d.seq_lo, d.seq_hi);
   record(d.origin, d.seq_lo, d.seq_hi, digest_of(*bytes));
   remember(d.origin, d.seq_lo, d.seq_hi, bytes);
@@ -255,7 +257,38 @@ bool Replicator::synced() const {
 
 // ------------------------------------------------------------------ messages
 
-void Replicator::send_summary() { queue(PeerId{}, SummaryMsg{opt_.name, opt_.observer, to_ranges(applied_)}); }
+void Replicator::send_summary(bool with_digest) {
+  SummaryMsg m{opt_.name, opt_.observer, to_ranges(applied_)};
+  // Coalesced local changes not yet published would make the digest differ for a while.
+  if (with_digest && pending_lo_ == 0) m.digest = state_digest();
+  queue(PeerId{}, std::move(m));
+}
+
+std::uint64_t Replicator::state_digest() {
+  if (digest_version_ != state_version_) {
+    digest_ = g_.digest().lo;
+    if (digest_ == 0) digest_ = 1;
+    digest_version_ = state_version_;
+  }
+  return digest_;
+}
+
+// The same (origin, seq) set should mean the same state: a join is deterministic. Another digest
+// means a payload was forged under numbers both hold (an equivocation one of us never saw, or a
+// forged interval covering real ones). Twice in a row (a commit may be racing the summary), this
+// replica asks that peer for its whole state; the peer does the same, and the joins converge.
+void Replicator::check_digest(const PeerId& from, Peer& p, std::uint64_t digest) {
+  if (digest == 0 || pulling_ || state_.active || pending_lo_ != 0 || !(p.applied == applied_)) return;
+  if (digest == state_digest()) {
+    p.digest_mismatches = 0;
+    return;
+  }
+  if (++p.digest_mismatches < 2) return;
+  p.digest_mismatches = 0;
+  ++stats_.divergences;
+  equivocation("replica " + from.to_string() + " holds the same deltas as this one but another state: pulling its whole state");
+  pull_from(from, true);
+}
 
 void Replicator::handle(const PeerId& from, const SummaryMsg& m) {
   Peer& p = peers_[from];
@@ -281,6 +314,7 @@ void Replicator::handle(const PeerId& from, const SummaryMsg& m) {
     pull_timeouts_in_a_row_ = 0;
   }
   if (!pulling_ && counts(p) && behind(p)) pull_from(from);
+  if (counts(p)) check_digest(from, p, m.digest);
 }
 
 void Replicator::record(const PeerId& origin, std::uint64_t lo, std::uint64_t hi, std::uint64_t digest) {
@@ -321,6 +355,7 @@ Status Replicator::decode_delta(const PeerId& from, const DeltaMsg& m) {
 
 void Replicator::apply_delta(const PeerId& from, const DeltaMsg& m, std::uint64_t digest) {
   g_.merge(scratch_);
+  ++state_version_;
   applied_.add_range(m.origin, m.lo, m.hi);
   record(m.origin, m.lo, m.hi, digest);
   ++stats_.deltas_applied;
@@ -363,6 +398,7 @@ void Replicator::equivocate(const PeerId& from, const DeltaMsg& m, std::uint64_t
                ": both are joined");
   if (Status s = decode_delta(from, m); !s.ok()) return reject(s.error());
   g_.merge(scratch_);
+  ++state_version_;
   applied_.add_range(m.origin, m.lo, m.hi);
   Seen* seen = recorded(m.origin, m.lo);
   const bool first_other = seen != nullptr && seen->others.empty();
@@ -400,17 +436,18 @@ void Replicator::handle_own(const PeerId& from, const DeltaMsg& m) {
   apply_delta(from, m, digest);
 }
 
-void Replicator::pull_from(const PeerId& target) {
+void Replicator::pull_from(const PeerId& target, bool whole_state) {
   pulling_ = true;
   pull_target_ = target;
   pull_sent_ns_ = now_;
   ++pull_request_;
   ++stats_.pulls_sent;
   state_ = Reassembly{};
-  queue(target, PullMsg{pull_request_, to_ranges(applied_), to_ranges(g_.context())});
+  queue(target, PullMsg{pull_request_, to_ranges(applied_), to_ranges(g_.context()), whole_state});
 }
 
 void Replicator::handle(const PeerId& from, const PullMsg& m) {
+  if (m.whole_state) return answer_with_state(from, m);
   crdt::CausalContext missing = applied_.minus(to_context(m.applied));
   if (missing.empty()) {
     // Nothing to give: a summary tells the puller so, and it moves on.
@@ -453,6 +490,10 @@ void Replicator::handle(const PeerId& from, const PullMsg& m) {
     }
     return;
   }
+  answer_with_state(from, m);
+}
+
+void Replicator::answer_with_state(const PeerId& from, const PullMsg& m) {
   // A whole state is costly to build: to one peer at most once per first-pull patience (an
   // honest puller waits at least that long before asking again).
   Peer& p = peers_[from];
@@ -462,7 +503,7 @@ void Replicator::handle(const PeerId& from, const PullMsg& m) {
   }
   p.last_state_answer_ns = now_;
   ++stats_.pulls_answered_with_state;
-  std::vector<std::uint8_t> state = graph::encode(g_.state_diff(to_context(m.context)));
+  std::vector<std::uint8_t> state = graph::encode(m.whole_state ? g_.state() : g_.state_diff(to_context(m.context)));
   const std::size_t chunk = std::clamp<std::size_t>(opt_.chunk_bytes, 1024, opt_.limits.max_chunk_bytes);
   const std::uint64_t count = std::max<std::uint64_t>(1, (state.size() + chunk - 1) / chunk);
   if (count > opt_.limits.max_chunks) {
@@ -523,6 +564,7 @@ void Replicator::handle(const PeerId& from, const StateMsg& m) {
   if (scratch_.kind != graph::GraphDelta::Kind::kState)
     return reject(make_error(ErrorCode::kMalformed, "state from " + from.to_string() + ": not a state"));
   g_.merge(scratch_);
+  ++state_version_;
   applied_.join(applied);
   ++stats_.states_applied;
   stats_.state_bytes_received += all.size();
@@ -655,7 +697,9 @@ void Replicator::tick(std::int64_t now_ns) {
     }
   }
   if (started_ && now_ >= next_heartbeat_) {
-    send_summary();
+    const bool digest_due = opt_.digest_every_ns > 0 && now_ >= next_digest_;
+    if (digest_due) next_digest_ = now_ + opt_.digest_every_ns;
+    send_summary(digest_due);
     trim_buffer();
     next_heartbeat_ = now_ + opt_.heartbeat_ns;
   }

@@ -39,6 +39,10 @@ struct SummaryMsg {
   std::string name;
   bool observer = false;
   RangeList applied;
+  /// The sender's graph digest (64 of its 128 bits) when it holds exactly `applied`; 0: not sent.
+  /// Equal `applied` sets with different digests mean the replicas joined different payloads
+  /// under the same numbers (an equivocation): they repair by exchanging whole states.
+  std::uint64_t digest = 0;
 };
 
 /// One delta interval of one origin: sequence numbers [lo, hi], encoded graph delta (whose
@@ -55,6 +59,7 @@ struct PullMsg {
   std::uint64_t request = 0;
   RangeList applied;
   RangeList context;
+  bool whole_state = false;  ///< answer with the whole state, not deltas or a context diff
 };
 
 /// One chunk of a state transfer (an encoded context diff split into `count` chunks), answering

@@ -66,6 +66,9 @@ struct ReplicatorOptions {
   std::size_t equivocation_window = 1u << 16;  ///< (origin, seq) digests kept to detect equivocation
   int suspect_after_timeouts = 6;            ///< pulls in a row a talking peer leaves unanswered before...
   std::int64_t suspect_ns = 3'000'000'000;   ///< ...its summaries are ignored this long
+  /// A summary carries the state digest this often (0: never). A peer that holds the same
+  /// (origin, seq) set with another digest twice in a row is asked for its whole state.
+  std::int64_t digest_every_ns = 1'000'000'000;
 };
 
 struct PeerInfo {
@@ -90,6 +93,7 @@ struct ReplicatorStats {
   std::uint64_t state_answers_throttled = 0;
   std::uint64_t peers_refused = 0;        ///< envelopes from new peers while the table was full
   std::uint64_t suspects = 0;             ///< peers found claiming what they did not deliver
+  std::uint64_t divergences = 0;          ///< same (origin, seq) set, other digest: whole state pulled
 };
 
 class Replicator {
@@ -169,6 +173,7 @@ class Replicator {
     int pull_failures = 0;      // pulls in a row it left unanswered
     std::int64_t suspect_until = 0;
     std::int64_t last_state_answer_ns = -1;
+    int digest_mismatches = 0;  // summaries in a row with our (origin, seq) set but another digest
   };
   // The state transfer answering our outstanding pull (one at a time).
   struct Reassembly {
@@ -211,12 +216,16 @@ class Replicator {
   void handle(const PeerId& from, const SummaryMsg& m);
   void handle(const PeerId& from, const DeltaMsg& m);
   void handle(const PeerId& from, const PullMsg& m);
+  void answer_with_state(const PeerId& from, const PullMsg& m);
   void handle(const PeerId& from, const StateMsg& m);
   void handle(const PeerId& from, const ByeMsg& m);
   Peer* heard_from(const PeerId& from);
   void mark_left(Peer& p);
-  void send_summary();
-  void pull_from(const PeerId& target);
+  void send_summary(bool with_digest = false);
+  void pull_from(const PeerId& target, bool whole_state = false);
+  /// 64 bits of the graph's digest (never 0), computed again only after the graph changed.
+  std::uint64_t state_digest();
+  void check_digest(const PeerId& from, Peer& p, std::uint64_t digest);
   bool behind(const Peer& p) const { return !applied_.includes(p.applied); }
   void remember(const PeerId& origin, std::uint64_t lo, std::uint64_t hi, Bytes bytes);
   void evict_front();
@@ -231,7 +240,10 @@ class Replicator {
   PeerId self_;
   std::int64_t now_ = 0;
   std::int64_t next_heartbeat_ = 0;
+  std::int64_t next_digest_ = 0;
   bool started_ = false;
+  std::uint64_t state_version_ = 0;  // bumped by every local commit and every join
+  std::uint64_t digest_version_ = ~0ull, digest_ = 0;
 
   std::uint64_t seq_ = 0;  // last local sequence number
   crdt::CausalContext applied_;
