@@ -354,6 +354,7 @@ void Graph::Impl::finish_tracking(bool local, ReplicaId origin,
   tracker.reset();
   tracker.enabled = false;
   if (b.empty()) return;
+  b.origin_name = origin_namer ? origin_namer(origin) : origin.to_string();
   // Copy: a callback may unsubscribe.
   auto subs = subscribers;
   for (auto& [id, cb] : subs) cb(b);
@@ -452,10 +453,40 @@ Error Graph::missing_attr_error(NodeId id, std::string_view name) const {
                     "get(): node '" + name_of(id) + "' has no attribute '" + std::string(name) + "'");
 }
 
-Error Graph::wrong_type_error(NodeId id, std::string_view name, const Value& v) const {
-  return make_error(ErrorCode::kTypeMismatch, "get(): attribute '" + std::string(name) + "' of node '" +
-                                                  name_of(id) + "' holds " + to_string(v.type()) +
-                                                  ", not the requested type");
+Error Graph::wrong_type_error(NodeId id, std::string_view name, const Value& v, ValueType wanted) const {
+  return make_error(ErrorCode::kTypeMismatch, std::string("get<") + to_string(wanted) + ">(): attribute '" +
+                                                  std::string(name) + "' of node '" + name_of(id) + "' (" +
+                                                  id.to_string() + ") is " + Value::article(v.type()) +
+                                                  ", not " + Value::article(wanted));
+}
+
+namespace {
+std::string describe_edge(const Graph& g, const EdgeKey& k) {
+  return "edge '" + g.name_of(k.from) + "' -[" + k.type.str() + "]-> '" + g.name_of(k.to) + "'";
+}
+}  // namespace
+
+Error Graph::missing_attr_error(const EdgeKey& key, std::string_view name) const {
+  if (!has_edge(key.from, key.to, key.type))
+    return make_error(ErrorCode::kNotFound, "get(): " + describe_edge(*this, key) + " does not exist (" +
+                                                key.to_string() + ")");
+  return make_error(ErrorCode::kNotFound,
+                    "get(): " + describe_edge(*this, key) + " has no attribute '" + std::string(name) + "'");
+}
+
+Error Graph::wrong_type_error(const EdgeKey& key, std::string_view name, const Value& v, ValueType wanted) const {
+  return make_error(ErrorCode::kTypeMismatch, std::string("get<") + to_string(wanted) + ">(): attribute '" +
+                                                  std::string(name) + "' of " + describe_edge(*this, key) +
+                                                  " is " + Value::article(v.type()) + ", not " +
+                                                  Value::article(wanted));
+}
+
+Symbol Graph::typed(std::string_view type) { return Symbol(type); }
+
+std::vector<EdgeKey> Graph::edges_of_type(std::string_view type) const {
+  Symbol s = Symbol::find(type);
+  if (s.is_null()) return {};  // never interned: no edge has it
+  return edges_of_type(s);
 }
 
 bool Graph::has_edge(NodeId from, NodeId to, Symbol type) const {
@@ -610,6 +641,16 @@ Graph::SubscriptionId Graph::subscribe(ChangeCallback cb) {
   impl_->subscribers.emplace_back(id, std::move(cb));
   return id;
 }
+
+Graph::SubscriptionId Graph::subscribe(ChangeFilter filter, ChangeCallback cb) {
+  if (filter.empty()) return subscribe(std::move(cb));
+  return subscribe([filter = std::move(filter), cb = std::move(cb)](const ChangeBatch& b) {
+    ChangeBatch part = filter.select(b);
+    if (!part.empty()) cb(part);
+  });
+}
+
+void Graph::set_origin_namer(OriginNamer namer) { impl_->origin_namer = std::move(namer); }
 
 void Graph::unsubscribe(SubscriptionId id) {
   auto& s = impl_->subscribers;

@@ -184,6 +184,7 @@ struct Graph::Impl {
   std::function<void(const GraphDelta&)> sink;
   CommitValidator validator;
   FenceProvider fence_of;
+  Graph::OriginNamer origin_namer;
   MergeObserver merge_observer;
   std::uint64_t fence(NodeId n) const { return fence_of ? fence_of(n) : 0; }
   /// An edge attribute carries the higher fence of its two ends.

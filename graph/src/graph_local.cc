@@ -530,6 +530,35 @@ Status Transaction::remove_attr(NodeId id, Symbol attr) {
   return {};
 }
 
+namespace {
+// Interns string-named attributes; the error names the function and the attribute.
+Result<std::vector<std::pair<Symbol, Value>>> intern_attrs(
+    const char* fn, std::initializer_list<std::pair<std::string_view, Value>> attrs) {
+  std::vector<std::pair<Symbol, Value>> out;
+  out.reserve(attrs.size());
+  for (const auto& [name, value] : attrs) {
+    auto s = Symbol::make(name);
+    if (!s.ok()) return make_error(s.error().code, std::string(fn) + ": attribute '" + std::string(name) + "': " + s.error().message);
+    out.emplace_back(*s, value);
+  }
+  return out;
+}
+}  // namespace
+
+Result<NodeId> Transaction::create_node(std::string_view type, std::string_view name,
+                                        std::initializer_list<std::pair<std::string_view, Value>> attrs) {
+  auto a = intern_attrs("create_node()", attrs);
+  if (!a.ok()) return a.error();
+  return create_node(type, name, std::move(*a));
+}
+
+Status Transaction::insert_edge(NodeId from, NodeId to, std::string_view type,
+                                std::initializer_list<std::pair<std::string_view, Value>> attrs) {
+  auto a = intern_attrs("insert_edge()", attrs);
+  if (!a.ok()) return a.error();
+  return insert_edge(from, to, type, std::move(*a));
+}
+
 Status Transaction::insert_edge(NodeId from, NodeId to, std::string_view type,
                                 std::vector<std::pair<Symbol, Value>> attrs) {
   auto t = Symbol::make(type);

@@ -47,6 +47,12 @@ const char* to_string(ValueType t) {
   return (i >= 0 && i < kValueTypeCount) ? kTypeNames[i] : "unknown";
 }
 
+std::string Value::article(ValueType t) {
+  const char* n = graph::to_string(t);
+  const bool vowel = n[0] == 'i' || n[0] == 'u' || n[0] == 'a' || n[0] == 'e' || n[0] == 'o';
+  return std::string(vowel ? "an " : "a ") + n;
+}
+
 std::optional<ValueType> value_type_from_string(std::string_view name) {
   for (int i = 0; i < kValueTypeCount; ++i)
     if (name == kTypeNames[i]) return static_cast<ValueType>(i + 1);
@@ -186,13 +192,13 @@ Value Value::decode(wire::Reader& r, std::uint64_t max_value_bytes) {
     case ValueType::kInt32: {
       std::int64_t v = r.svarint("int32 value");
       if (v < INT32_MIN || v > INT32_MAX) r.fail(ErrorCode::kMalformed, "int32 value", "out of int32 range");
-      return Value(static_cast<std::int32_t>(v));
+      return Value::int32(static_cast<std::int32_t>(v));
     }
     case ValueType::kInt64: return Value(static_cast<std::int64_t>(r.svarint("int64 value")));
     case ValueType::kUInt32: {
       std::uint64_t v = r.varint("uint32 value");
       if (v > UINT32_MAX) r.fail(ErrorCode::kMalformed, "uint32 value", "out of uint32 range");
-      return Value(static_cast<std::uint32_t>(v));
+      return Value::uint32(static_cast<std::uint32_t>(v));
     }
     case ValueType::kUInt64: return Value(static_cast<std::uint64_t>(r.varint("uint64 value")));
     case ValueType::kFloat: return Value(r.f32("float value"));

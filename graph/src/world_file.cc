@@ -153,7 +153,7 @@ bool parse_value(const json& j, const std::string& where, Value& out, Failure& f
     case ValueType::kInt32: {
       std::int32_t x;
       if (!number_as(v, x)) return bad("expected an integer in int32 range");
-      return out = Value(x), true;
+      return out = Value::int32(x), true;
     }
     case ValueType::kInt64: {
       std::int64_t x;
@@ -163,7 +163,7 @@ bool parse_value(const json& j, const std::string& where, Value& out, Failure& f
     case ValueType::kUInt32: {
       std::uint32_t x;
       if (!number_as(v, x)) return bad("expected an integer in uint32 range");
-      return out = Value(x), true;
+      return out = Value::uint32(x), true;
     }
     case ValueType::kUInt64: {
       std::uint64_t x;

@@ -18,7 +18,7 @@ Value random_value(Rng& rng) {
   switch (rng.below(5)) {
     case 0: return Value(rng.uniform());
     case 1: return Value("v" + std::to_string(rng.below(1000)));
-    case 2: return Value(static_cast<std::int32_t>(rng.range(-50, 50)));
+    case 2: return Value::int32(static_cast<std::int32_t>(rng.range(-50, 50)));
     case 3: return Value(graph::Vec3f{static_cast<float>(rng.uniform()), 1.0f, 2.0f});
     default: return Value(rng.chance(0.5));
   }

@@ -28,9 +28,9 @@ TEST(CodecTest, EveryValueTypeRoundTrips) {
   std::vector<std::pair<Symbol, Value>> attrs = {
       {Symbol("s"), Value("text")},
       {Symbol("b"), Value(true)},
-      {Symbol("i32"), Value(std::int32_t{-5})},
+      {Symbol("i32"), Value::int32(-5)},
       {Symbol("i64"), Value(std::int64_t{-1} << 40)},
-      {Symbol("u32"), Value(std::uint32_t{4000000000u})},
+      {Symbol("u32"), Value::uint32(4000000000u)},
       {Symbol("u64"), Value(~std::uint64_t{0})},
       {Symbol("f"), Value(1.5f)},
       {Symbol("d"), Value(-2.25)},

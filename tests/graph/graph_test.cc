@@ -22,7 +22,7 @@ TEST(GraphTest, CreateReadTypedAttributes) {
   ASSERT_TRUE(robot.ok());
   ASSERT_TRUE(tx.set(*robot, "label", Value("r1")).ok());
   ASSERT_TRUE(tx.set(*robot, "pos", Value(Vec3f{1, 2, 3})).ok());
-  ASSERT_TRUE(tx.set(*robot, "count", Value(std::int32_t{7})).ok());
+  ASSERT_TRUE(tx.set(*robot, "count", Value::int32(7)).ok());
   ASSERT_TRUE(tx.set(*robot, "pose", Value(Mat4d::identity())).ok());
   ASSERT_TRUE(tx.commit().ok());
   EXPECT_EQ(a.g.node_count(), 1u);

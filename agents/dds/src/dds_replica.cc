@@ -49,6 +49,7 @@ DdsReplica::~DdsReplica() {
 void DdsReplica::spin_once(std::int64_t max_wait_ns) {
   std::int64_t now = monotonic_ns();
   std::int64_t wait = std::min(max_wait_ns, next_tick_ - now);
+  if (!timers_.empty()) wait = std::min(wait, timers_.top().due - now);
   if (wait > 0) transport_->wait(wait);
   transport_->drain([&](const Envelope& e) { replicator_->on_envelope(e, monotonic_ns()); },
                     [&](const PeerId& p, bool gone) { replicator_->on_peer_lost(p, gone); });
@@ -62,6 +63,7 @@ void DdsReplica::spin_once(std::int64_t max_wait_ns) {
   }
   for (auto& f : tasks) f();
   now = monotonic_ns();
+  run_timers(now);
   if (now >= next_tick_) {
     replicator_->tick(now);
     next_tick_ = now + opt_.tick_ns;
@@ -93,6 +95,41 @@ void DdsReplica::post(std::function<void()> fn) {
     posted_.push_back(std::move(fn));
   }
   transport_->wake();
+}
+
+DdsReplica::TimerId DdsReplica::after(std::int64_t delay_ns, std::function<void()> fn) {
+  const TimerId id = next_timer_++;
+  timer_fns_.emplace(id, std::move(fn));
+  timers_.push(Timer{monotonic_ns() + std::max<std::int64_t>(delay_ns, 0), id, 0});
+  return id;
+}
+
+DdsReplica::TimerId DdsReplica::every(std::int64_t period_ns, std::function<void()> fn) {
+  if (period_ns <= 0) period_ns = 1;
+  const TimerId id = next_timer_++;
+  timer_fns_.emplace(id, std::move(fn));
+  timers_.push(Timer{monotonic_ns() + period_ns, id, period_ns});
+  return id;
+}
+
+void DdsReplica::cancel(TimerId id) { timer_fns_.erase(id); }
+
+void DdsReplica::run_timers(std::int64_t now) {
+  while (!timers_.empty() && timers_.top().due <= now) {
+    Timer t = timers_.top();
+    timers_.pop();
+    auto it = timer_fns_.find(t.id);
+    if (it == timer_fns_.end()) continue;  // cancelled
+    std::function<void()> fn = t.period > 0 ? it->second : std::move(it->second);
+    if (t.period > 0) {
+      // The next due time after now: a slow round does not make the timer fire in a burst.
+      t.due += t.period * ((now - t.due) / t.period + 1);
+      timers_.push(t);
+    } else {
+      timer_fns_.erase(it);
+    }
+    fn();
+  }
 }
 
 void DdsReplica::stop() {

@@ -32,9 +32,20 @@ std::size_t approx_bytes(const graph::GraphDelta& d) {
 Replicator::Replicator(graph::Graph& g, Transport& t, ReplicatorOptions options)
     : g_(g), t_(t), opt_(std::move(options)), self_(g.replica()) {
   g_.set_delta_sink([this](const graph::GraphDelta& d) { on_local_delta(d); });
+  g_.set_origin_namer([this](const PeerId& id) { return name_of(id); });
 }
 
-Replicator::~Replicator() { g_.set_delta_sink(nullptr); }
+Replicator::~Replicator() {
+  g_.set_delta_sink(nullptr);
+  g_.set_origin_namer(nullptr);
+}
+
+std::string Replicator::name_of(const PeerId& id) const {
+  if (id == self_) return opt_.name.empty() ? id.to_string() : opt_.name;
+  if (auto p = peers_.find(id); p != peers_.end() && !p->second.info.name.empty()) return p->second.info.name;
+  if (auto n = names_.find(id.agent); n != names_.end()) return n->second;
+  return id.to_string();
+}
 
 // ------------------------------------------------------------------ local deltas
 
@@ -302,6 +313,10 @@ void Replicator::handle(const PeerId& from, const SummaryMsg& m) {
   const bool first = !p.announced;
   p.info.name = m.name;
   p.info.observer = m.observer;
+  // Remembered past the peer's departure (deltas it made keep arriving through others), but only
+  // a name that hashes to the id it came with: nobody can name another agent's changes.
+  if (!m.name.empty() && fnv1a64(m.name) == from.agent && names_.size() < 4 * opt_.max_peers)
+    names_.emplace(from.agent, m.name);
   p.applied = std::move(applied);
   if (first) {
     p.announced = true;

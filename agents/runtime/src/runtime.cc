@@ -16,31 +16,6 @@ const char* to_string(CancelReason r) {
   return "unknown";
 }
 
-namespace {
-bool any_of_names(const std::vector<std::string>& names, graph::Symbol s) {
-  if (s.is_null()) return false;
-  const std::string& t = s.str();
-  return std::find(names.begin(), names.end(), t) != names.end();
-}
-bool any_attr(const std::vector<std::string>& names, const std::vector<graph::Symbol>& attrs) {
-  for (graph::Symbol a : attrs)
-    if (any_of_names(names, a)) return true;
-  return false;
-}
-}  // namespace
-
-graph::ChangeBatch ChangeFilter::select(const graph::ChangeBatch& b) const {
-  if (node_types.empty() && edge_types.empty() && attributes.empty()) return b;
-  graph::ChangeBatch out;
-  out.local = b.local;
-  out.origin = b.origin;
-  for (const auto& n : b.nodes)
-    if (any_of_names(node_types, n.type) || any_attr(attributes, n.attrs)) out.nodes.push_back(n);
-  for (const auto& e : b.edges)
-    if (any_of_names(edge_types, e.key.type) || any_attr(attributes, e.attrs)) out.edges.push_back(e);
-  return out;
-}
-
 AgentRuntime::AgentRuntime(Agent& agent, graph::Graph& g, Replicator* replicator, RuntimeOptions options)
     : agent_(agent), g_(g), rep_(replicator), opt_(std::move(options)), rng_(opt_.seed) {
   locks_ = std::make_unique<LockManager>(g_, rep_, opt_.clock, opt_.locks);
@@ -118,6 +93,9 @@ void AgentRuntime::pump() {
 
 void AgentRuntime::tick() {
   if (!started_) return;
+  // Calls from other threads (Agent::post / Agent::call), in the order they came.
+  for (auto& fn : agent_.take_posted()) fn();
+  pump();
   const std::int64_t t = now();
   while (!timers_.empty() && timers_.top().due <= t) {
     Timer tm = timers_.top();

@@ -20,6 +20,7 @@
 /// Threading: a Graph is owned by one thread. Nothing here blocks or spawns threads.
 
 #include <functional>
+#include <initializer_list>
 #include <memory>
 #include <optional>
 #include <span>
@@ -74,11 +75,30 @@ struct EdgeChange {
 struct ChangeBatch {
   bool local = false;
   ReplicaId origin;  ///< the replica whose change this is (this replica's id when local)
+  /// The name of the agent whose change this is, as the graph's origin namer tells it (a
+  /// replicator installs one that knows the names peers announce); origin.to_string() when the
+  /// origin is unknown or no namer is installed.
+  std::string origin_name;
   std::vector<NodeChange> nodes;
   std::vector<EdgeChange> edges;
   bool empty() const { return nodes.empty() && edges.empty(); }
 };
 using ChangeCallback = std::function<void(const ChangeBatch&)>;
+
+/// Which changes a subscription cares about: a node change whose node type is listed, an edge
+/// change whose edge type is listed, or a node or edge change that names a listed attribute.
+/// The lists are alternatives (a change passes if any list lets it through); an empty list lets
+/// nothing through by itself, and a filter with all lists empty lets everything through.
+struct ChangeFilter {
+  std::vector<std::string> node_types;
+  std::vector<std::string> edge_types;
+  std::vector<std::string> attributes;
+
+  bool empty() const { return node_types.empty() && edge_types.empty() && attributes.empty(); }
+  /// The part of `b` this filter lets through (origin and locality copied). Empty when nothing
+  /// matches.
+  ChangeBatch select(const ChangeBatch& b) const;
+};
 
 /// The current RT edge of a child: its parent and the latest pose.
 struct RtEdge {
@@ -149,19 +169,31 @@ class Transaction {
   /// Creates a node; its id is known at once. Fails if `name` is taken or empty.
   Result<NodeId> create_node(std::string_view type, std::string_view name,
                              std::vector<std::pair<Symbol, Value>> attrs = {});
+  /// The same with attributes named by strings: `create_node("mug", "mug1", {{"color", "red"}})`.
+  Result<NodeId> create_node(std::string_view type, std::string_view name,
+                             std::initializer_list<std::pair<std::string_view, Value>> attrs);
   /// Deletes a node with its attributes, its incident edges and its RT edges.
   Status delete_node(NodeId id);
   Status set(NodeId id, Symbol attr, Value value);
   Status set(NodeId id, std::string_view attr, Value value);
   Status remove_attr(NodeId id, Symbol attr);
+  Status remove_attr(NodeId id, std::string_view attr) { return remove_attr(id, Symbol(attr)); }
   /// Inserts (or re-inserts, replacing its attributes) a symbolic edge. No self-loops. The type
   /// "RT" is reserved for set_rt().
   Status insert_edge(NodeId from, NodeId to, Symbol type, std::vector<std::pair<Symbol, Value>> attrs = {});
   Status insert_edge(NodeId from, NodeId to, std::string_view type,
                      std::vector<std::pair<Symbol, Value>> attrs = {});
+  /// The same with attributes named by strings: `insert_edge(a, b, "in", {{"since", 4}})`.
+  Status insert_edge(NodeId from, NodeId to, std::string_view type,
+                     std::initializer_list<std::pair<std::string_view, Value>> attrs);
   Status delete_edge(NodeId from, NodeId to, Symbol type);
+  Status delete_edge(NodeId from, NodeId to, std::string_view type) { return delete_edge(from, to, Symbol(type)); }
   Status set_edge_attr(const EdgeKey& key, Symbol attr, Value value);
+  Status set_edge_attr(const EdgeKey& key, std::string_view attr, Value value) {
+    return set_edge_attr(key, Symbol(attr), std::move(value));
+  }
   Status remove_edge_attr(const EdgeKey& key, Symbol attr);
+  Status remove_edge_attr(const EdgeKey& key, std::string_view attr) { return remove_edge_attr(key, Symbol(attr)); }
   /// Puts `child` under `parent` with transform X_PC at time `stamp`. If the child already hangs
   /// under `parent` this is a pose update (a new history sample); otherwise it is a move.
   /// Refused if it would close a cycle.
@@ -235,13 +267,24 @@ class Graph {
   /// The winning value of an attribute, or nullptr.
   const Value* attr(NodeId id, Symbol name) const;
   const Value* attr(NodeId id, std::string_view name) const { return attr(id, Symbol(name)); }
-  /// Typed read with an error naming what was missing or mistyped.
+  /// Typed read of a node attribute. @returns kNotFound naming the node or the attribute, or
+  /// kTypeMismatch naming the requested and the stored type ("get<int64>(): attribute 'speed'
+  /// of node 'robot' (id ...) is a string, not an int64").
   template <class T>
   Result<T> get(NodeId id, std::string_view name) const {
-    const Value* v = attr(id, Symbol(name));
+    const Value* v = attr(id, Symbol::find(name));
     if (v == nullptr) return missing_attr_error(id, name);
     const T* p = v->get_if<T>();
-    if (p == nullptr) return wrong_type_error(id, name, *v);
+    if (p == nullptr) return wrong_type_error(id, name, *v, value_type_of<T>);
+    return *p;
+  }
+  /// Typed read of an edge attribute, with the same errors (naming the edge).
+  template <class T>
+  Result<T> get(const EdgeKey& key, std::string_view name) const {
+    const Value* v = edge_attr(key, Symbol::find(name));
+    if (v == nullptr) return missing_attr_error(key, name);
+    const T* p = v->get_if<T>();
+    if (p == nullptr) return wrong_type_error(key, name, *v, value_type_of<T>);
     return *p;
   }
   /// All concurrent values of an attribute, winner first. Size > 1 means a conflict.
@@ -249,15 +292,20 @@ class Graph {
   std::vector<Symbol> attr_names(NodeId id) const;
 
   bool has_edge(NodeId from, NodeId to, Symbol type) const;
+  bool has_edge(NodeId from, NodeId to, std::string_view type) const { return has_edge(from, to, Symbol::find(type)); }
   /// Visible edges out of / into a node (RT edges included, type "RT"); `type` null = all.
   std::vector<EdgeKey> edges_from(NodeId id, Symbol type = {}) const;
+  std::vector<EdgeKey> edges_from(NodeId id, std::string_view type) const { return edges_from(id, typed(type)); }
   std::vector<EdgeKey> edges_to(NodeId id, Symbol type = {}) const;
+  std::vector<EdgeKey> edges_to(NodeId id, std::string_view type) const { return edges_to(id, typed(type)); }
   std::vector<EdgeKey> edges_of_type(Symbol type) const;
+  std::vector<EdgeKey> edges_of_type(std::string_view type) const;
   std::size_t edge_count() const;
   /// The greatest existence dot of a visible edge (its latest insertion), in Lamport order; for
   /// an RT edge, the epoch of the move. Nullopt if the edge is not visible.
   std::optional<Dot> edge_version(const EdgeKey& key) const;
   const Value* edge_attr(const EdgeKey& key, Symbol name) const;
+  const Value* edge_attr(const EdgeKey& key, std::string_view name) const { return edge_attr(key, Symbol::find(name)); }
   std::vector<AttrValue> edge_attr_values(const EdgeKey& key, Symbol name) const;
   std::vector<Symbol> edge_attr_names(const EdgeKey& key) const;
 
@@ -309,8 +357,16 @@ class Graph {
 
   // ---- Events ----
   using SubscriptionId = std::uint64_t;
+  /// Calls `cb` (on the owner thread, after the change applied) with every non-empty batch a
+  /// commit or a merge makes.
   SubscriptionId subscribe(ChangeCallback cb);
+  /// Calls `cb` with the part of every batch that `filter` selects, when that part is not empty.
+  SubscriptionId subscribe(ChangeFilter filter, ChangeCallback cb);
   void unsubscribe(SubscriptionId id);
+  /// Names the agent of a replica id for ChangeBatch::origin_name (a replicator installs one
+  /// that knows what its peers announced). Without one, batches carry origin.to_string().
+  using OriginNamer = std::function<std::string(const ReplicaId&)>;
+  void set_origin_namer(OriginNamer namer);
 
   // ---- Checks and statistics ----
   /// Structural invariants; returns one message per violation (empty = all hold).
@@ -328,7 +384,12 @@ class Graph {
   friend class Transaction;
   friend struct GraphAccess;
   Error missing_attr_error(NodeId id, std::string_view name) const;
-  Error wrong_type_error(NodeId id, std::string_view name, const Value& v) const;
+  Error wrong_type_error(NodeId id, std::string_view name, const Value& v, ValueType wanted) const;
+  Error missing_attr_error(const EdgeKey& key, std::string_view name) const;
+  Error wrong_type_error(const EdgeKey& key, std::string_view name, const Value& v, ValueType wanted) const;
+  /// The symbol of an edge type for a filtered read: one never interned matches no edge (a
+  /// null symbol would mean "every type").
+  static Symbol typed(std::string_view type);
 
   struct Impl;
   std::unique_ptr<Impl> impl_;

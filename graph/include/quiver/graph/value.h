@@ -63,6 +63,29 @@ struct Mat4d {
   friend bool operator==(const Mat4d&, const Mat4d&) = default;
 };
 
+/// The ValueType that holds a C++ type T (a compile error for a type no attribute holds).
+template <class T>
+inline constexpr ValueType value_type_of = [] {
+  if constexpr (std::is_same_v<T, std::string>) return ValueType::kString;
+  else if constexpr (std::is_same_v<T, bool>) return ValueType::kBool;
+  else if constexpr (std::is_same_v<T, std::int32_t>) return ValueType::kInt32;
+  else if constexpr (std::is_same_v<T, std::int64_t>) return ValueType::kInt64;
+  else if constexpr (std::is_same_v<T, std::uint32_t>) return ValueType::kUInt32;
+  else if constexpr (std::is_same_v<T, std::uint64_t>) return ValueType::kUInt64;
+  else if constexpr (std::is_same_v<T, float>) return ValueType::kFloat;
+  else if constexpr (std::is_same_v<T, double>) return ValueType::kDouble;
+  else if constexpr (std::is_same_v<T, Bytes>) return ValueType::kBytes;
+  else if constexpr (std::is_same_v<T, FloatVec>) return ValueType::kFloatVec;
+  else if constexpr (std::is_same_v<T, DoubleVec>) return ValueType::kDoubleVec;
+  else if constexpr (std::is_same_v<T, UInt64Vec>) return ValueType::kUInt64Vec;
+  else if constexpr (std::is_same_v<T, Vec2f>) return ValueType::kVec2f;
+  else if constexpr (std::is_same_v<T, Vec3f>) return ValueType::kVec3f;
+  else if constexpr (std::is_same_v<T, Vec4f>) return ValueType::kVec4f;
+  else if constexpr (std::is_same_v<T, Vec6f>) return ValueType::kVec6f;
+  else if constexpr (std::is_same_v<T, Mat4d>) return ValueType::kMat4d;
+  else static_assert(sizeof(T) == 0, "no attribute type holds this C++ type");
+}();
+
 /// One attribute value. Small types are stored inline; a Mat4d lives on the heap so that every
 /// register does not pay for 128 bytes.
 class Value {
@@ -72,10 +95,17 @@ class Value {
   Value(const char* v) : v_(std::string(v)) {}        // NOLINT
   Value(std::string_view v) : v_(std::string(v)) {}   // NOLINT
   Value(bool v) : v_(v) {}                            // NOLINT
-  Value(std::int32_t v) : v_(v) {}                    // NOLINT
-  Value(std::int64_t v) : v_(v) {}                    // NOLINT
-  Value(std::uint32_t v) : v_(v) {}                   // NOLINT
-  Value(std::uint64_t v) : v_(v) {}                   // NOLINT
+  /// Any signed integer is stored as int64 and any unsigned one as uint64, so that `Value(4)`
+  /// or `tx.set(n, "count", 4)` never makes an int32 by accident (an int literal is an int).
+  /// The 32-bit types are chosen explicitly: Value::int32(), Value::uint32().
+  template <class I>
+    requires(std::is_integral_v<I> && !std::is_same_v<I, bool>)
+  Value(I v)  // NOLINT(google-explicit-constructor)
+      : v_(std::in_place_type<std::conditional_t<std::is_signed_v<I>, std::int64_t, std::uint64_t>>, v) {}
+  /// An int32 value (DSR's `int` attributes; world files' "int32").
+  static Value int32(std::int32_t v) { return Value(std::in_place_type<std::int32_t>, v); }
+  /// A uint32 value (DSR's `uint` attributes; world files' "uint32").
+  static Value uint32(std::uint32_t v) { return Value(std::in_place_type<std::uint32_t>, v); }
   Value(float v) : v_(v) {}                           // NOLINT
   Value(double v) : v_(v) {}                          // NOLINT
   Value(Bytes v) : v_(std::move(v)) {}                // NOLINT
@@ -100,13 +130,21 @@ class Value {
       return std::get_if<T>(&v_);
     }
   }
-  /// The payload as T, or a kTypeMismatch error naming both types.
+  /// The payload as T, or a kTypeMismatch error naming both types
+  /// ("as<int64>(): the value is a string, not an int64").
   template <class T>
   Result<T> as() const {
     if (const T* p = get_if<T>()) return *p;
-    return make_error(ErrorCode::kTypeMismatch,
-                      std::string("value holds ") + graph::to_string(type()) + ", not the requested type");
+    return make_error(ErrorCode::kTypeMismatch, std::string("as<") + type_name<T>() + ">(): the value is " +
+                                                    article(type()) + ", not " + article(value_type_of<T>));
   }
+  /// Stable name of the attribute type that holds T ("int64", "vec3f", ...).
+  template <class T>
+  static const char* type_name() {
+    return graph::to_string(value_type_of<T>);
+  }
+  /// "a string", "an int64": a type name with its article, for error messages.
+  static std::string article(ValueType t);
 
   friend bool operator==(const Value& a, const Value& b);
   /// Feeds type and payload into a hasher.
@@ -122,6 +160,8 @@ class Value {
   static Value decode(wire::Reader& r, std::uint64_t max_value_bytes);
 
  private:
+  template <class T>
+  Value(std::in_place_type_t<T> t, T v) : v_(t, v) {}
   struct Boxed {
     std::unique_ptr<Mat4d> p;
     explicit Boxed(const Mat4d& m) : p(std::make_unique<Mat4d>(m)) {}

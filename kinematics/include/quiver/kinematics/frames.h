@@ -110,6 +110,19 @@ class FrameReader {
   /// X_AB now: the pose of frame B in frame A (from the current poses of every edge). O(1).
   /// @returns kNotFound, kInvalidArgument or kNotConnected (A and B in separate trees).
   Result<Eigen::Isometry3d> lookup(FrameRef A, FrameRef B);
+  /// p_AoBo_A: where B's origin is in A (lookup(A, B)'s translation); DSR's
+  /// get_translation_vector(A, B). @returns lookup()'s errors.
+  Result<Eigen::Vector3d> translation(FrameRef A, FrameRef B) {
+    auto X_AB = lookup(A, B);
+    if (!X_AB.ok()) return X_AB.error();
+    return Eigen::Vector3d(X_AB->translation());
+  }
+  /// R_AB: B's orientation in A (lookup(A, B)'s rotation); DSR's get_rotation_matrix(A, B).
+  Result<Eigen::Matrix3d> rotation(FrameRef A, FrameRef B) {
+    auto X_AB = lookup(A, B);
+    if (!X_AB.ok()) return X_AB.error();
+    return Eigen::Matrix3d(X_AB->linear());
+  }
   /// X_AB at replicated time `t`, interpolated on every edge of the path between A and B.
   /// @returns as lookup(), plus kExtrapolation when `t` is before the earliest or after the
   /// latest sample of an edge on the path (the message names the edge and both times).
@@ -186,6 +199,8 @@ class FrameTree {
   // ---- Owner-thread lookups (same contracts as FrameReader's) ----
   Result<Frame> frame(FrameRef f) { return self_.frame(f); }
   Result<Eigen::Isometry3d> lookup(FrameRef A, FrameRef B) { return self_.lookup(A, B); }
+  Result<Eigen::Vector3d> translation(FrameRef A, FrameRef B) { return self_.translation(A, B); }
+  Result<Eigen::Matrix3d> rotation(FrameRef A, FrameRef B) { return self_.rotation(A, B); }
   Result<Eigen::Isometry3d> lookup_at(FrameRef A, FrameRef B, Time t) {
     return self_.lookup_at(A, B, t);
   }

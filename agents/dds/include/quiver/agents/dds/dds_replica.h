@@ -8,9 +8,13 @@
 #include <atomic>
 #include <cstdint>
 #include <functional>
+#include <future>
+#include <map>
 #include <memory>
 #include <mutex>
+#include <queue>
 #include <string>
+#include <type_traits>
 #include <vector>
 
 #include "quiver/agents/dds/dds_transport.h"
@@ -61,6 +65,31 @@ class DdsReplica {
 
   /// Thread-safe: runs `fn` on the owner thread at its next round.
   void post(std::function<void()> fn);
+  /// Thread-safe: runs `fn` on the owner thread at its next round and returns a future of its
+  /// result (or of the exception it threw). A replica destroyed before the task ran leaves the
+  /// future with std::future_error (broken_promise).
+  /// @pre not called from the owner thread if the caller then waits on the future (it would
+  /// wait for itself).
+  template <class F>
+  auto call(F fn) -> std::future<std::invoke_result_t<F&>> {
+    using R = std::invoke_result_t<F&>;
+    auto task = std::make_shared<std::packaged_task<R()>>(std::move(fn));
+    std::future<R> result = task->get_future();
+    post([task] { (*task)(); });
+    return result;
+  }
+
+  /// Identifies a timer (to cancel it). 0 is never a timer.
+  using TimerId = std::uint64_t;
+  /// Owner thread: runs `fn` once on the owner thread, `delay_ns` from now (spin_*() wakes for
+  /// it). @returns its id.
+  TimerId after(std::int64_t delay_ns, std::function<void()> fn);
+  /// Owner thread: runs `fn` every `period_ns` (> 0; the first time one period from now).
+  /// A round that falls behind runs it once, not once per missed period.
+  TimerId every(std::int64_t period_ns, std::function<void()> fn);
+  /// Owner thread: cancels a timer (nothing if it already ran or never was). A timer may cancel
+  /// itself from its own function.
+  void cancel(TimerId id);
   /// Thread-safe: makes spin() return.
   void stop();
 
@@ -71,6 +100,16 @@ class DdsReplica {
   std::unique_ptr<DdsTransport> transport_;
   std::unique_ptr<Replicator> replicator_;
   std::int64_t next_tick_ = 0;
+  struct Timer {
+    std::int64_t due = 0;
+    TimerId id = 0;
+    std::int64_t period = 0;  // 0: once
+    bool operator>(const Timer& o) const { return due != o.due ? due > o.due : id > o.id; }
+  };
+  void run_timers(std::int64_t now);
+  std::priority_queue<Timer, std::vector<Timer>, std::greater<Timer>> timers_;
+  std::map<TimerId, std::function<void()>> timer_fns_;
+  TimerId next_timer_ = 1;
   std::mutex mu_;
   std::vector<std::function<void()>> posted_;  // guarded by mu_
   std::atomic<bool> stop_{false};

@@ -137,6 +137,10 @@ class Replicator {
   /// one peer is known.
   bool synced() const;
   std::vector<PeerInfo> peers() const;
+  /// The name of the agent behind a replica id: this replica's own name, a peer's announced one
+  /// (also after it left, if its name hashes to its id), or id.to_string() when unknown. The
+  /// graph's change batches carry it (ChangeBatch::origin_name).
+  std::string name_of(const PeerId& id) const;
   std::size_t live_peer_count() const;
   void on_membership(std::function<void(Membership, const PeerInfo&)> cb) { membership_cb_ = std::move(cb); }
   /// Called with a description of every rejected packet or message (malformed, oversized,
@@ -255,6 +259,7 @@ class Replicator {
   std::size_t buffer_bytes_ = 0;
 
   std::map<PeerId, Peer> peers_;
+  std::map<std::uint64_t, std::string> names_;  // agent id -> announced name (bounded)
   std::size_t peer_ranges_ = 0;  // ranges of all peers' applied sets
   Reassembly state_;
   std::map<PeerId, std::map<std::uint64_t, Seen>> seen_;

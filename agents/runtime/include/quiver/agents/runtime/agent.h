@@ -13,7 +13,10 @@
 /// Threading: everything an agent does happens on its host's thread, one call at a time.
 
 #include <functional>
+#include <future>
 #include <memory>
+#include <mutex>
+#include <type_traits>
 #include <nlohmann/json_fwd.hpp>
 #include <string>
 #include <vector>
@@ -24,18 +27,9 @@
 
 namespace quiver::agents {
 
-/// Which changes a subscription cares about: any batch that touches a node of one of these types,
-/// an edge of one of these types, or one of these attributes (on a node or an edge). An empty
-/// list does not narrow; a filter with all lists empty takes every batch.
-struct ChangeFilter {
-  std::vector<std::string> node_types;
-  std::vector<std::string> edge_types;
-  std::vector<std::string> attributes;
-
-  /// The part of `b` this filter lets through (`g`: the replica after the change, for the types
-  /// of deleted nodes the batch itself names). Empty when nothing matches.
-  graph::ChangeBatch select(const graph::ChangeBatch& b) const;
-};
+/// Which changes a subscription cares about (node types, edge types, attribute names): the
+/// graph's filter, also usable without an agent (Graph::subscribe(filter, cb)).
+using ChangeFilter = graph::ChangeFilter;
 
 class Agent {
  public:
@@ -89,6 +83,33 @@ class Agent {
     actions_.push_back({std::move(a), std::move(interest)});
   }
 
+  // ---- calls from other threads ----
+
+  /// Thread-safe: runs `fn` on the agent's thread (its host's) at the host's next tick (about
+  /// 10 ms), where it may read and write the graph.
+  void post(std::function<void()> fn) {
+    std::lock_guard<std::mutex> lock(posted_mu_);
+    posted_.push_back(std::move(fn));
+  }
+  /// Thread-safe: as post(), and returns a future of `fn`'s result (or of its exception). An agent
+  /// whose host stops before the task ran leaves the future with std::future_error
+  /// (broken_promise). @pre not waited on from the agent's own thread.
+  template <class F>
+  auto call(F fn) -> std::future<std::invoke_result_t<F&>> {
+    using R = std::invoke_result_t<F&>;
+    auto task = std::make_shared<std::packaged_task<R()>>(std::move(fn));
+    std::future<R> result = task->get_future();
+    post([task] { (*task)(); });
+    return result;
+  }
+  /// The host's side: takes the tasks posted so far (the runtime runs them in tick()).
+  std::vector<std::function<void()>> take_posted() {
+    std::vector<std::function<void()>> out;
+    std::lock_guard<std::mutex> lock(posted_mu_);
+    out.swap(posted_);
+    return out;
+  }
+
   struct Subscription {
     ChangeFilter filter;
     Subscriber fn;
@@ -106,6 +127,8 @@ class Agent {
   std::vector<PeerGrammar> peer_grammars_;
   std::vector<Subscription> subscriptions_;
   std::vector<ActionEntry> actions_;
+  std::mutex posted_mu_;
+  std::vector<std::function<void()>> posted_;  // guarded by posted_mu_
 };
 
 }  // namespace quiver::agents
