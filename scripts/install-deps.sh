@@ -13,6 +13,7 @@ packages=(
   nlohmann-json3-dev libcli11-dev libspdlog-dev
   espeak-ng libopencv-dev
   iproute2 procps
+  pybind11-dev python3-dev python3-pytest python3-numpy python3-pytest-benchmark
 )
 
 missing=()
