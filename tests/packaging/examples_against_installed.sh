@@ -11,6 +11,7 @@ build=$(cd "$2" && pwd)
 work=$3
 rm -rf "$work"
 mkdir -p "$work"
+work=$(cd "$work" && pwd)
 prefix=$work/prefix
 generator=()
 if command -v ninja >/dev/null; then generator=(-G Ninja); fi
@@ -21,8 +22,8 @@ step "cmake --install $build --prefix $prefix"
 cmake --install "$build" --prefix "$prefix" >"$work/install.log"
 test -x "$prefix/bin/quiver"
 for lib in crdt graph kinematics replication grammar locks runtime agents_dds runtime_process; do
-  test -f "$prefix/lib/libquiver_$lib.a" || test -f "$prefix"/lib/*/"libquiver_$lib.a"
-  ls "$prefix"/lib/libquiver_$lib.so* "$prefix"/lib/*/libquiver_$lib.so* >/dev/null 2>&1
+  find "$prefix" -name "libquiver_$lib.a" | grep -q . || { echo "FAIL: no libquiver_$lib.a" >&2; exit 1; }
+  find "$prefix" -name "libquiver_$lib.so" | grep -q . || { echo "FAIL: no libquiver_$lib.so" >&2; exit 1; }
 done
 config_dir=$(dirname "$(find "$prefix" -name quiverConfig.cmake | head -1)")
 if grep -E "CycloneDDS|fcl|urdfdom|Eigen3|nlohmann" "$config_dir/quiver-graph-targets.cmake"; then
@@ -48,7 +49,7 @@ disabled=()
 for p in CycloneDDS fcl urdfdom Eigen3 nlohmann_json spdlog CLI11 OpenCV; do
   disabled+=(-DCMAKE_DISABLE_FIND_PACKAGE_$p=ON)
 done
-cmake -S "$work/graph-only" -B "$work/graph-only/build" "${generator[@]}" -DCMAKE_PREFIX_PATH="$prefix" \
+cmake --no-warn-unused-cli -S "$work/graph-only" -B "$work/graph-only/build" "${generator[@]}" -DCMAKE_PREFIX_PATH="$prefix" \
   -DEXAMPLE="$src/examples/graph_basics/graph_basics.cc" "${disabled[@]}" >"$work/graph-only.log"
 cmake --build "$work/graph-only/build" >>"$work/graph-only.log"
 "$work/graph-only/build/graph_basics"
