@@ -12,7 +12,7 @@ packages=(
   libtf2-dev
   nlohmann-json3-dev libcli11-dev libspdlog-dev
   espeak-ng libopencv-dev
-  iproute2 procps
+  iproute2 procps python3
   pybind11-dev python3-dev python3-pytest python3-numpy python3-pytest-benchmark
 )
 
