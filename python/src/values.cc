@@ -118,9 +118,9 @@ std::optional<Value> convert(py::handle obj, ValueType t, bool strict) {
       PyObject* idx = PyNumber_Index(o);
       if (idx == nullptr) throw py::error_already_set();
       auto i = py::reinterpret_steal<py::object>(idx);
-      if (t == ValueType::kInt32) return Value(int_in_range<std::int32_t>(i, t));
+      if (t == ValueType::kInt32) return Value::int32(int_in_range<std::int32_t>(i, t));
       if (t == ValueType::kInt64) return Value(int_in_range<std::int64_t>(i, t));
-      if (t == ValueType::kUInt32) return Value(int_in_range<std::uint32_t>(i, t));
+      if (t == ValueType::kUInt32) return Value::uint32(int_in_range<std::uint32_t>(i, t));
       return Value(int_in_range<std::uint64_t>(i, t));
     }
     case ValueType::kFloat:
