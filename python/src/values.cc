@@ -9,6 +9,7 @@
 // quiver.Value("vec3f", [1, 2, 3]) forces a type. Reads: integers -> int, floats -> float,
 // vectors -> 1-D numpy arrays (float32 for the float kinds), mat4d -> a 4x4 float64 array.
 
+#include <array>
 #include <cmath>
 #include <limits>
 
@@ -279,14 +280,35 @@ py::object from_value(const Value& v) {
   return py::none();
 }
 
+namespace {
+// Names come back again and again (attribute names are usually literals, which Python interns):
+// a small direct-mapped cache from the str object to its symbol skips the UTF-8 conversion and
+// the symbol table. Each slot holds a reference to its str, so an address is never reused while
+// it is a key. Only exact str objects are cached (a subclass could change what it compares as).
+struct SymbolSlot {
+  PyObject* key = nullptr;
+  graph::Symbol sym;
+};
+std::array<SymbolSlot, 256> g_symbol_cache;
+}  // namespace
+
 graph::Symbol to_symbol(py::handle name) {
   PyObject* o = name.ptr();
+  const bool exact = PyUnicode_CheckExact(o);
+  SymbolSlot& slot = g_symbol_cache[(reinterpret_cast<std::uintptr_t>(o) >> 4) % g_symbol_cache.size()];
+  if (exact && slot.key == o) return slot.sym;
   if (PyUnicode_Check(o)) {
     Py_ssize_t n = 0;
     const char* s = PyUnicode_AsUTF8AndSize(o, &n);
     if (s == nullptr) throw py::error_already_set();
-    auto sym = graph::Symbol::make(std::string_view(s, static_cast<std::size_t>(n)));
-    return unwrap(std::move(sym));
+    graph::Symbol sym = unwrap(graph::Symbol::make(std::string_view(s, static_cast<std::size_t>(n))));
+    if (exact) {
+      Py_INCREF(o);
+      Py_XDECREF(slot.key);
+      slot.key = o;
+      slot.sym = sym;
+    }
+    return sym;
   }
   type_error("a name must be a str, not " + py_type_name(name));
 }

@@ -70,7 +70,7 @@ def test_type_errors_name_the_types():
         n = t.create_node("thing", "x", {"battery": 0.5})
     with pytest.raises(TypeError, match="dict"):
         g.transaction().set(n, "bad", {"a": 1})
-    with pytest.raises(quiver.TypeMismatchError, match="holds double") as e:
+    with pytest.raises(quiver.TypeMismatchError, match="is a double, not a string") as e:
         g.get(n, "battery", type="string")
     assert isinstance(e.value, TypeError) and e.value.code == "type_mismatch"
     assert g.get(n, "battery", type="double") == 0.5
