@@ -46,7 +46,8 @@ class PyAction : public agents::Action {
       agents::LockNeed n;
       if (py::isinstance<py::tuple>(r)) {
         auto t = r.cast<py::tuple>();
-        if (t.size() != 2) throw py::value_error("Action.lock(): return None, a root, or (root, priority)");
+        if (t.size() != 2)
+          throw py::value_error("Action.lock(): return None, a root, or (root, priority)");
         n.root = to_node(ctx.graph(), t[0]);
         n.priority = t[1].cast<std::int64_t>();
       } else {
@@ -57,9 +58,7 @@ class PyAction : public agents::Action {
     return need;
   }
 
-  Status start(AgentContext& ctx, const Match& m) override {
-    return verdict("start", ctx, m);
-  }
+  Status start(AgentContext& ctx, const Match& m) override { return verdict("start", ctx, m); }
 
   Progress process(AgentContext& ctx, const Match& m) override {
     Progress p = Progress::kDone;
@@ -75,13 +74,17 @@ class PyAction : public agents::Action {
   Status finish(AgentContext& ctx, const Match& m) override { return verdict("finish", ctx, m); }
 
   void cancel(AgentContext& ctx, const Match& m, CancelReason why) override {
-    guarded([&] {
-      if (py::function f = override("cancel")) f(context_object(ctx), m, why);
-    }, /*cleanup=*/true);
+    guarded(
+        [&] {
+          if (py::function f = override("cancel")) f(context_object(ctx), m, why);
+        },
+        /*cleanup=*/true);
   }
 
  private:
-  py::function override(const char* fn) const { return py::get_override(static_cast<const agents::Action*>(this), fn); }
+  py::function override(const char* fn) const {
+    return py::get_override(static_cast<const agents::Action*>(this), fn);
+  }
 
   /// start()/finish(): None or True is success; False or a string refuses (the string says why).
   Status verdict(const char* fn, AgentContext& ctx, const Match& m) {
@@ -94,7 +97,8 @@ class PyAction : public agents::Action {
       std::string why = py::isinstance<py::str>(r) ? r.cast<std::string>() : std::string("refused");
       s = make_error(ErrorCode::kRefused, name() + "." + fn + "(): " + why);
     });
-    if (!ran) return make_error(ErrorCode::kInternal, name() + "." + fn + "(): raised (see run_agent())");
+    if (!ran)
+      return make_error(ErrorCode::kInternal, name() + "." + fn + "(): raised (see run_agent())");
     return s;
   }
 };
@@ -115,7 +119,8 @@ ForwardingAction::~ForwardingAction() {
 
 void bind_action(py::module_& m) {
   py::enum_<Progress>(m, "Progress", "What Action.process() reports.")
-      .value("RUNNING", Progress::kRunning, "not done yet: process() is called again on the next tick")
+      .value("RUNNING", Progress::kRunning,
+             "not done yet: process() is called again on the next tick")
       .value("DONE", Progress::kDone, "finish() comes next")
       .value("FAILED", Progress::kFailed, "cancel() comes next (reason FAILED)");
   py::enum_<CancelReason>(m, "CancelReason", "Why a running action was cancelled.")
@@ -124,48 +129,70 @@ void bind_action(py::module_& m) {
       .value("FAILED", CancelReason::kFailed, "process() reported failure (or raised)")
       .value("STOPPING", CancelReason::kStopping, "the agent is stopping");
 
-  py::class_<Match>(m, "Match",
-                    "What an action works on: nodes by role, and a key that tells two runs of one action apart "
-                    "(an action runs at most once per key at a time).")
+  py::class_<Match>(
+      m, "Match",
+      "What an action works on: nodes by role, and a key that tells two runs of one action apart "
+      "(an action runs at most once per key at a time).")
       .def(py::init([](std::string key, std::map<std::string, graph::NodeId, std::less<>> nodes) {
              Match x;
              x.key = std::move(key);
              x.nodes = std::move(nodes);
              return x;
-           }), py::arg("key"), py::arg("nodes") = std::map<std::string, graph::NodeId, std::less<>>{})
+           }),
+           py::arg("key"), py::arg("nodes") = std::map<std::string, graph::NodeId, std::less<>>{})
       .def_readwrite("key", &Match::key)
       .def_readwrite("nodes", &Match::nodes)
-      .def("at", [](const Match& x, const std::string& role) -> std::optional<graph::NodeId> {
-             auto it = x.nodes.find(role);
-             if (it == x.nodes.end()) return std::nullopt;
-             return it->second;
-           }, py::arg("role"), "The node of `role`, or None.")
+      .def(
+          "at",
+          [](const Match& x, const std::string& role) -> std::optional<graph::NodeId> {
+            auto it = x.nodes.find(role);
+            if (it == x.nodes.end()) return std::nullopt;
+            return it->second;
+          },
+          py::arg("role"), "The node of `role`, or None.")
       .def("__repr__", [](const Match& x) { return "<Match " + x.key + ">"; });
 
-  py::class_<agents::Action, PyAction>(
-      m, "Action",
-      "One turn of the DSR loop, subclassed in Python. The runtime calls find(ctx) after relevant changes; for "
-      "each new Match it takes lock(ctx, m) if any, calls start(ctx, m) (mark it executing with a graph change), "
-      "then process(ctx, m) every tick until DONE (then finish(ctx, m) writes the result) or FAILED. While it "
-      "runs, holds(ctx, m) turning false (or a lost lock) calls cancel(ctx, m, reason). start()/finish() return "
-      "None (ok), or False / a string to refuse.")
+  py::class_<agents::Action, PyAction>(m, "Action",
+                                       "One turn of the DSR loop, subclassed in Python. The "
+                                       "runtime calls find(ctx) after relevant changes; for "
+                                       "each new Match it takes lock(ctx, m) if any, calls "
+                                       "start(ctx, m) (mark it executing with a graph change), "
+                                       "then process(ctx, m) every tick until DONE (then "
+                                       "finish(ctx, m) writes the result) or FAILED. While it "
+                                       "runs, holds(ctx, m) turning false (or a lost lock) calls "
+                                       "cancel(ctx, m, reason). start()/finish() return "
+                                       "None (ok), or False / a string to refuse.")
       .def(py::init<std::string>(), py::arg("name"))
       .def_property_readonly("name", &agents::Action::name)
-      .def("find", [](agents::Action&, py::object) -> py::list {
-             throw py::type_error("Action.find(ctx) must be overridden");
-           }, py::arg("ctx"), "Every Match that calls for this action now (a list).")
-      .def("holds", [](agents::Action&, py::object, const Match&) { return true; }, py::arg("ctx"), py::arg("match"),
-           "While running: does the precondition still hold? (default True)")
-      .def("lock", [](agents::Action&, py::object, const Match&) { return py::none(); }, py::arg("ctx"), py::arg("match"),
-           "The lock to hold while it runs: None (default), a root node, or (root, priority).")
-      .def("start", [](agents::Action&, py::object, const Match&) { return py::none(); }, py::arg("ctx"), py::arg("match"),
-           "Mark it executing (a graph change). None: started; False or a string: refused (tried again later).")
-      .def("process", [](agents::Action&, py::object, const Match&) { return Progress::kDone; }, py::arg("ctx"),
-           py::arg("match"), "Called every tick while it runs: Progress.RUNNING, DONE or FAILED (default DONE).")
-      .def("finish", [](agents::Action&, py::object, const Match&) { return py::none(); }, py::arg("ctx"), py::arg("match"),
-           "Write the result.")
-      .def("cancel", [](agents::Action&, py::object, const Match&, CancelReason) {}, py::arg("ctx"), py::arg("match"),
-           py::arg("reason"), "Stop it and take its mark back. Called at most once per run.");
+      .def(
+          "find",
+          [](agents::Action&, py::object) -> py::list {
+            throw py::type_error("Action.find(ctx) must be overridden");
+          },
+          py::arg("ctx"), "Every Match that calls for this action now (a list).")
+      .def(
+          "holds", [](agents::Action&, py::object, const Match&) { return true; }, py::arg("ctx"),
+          py::arg("match"), "While running: does the precondition still hold? (default True)")
+      .def(
+          "lock", [](agents::Action&, py::object, const Match&) { return py::none(); },
+          py::arg("ctx"), py::arg("match"),
+          "The lock to hold while it runs: None (default), a root node, or (root, priority).")
+      .def(
+          "start", [](agents::Action&, py::object, const Match&) { return py::none(); },
+          py::arg("ctx"), py::arg("match"),
+          "Mark it executing (a graph change). None: started; False or a string: refused (tried "
+          "again later).")
+      .def(
+          "process", [](agents::Action&, py::object, const Match&) { return Progress::kDone; },
+          py::arg("ctx"), py::arg("match"),
+          "Called every tick while it runs: Progress.RUNNING, DONE or FAILED (default DONE).")
+      .def(
+          "finish", [](agents::Action&, py::object, const Match&) { return py::none(); },
+          py::arg("ctx"), py::arg("match"), "Write the result.")
+      .def(
+          "cancel", [](agents::Action&, py::object, const Match&, CancelReason) {}, py::arg("ctx"),
+          py::arg("match"), py::arg("reason"),
+          "Stop it and take its mark back. Called at most once per run.");
 }
 
 }  // namespace quiver::python

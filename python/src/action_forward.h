@@ -16,16 +16,23 @@ class ForwardingAction final : public agents::Action {
   ForwardingAction& operator=(const ForwardingAction&) = delete;
 
   std::vector<agents::Match> find(agents::AgentContext& ctx) override { return target_->find(ctx); }
-  bool holds(agents::AgentContext& ctx, const agents::Match& m) override { return target_->holds(ctx, m); }
+  bool holds(agents::AgentContext& ctx, const agents::Match& m) override {
+    return target_->holds(ctx, m);
+  }
   std::optional<agents::LockNeed> lock(agents::AgentContext& ctx, const agents::Match& m) override {
     return target_->lock(ctx, m);
   }
-  Status start(agents::AgentContext& ctx, const agents::Match& m) override { return target_->start(ctx, m); }
+  Status start(agents::AgentContext& ctx, const agents::Match& m) override {
+    return target_->start(ctx, m);
+  }
   agents::Progress process(agents::AgentContext& ctx, const agents::Match& m) override {
     return target_->process(ctx, m);
   }
-  Status finish(agents::AgentContext& ctx, const agents::Match& m) override { return target_->finish(ctx, m); }
-  void cancel(agents::AgentContext& ctx, const agents::Match& m, agents::CancelReason why) override {
+  Status finish(agents::AgentContext& ctx, const agents::Match& m) override {
+    return target_->finish(ctx, m);
+  }
+  void cancel(agents::AgentContext& ctx, const agents::Match& m,
+              agents::CancelReason why) override {
     target_->cancel(ctx, m, why);
   }
 

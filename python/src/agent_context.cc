@@ -20,7 +20,9 @@ struct PyContext {
 };
 
 std::int64_t to_ns(double seconds, const char* fn) {
-  if (!(seconds >= 0)) raise(make_error(ErrorCode::kInvalidArgument, std::string(fn) + "(): negative time " + std::to_string(seconds)));
+  if (!(seconds >= 0))
+    raise(make_error(ErrorCode::kInvalidArgument,
+                     std::string(fn) + "(): negative time " + std::to_string(seconds)));
   return static_cast<std::int64_t>(seconds * 1e9);
 }
 
@@ -41,7 +43,8 @@ py::object context_object(agents::AgentContext& ctx) {
   if (run->raw != &ctx || !run->ctx) {
     PyContext c;
     c.ctx = &ctx;
-    c.graph.graph = std::shared_ptr<graph::Graph>(std::shared_ptr<void>(), &ctx.graph());  // not owned
+    c.graph.graph =
+        std::shared_ptr<graph::Graph>(std::shared_ptr<void>(), &ctx.graph());  // not owned
     c.graph.owner.scope = run->scope;
     run->raw = &ctx;
     run->ctx = py::cast(std::move(c));
@@ -55,14 +58,16 @@ void keep_run_error(py::error_already_set& e) {
     e.discard_as_unraisable("quiver agent callback");
     return;
   }
-  py::print("quiver: an agent callback raised", py::repr(e.value()), py::arg("file") = py::module_::import("sys").attr("stderr"));
+  py::print("quiver: an agent callback raised", py::repr(e.value()),
+            py::arg("file") = py::module_::import("sys").attr("stderr"));
   run->error.emplace(std::move(e));
   agents::request_stop();
 }
 
 bool run_failed() { return t_run != nullptr && t_run->error.has_value(); }
 
-graph::ChangeFilter to_filter(const std::vector<std::string>& node_types, const std::vector<std::string>& edge_types,
+graph::ChangeFilter to_filter(const std::vector<std::string>& node_types,
+                              const std::vector<std::string>& edge_types,
                               const std::vector<std::string>& attributes) {
   graph::ChangeFilter f;
   f.node_types = node_types;
@@ -72,54 +77,94 @@ graph::ChangeFilter to_filter(const std::vector<std::string>& node_types, const 
 }
 
 void bind_agent_context(py::module_& m) {
-  py::class_<PyContext>(m, "AgentContext",
-                        "What a runtime agent's callbacks see of their host: its graph, the time, timers, its "
-                        "priority locks, its seeded random source and its log. Valid while run_agent() runs, on "
-                        "its thread (inside callbacks).")
+  py::class_<PyContext>(
+      m, "AgentContext",
+      "What a runtime agent's callbacks see of their host: its graph, the time, timers, its "
+      "priority locks, its seeded random source and its log. Valid while run_agent() runs, on "
+      "its thread (inside callbacks).")
       .def_property_readonly("name", [](const PyContext& c) { return c.get("name").name(); })
-      .def_property_readonly("graph", [](const PyContext& c) {
-             c.get("graph");
-             return c.graph;
-           }, "The agent's replica (valid during the run only).")
-      .def("now", [](const PyContext& c) { return c.get("now").now(); },
-           "Now in nanoseconds (monotonic in a process, virtual in the simulator).")
-      .def("log", [](const PyContext& c, const std::string& line) { c.get("log").log(line); }, py::arg("line"),
-           "A line for the agent's log (stderr, named and timed by the host).")
-      .def("hears", [](const PyContext& c, const std::string& agent) { return c.get("hears").hears(agent); },
-           py::arg("agent"), "True while a live agent of that name is heard.")
-      .def("random", [](const PyContext& c) { return c.get("random").rng().uniform(); },
-           "Uniform in [0, 1) from the agent's one seeded random source.")
-      .def("randint", [](const PyContext& c, std::int64_t lo, std::int64_t hi) {
-             if (hi < lo) raise(make_error(ErrorCode::kInvalidArgument, "randint(): hi " + std::to_string(hi) + " < lo " + std::to_string(lo)));
-             return c.get("randint").rng().range(lo, hi);
-           }, py::arg("lo"), py::arg("hi"), "Uniform in [lo, hi] from the agent's seeded random source.")
-      .def("after", [](const PyContext& c, double delay, py::function fn) {
-             return c.get("after").after(to_ns(delay, "after"), timer_callback(std::move(fn)));
-           }, py::arg("delay"), py::arg("fn"), "Calls fn() once, `delay` seconds from now. Returns the timer's id.")
-      .def("every", [](const PyContext& c, double period, py::function fn) {
-             if (!(period > 0)) raise(make_error(ErrorCode::kInvalidArgument, "every(): the period must be > 0, not " + std::to_string(period)));
-             return c.get("every").every(to_ns(period, "every"), timer_callback(std::move(fn)));
-           }, py::arg("period"), py::arg("fn"),
-           "Calls fn() every `period` seconds (the first time one period from now). Returns the timer's id.")
-      .def("cancel", [](const PyContext& c, agents::TimerId id) { c.get("cancel").cancel(id); }, py::arg("timer"),
-           "Cancels a timer (nothing if it already ran).")
-      .def("acquire", [](const PyContext& c, py::handle root, std::int64_t priority) {
-             auto& ctx = c.get("acquire");
-             check(ctx.locks().acquire(to_node(ctx.graph(), root), priority));
-           }, py::arg("root"), py::arg("priority"),
-           "Claims the scope under `root` (RefusedError if a live claim of equal or higher priority holds it).")
-      .def("release", [](const PyContext& c, py::handle root) {
-             auto& ctx = c.get("release");
-             check(ctx.locks().release(to_node(ctx.graph(), root)));
-           }, py::arg("root"))
-      .def("holds", [](const PyContext& c, py::handle root) {
-             auto& ctx = c.get("holds");
-             return ctx.locks().holds(to_node(ctx.graph(), root));
-           }, py::arg("root"), "True once this agent's claim on `root` is acknowledged by every live peer.")
-      .def("locked_by_other", [](const PyContext& c, py::handle node) {
-             auto& ctx = c.get("locked_by_other");
-             return ctx.locks().locked_by_other(to_node(ctx.graph(), node));
-           }, py::arg("node"), "True when another agent's claim covers `node`.");
+      .def_property_readonly(
+          "graph",
+          [](const PyContext& c) {
+            c.get("graph");
+            return c.graph;
+          },
+          "The agent's replica (valid during the run only).")
+      .def(
+          "now", [](const PyContext& c) { return c.get("now").now(); },
+          "Now in nanoseconds (monotonic in a process, virtual in the simulator).")
+      .def(
+          "log", [](const PyContext& c, const std::string& line) { c.get("log").log(line); },
+          py::arg("line"), "A line for the agent's log (stderr, named and timed by the host).")
+      .def(
+          "hears",
+          [](const PyContext& c, const std::string& agent) { return c.get("hears").hears(agent); },
+          py::arg("agent"), "True while a live agent of that name is heard.")
+      .def(
+          "random", [](const PyContext& c) { return c.get("random").rng().uniform(); },
+          "Uniform in [0, 1) from the agent's one seeded random source.")
+      .def(
+          "randint",
+          [](const PyContext& c, std::int64_t lo, std::int64_t hi) {
+            if (hi < lo)
+              raise(make_error(ErrorCode::kInvalidArgument, "randint(): hi " + std::to_string(hi) +
+                                                                " < lo " + std::to_string(lo)));
+            return c.get("randint").rng().range(lo, hi);
+          },
+          py::arg("lo"), py::arg("hi"),
+          "Uniform in [lo, hi] from the agent's seeded random source.")
+      .def(
+          "after",
+          [](const PyContext& c, double delay, py::function fn) {
+            return c.get("after").after(to_ns(delay, "after"), timer_callback(std::move(fn)));
+          },
+          py::arg("delay"), py::arg("fn"),
+          "Calls fn() once, `delay` seconds from now. Returns the timer's id.")
+      .def(
+          "every",
+          [](const PyContext& c, double period, py::function fn) {
+            if (!(period > 0))
+              raise(make_error(ErrorCode::kInvalidArgument,
+                               "every(): the period must be > 0, not " + std::to_string(period)));
+            return c.get("every").every(to_ns(period, "every"), timer_callback(std::move(fn)));
+          },
+          py::arg("period"), py::arg("fn"),
+          "Calls fn() every `period` seconds (the first time one period from now). Returns the "
+          "timer's id.")
+      .def(
+          "cancel", [](const PyContext& c, agents::TimerId id) { c.get("cancel").cancel(id); },
+          py::arg("timer"), "Cancels a timer (nothing if it already ran).")
+      .def(
+          "acquire",
+          [](const PyContext& c, py::handle root, std::int64_t priority) {
+            auto& ctx = c.get("acquire");
+            check(ctx.locks().acquire(to_node(ctx.graph(), root), priority));
+          },
+          py::arg("root"), py::arg("priority"),
+          "Claims the scope under `root` (RefusedError if a live claim of equal or higher priority "
+          "holds it).")
+      .def(
+          "release",
+          [](const PyContext& c, py::handle root) {
+            auto& ctx = c.get("release");
+            check(ctx.locks().release(to_node(ctx.graph(), root)));
+          },
+          py::arg("root"))
+      .def(
+          "holds",
+          [](const PyContext& c, py::handle root) {
+            auto& ctx = c.get("holds");
+            return ctx.locks().holds(to_node(ctx.graph(), root));
+          },
+          py::arg("root"),
+          "True once this agent's claim on `root` is acknowledged by every live peer.")
+      .def(
+          "locked_by_other",
+          [](const PyContext& c, py::handle node) {
+            auto& ctx = c.get("locked_by_other");
+            return ctx.locks().locked_by_other(to_node(ctx.graph(), node));
+          },
+          py::arg("node"), "True when another agent's claim covers `node`.");
 }
 
 }  // namespace quiver::python

@@ -48,7 +48,8 @@ bool guarded(F&& fn, bool cleanup = false) {
 }
 
 /// A ChangeFilter from optional lists of names.
-graph::ChangeFilter to_filter(const std::vector<std::string>& node_types, const std::vector<std::string>& edge_types,
+graph::ChangeFilter to_filter(const std::vector<std::string>& node_types,
+                              const std::vector<std::string>& edge_types,
                               const std::vector<std::string>& attributes);
 
 }  // namespace quiver::python
