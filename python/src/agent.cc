@@ -111,20 +111,32 @@ py::object AgentCore::take_error() {
 
 // ---------------------------------------------------------------- ownership helpers
 
-bool Owner::on_owner_thread() const { return !agent || agent->on_thread(); }
+bool Owner::on_owner_thread() const {
+  if (scope) return scope->thread == std::this_thread::get_id();
+  return !agent || agent->on_thread();
+}
 
 void Owner::check(const char* fn) const {
-  if (!agent) return;
-  if (!agent->running()) {
-    raise(make_error(ErrorCode::kInvalidArgument, std::string(fn) + "(): the agent has stopped"));
-  }
-  if (!agent->on_thread()) {
+  auto wrong_thread = [fn] {
     PyErr_SetString(py::module_::import("quiver").attr("WrongThreadError").ptr(),
                     (std::string(fn) + "(): an agent's graph is used on the agent's thread only: "
                                        "use Agent.call(fn) or a callback")
                         .c_str());
     throw py::error_already_set();
+  };
+  if (scope) {
+    if (!scope->open) {
+      raise(make_error(ErrorCode::kInvalidArgument,
+                       std::string(fn) + "(): an agent's context and graph are valid only while run_agent() runs"));
+    }
+    if (scope->thread != std::this_thread::get_id()) wrong_thread();
+    return;
   }
+  if (!agent) return;
+  if (!agent->running()) {
+    raise(make_error(ErrorCode::kInvalidArgument, std::string(fn) + "(): the agent has stopped"));
+  }
+  if (!agent->on_thread()) wrong_thread();
 }
 
 PyCallback::~PyCallback() {

@@ -36,10 +36,20 @@ T unwrap(Result<T> r) {
 
 class AgentCore;
 
+/// A window in which an object lent to Python is valid: while it is open, on one thread (e.g. the
+/// AgentContext and graph a runtime agent's callbacks get, valid while run_agent() runs).
+struct CallScope {
+  std::atomic<bool> open{true};
+  std::thread::id thread = std::this_thread::get_id();
+};
+
 /// Whose thread may touch an object: any thread (a standalone graph: the GIL serialises calls),
 /// or one agent's thread while that agent runs.
 struct Owner {
-  std::shared_ptr<AgentCore> agent;  ///< null: standalone
+  std::shared_ptr<AgentCore> agent;  ///< null: standalone (or scoped)
+  std::shared_ptr<const CallScope> scope;  ///< non-null: valid in this scope only (a runtime agent's graph)
+  /// True for a graph some agent owns (a quiver.Agent's or a runtime agent's).
+  bool owned() const { return agent != nullptr || scope != nullptr; }
   /// Throws RuntimeError off the agent's thread or after the agent stopped.
   void check(const char* fn) const;
   bool on_owner_thread() const;
@@ -113,6 +123,9 @@ void bind_kinematics(py::module_& m);
 void bind_grammar(py::module_& m);
 void bind_locks(py::module_& m);
 void bind_agent(py::module_& m);
+void bind_agent_context(py::module_& m);
+void bind_action(py::module_& m);
+void bind_agent_base(py::module_& m);
 void bind_bench(py::module_& m);
 
 }  // namespace quiver::python

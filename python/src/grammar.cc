@@ -49,7 +49,7 @@ void bind_grammar(py::module_& m) {
                       "a change that is not one rule application raises RefusedError at commit and changes "
                       "nothing.")
       .def(py::init([](const GraphHandle& h, const Grammar& g, const std::string& agent_name) {
-             if (h.owner.agent) {
+             if (h.owner.owned()) {
                raise(make_error(ErrorCode::kInvalidArgument, "GrammarGuard(): give an agent its grammar with Agent(grammar=...)"));
              }
              PyGuard p;

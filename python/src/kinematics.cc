@@ -89,7 +89,7 @@ void bind_kinematics(py::module_& m) {
                                "The kinematic (RT) tree of a standalone Graph, following its changes. For an agent, "
                                "use Agent.frames().");
   tree.def(py::init([](const GraphHandle& h) {
-         if (h.owner.agent) {
+         if (h.owner.owned()) {
            raise(make_error(ErrorCode::kInvalidArgument, "FrameTree(): an agent keeps its own tree: use Agent.frames()"));
          }
          PyFrameTree t;

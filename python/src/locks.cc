@@ -29,7 +29,7 @@ void bind_locks(py::module_& m) {
                       "(the node, its RT descendants and their edges); after install(), writes into a scope "
                       "another replica holds are refused.")
       .def(py::init([](const GraphHandle& h, double lease) {
-             if (h.owner.agent) raise(make_error(ErrorCode::kInvalidArgument, "LockManager(): an agent has its own: Agent.acquire()"));
+             if (h.owner.owned()) raise(make_error(ErrorCode::kInvalidArgument, "LockManager(): an agent has its own: Agent.acquire()"));
              PyLocks p;
              p.h = h;
              agents::LockOptions o;

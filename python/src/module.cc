@@ -16,5 +16,8 @@ PYBIND11_MODULE(quiver, m) {
   bind_grammar(m);
   bind_locks(m);
   bind_agent(m);
+  bind_agent_context(m);
+  bind_action(m);
+  bind_agent_base(m);
   bind_bench(m);
 }

@@ -22,6 +22,11 @@ class PyTransaction {
       auto keep = h_.graph;
       txn_.reset();
       h_.owner.agent->post_quietly([moved, keep]() mutable { moved.reset(); });
+    } else if (txn_ && h_.owner.scope && (!h_.owner.scope->open || !h_.owner.on_owner_thread())) {
+      // A runtime agent's transaction kept past its run (or dropped on another thread): its graph
+      // may be gone, so it is left undestroyed rather than aborted there.
+      new Transaction(std::move(*txn_));  // NOLINT: deliberately leaked
+      txn_.reset();
     }
   }
   PyTransaction(const PyTransaction&) = delete;

@@ -57,6 +57,8 @@ nlohmann::json status(Agent& agent, DdsReplica& r, const AgentRuntime& rt) {
 
 }  // namespace
 
+void request_stop() { g_stop.store(true); }
+
 long resident_kb() {
   long pages = 0, resident = 0;
   if (FILE* f = std::fopen("/proc/self/statm", "r")) {
@@ -107,6 +109,7 @@ Status ProcessFlags::apply_to(DdsConfig& c) const {
 }
 
 int run_process(Agent& agent, const ProcessFlags& f) {
+  g_stop.store(false);  // a stop requested for an earlier run in this process is not this run's
   auto log = named_logger(agent.name());
   DdsReplicaOptions o;
   o.name = agent.name();

@@ -50,6 +50,11 @@ int run_process(Agent& agent, const ProcessFlags& flags);
 /// Parses the standard flags from the command line (--help lists them), then runs.
 int run_process(Agent& agent, int argc, char** argv);
 
+/// Makes the running run_process() return as if SIGTERM had arrived (running actions cancelled,
+/// teardown() called). Thread-safe and async-signal-safe; e.g. for an agent whose code failed. A
+/// call before run_process() starts is forgotten (each run starts unstopped).
+void request_stop();
+
 /// Resident memory of this process in KiB (Linux; 0 elsewhere).
 long resident_kb();
 
