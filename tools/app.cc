@@ -12,10 +12,7 @@ namespace {
 
 // The commands under `a` (CLI11 keeps option groups as subcommands too).
 std::vector<CLI::App*> commands_of(CLI::App* a) {
-  std::vector<CLI::App*> out;
-  for (CLI::App* s : a->get_subcommands([](CLI::App* s) { return dynamic_cast<CLI::Option_group*>(s) == nullptr; }))
-    out.push_back(s);
-  return out;
+  return a->get_subcommands([](CLI::App* s) { return dynamic_cast<CLI::Option_group*>(s) == nullptr; });
 }
 
 // A command made only of subcommands says which word it did not know, and lists the ones it

@@ -136,9 +136,7 @@ int run_barthel(const ScenarioFlags& f) {
   agents::DdsReplica& obs = **created;
   const auto t0 = std::chrono::steady_clock::now();
   auto elapsed = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(); };
-  int interruptions = 0;
   barthel::Transcript transcript(obs.graph(), [&](const std::string& line) {
-    if (line.find("stops mid-sentence") != std::string::npos) ++interruptions;
     std::printf("[%6.1f s] %s\n", elapsed(), line.c_str());
     std::fflush(stdout);
   });
@@ -208,11 +206,11 @@ int run_barthel(const ScenarioFlags& f) {
                   f.never_speaking_absent_ms);
     failures.push_back(why);
   }
-  if (f.expect_interruption && interruptions == 0)
+  if (f.expect_interruption && transcript.interruptions() == 0)
     failures.push_back("the person left but the robot was never stopped mid-sentence");
   std::printf("Checks: every item's score as the script implies, no question asked twice, never speaking to the "
               "patient more than %.0f ms after the person left (longest: %.0f ms), %d sentence(s) stopped mid-way.\n",
-              f.never_speaking_absent_ms, absence.max_ms(), interruptions);
+              f.never_speaking_absent_ms, absence.max_ms(), transcript.interruptions());
   for (const auto& d : failures) std::printf("  FAILED: %s\n", d.c_str());
   std::printf(failures.empty() ? "The stored result matches the patient's script.\n"
                                : "The run FAILED its checks.\n");
@@ -257,7 +255,6 @@ void add_barthel_commands(CLI::App& app) {
   b->add_flag("--expect-interruption", sf->expect_interruption, "check: the person's leaving stops the robot mid-sentence at least once");
   b->add_flag("--second-planner", sf->second_planner, "start a second planner instance too (it waits; it takes over if needed)");
   b->callback([sf] { set_exit_code(run_barthel(*sf)); });
-  sc->require_subcommand(1);
 }
 
 }  // namespace quiver::tools

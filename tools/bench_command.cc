@@ -196,7 +196,6 @@ void run_load_bench(const LoadBench& b) {
 
 void add_bench_commands(CLI::App& app) {
   auto* bench = app.add_subcommand("bench", "Benchmarks (one JSON line per result)");
-  bench->require_subcommand(1);
   auto b = std::make_shared<CrdtBench>();
   auto* crdt = bench->add_subcommand("crdt", "CRDT core: random attribute writes, encode, decode and apply");
   crdt->add_option("--nodes", b->nodes)->check(CLI::Range(1, 10'000'000))->capture_default_str();

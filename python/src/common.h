@@ -65,6 +65,19 @@ struct GraphHandle {
   }
 };
 
+/// An object that works on a graph (a grammar guard, a lock manager, a frame tree): usable only
+/// where the graph itself is.
+template <class T>
+struct OnGraph {
+  GraphHandle h;
+  std::unique_ptr<T> obj;
+  T& get(const char* fn) {
+    h.owner.check(fn);
+    return *obj;
+  }
+  graph::Graph& graph() { return *h.graph; }
+};
+
 /// A Python callable kept by C++ (callbacks): dropped with the GIL held, whichever thread lets go.
 class PyCallback {
  public:

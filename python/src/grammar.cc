@@ -13,14 +13,7 @@ using agents::Grammar;
 using agents::GrammarChecker;
 using agents::GrammarGuard;
 
-struct PyGuard {
-  GraphHandle h;
-  std::unique_ptr<GrammarGuard> guard;
-  GrammarGuard& get(const char* fn) {
-    h.owner.check(fn);
-    return *guard;
-  }
-};
+using PyGuard = OnGraph<GrammarGuard>;
 
 }  // namespace
 
@@ -54,7 +47,7 @@ void bind_grammar(py::module_& m) {
              }
              PyGuard p;
              p.h = h;
-             p.guard = std::make_unique<GrammarGuard>(*h.graph, GrammarChecker(g), agent_name);
+             p.obj = std::make_unique<GrammarGuard>(*h.graph, GrammarChecker(g), agent_name);
              return p;
            }), py::arg("graph"), py::arg("grammar"), py::arg("agent_name") = "")
       .def("install", [](PyGuard& p) { p.get("install").install(); }, "Makes the graph refuse transactions the grammar does not allow.")

@@ -68,14 +68,7 @@ void def_lookups(Cls& cls, Get get) {
       }, py::arg("A"), py::arg("B"), py::arg("X_BC"), py::arg("t") = py::none(), "X_AC from X_BC.");
 }
 
-struct PyFrameTree {
-  GraphHandle h;
-  std::unique_ptr<FrameTree> tree;
-  FrameTree& get(const char* fn) {
-    h.owner.check(fn);
-    return *tree;
-  }
-};
+using PyFrameTree = OnGraph<FrameTree>;
 
 }  // namespace
 
@@ -94,7 +87,7 @@ void bind_kinematics(py::module_& m) {
          }
          PyFrameTree t;
          t.h = h;
-         t.tree = std::make_unique<FrameTree>(*h.graph);
+         t.obj = std::make_unique<FrameTree>(*h.graph);
          return t;
        }), py::arg("graph"));
   def_lookups(tree, [](PyFrameTree& t) -> FrameTree& { return t.get("lookup"); });

@@ -11,15 +11,7 @@ namespace {
 
 using agents::LockManager;
 
-struct PyLocks {
-  GraphHandle h;
-  std::unique_ptr<LockManager> locks;
-  LockManager& get(const char* fn) {
-    h.owner.check(fn);
-    return *locks;
-  }
-  graph::Graph& graph() { return *h.graph; }
-};
+using PyLocks = OnGraph<LockManager>;
 
 }  // namespace
 
@@ -34,7 +26,7 @@ void bind_locks(py::module_& m) {
              p.h = h;
              agents::LockOptions o;
              o.lease_ns = static_cast<std::int64_t>(lease * 1e9);
-             p.locks = std::make_unique<LockManager>(*h.graph, nullptr, agents::monotonic_ns, o);
+             p.obj = std::make_unique<LockManager>(*h.graph, nullptr, agents::monotonic_ns, o);
              return p;
            }), py::arg("graph"), py::arg("lease") = 2.0)
       .def("install", [](PyLocks& p) { p.get("install").install(); }, "Installs the lock check as the graph's commit validator.")

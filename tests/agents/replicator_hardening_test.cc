@@ -39,6 +39,24 @@ std::shared_ptr<const std::vector<std::uint8_t>> bytes_of(const GraphDelta& d) {
   return std::make_shared<const std::vector<std::uint8_t>>(graph::encode(d));
 }
 
+// A delta of `origin` over sequence numbers [lo, hi] creating one node "thing" named `name`,
+// whose id is the dot (origin, counter): what a forger sends under another replica's name.
+GraphDelta one_node_delta(const PeerId& origin, std::uint64_t lo, std::uint64_t hi, std::uint64_t counter,
+                          const std::string& name) {
+  GraphDelta d;
+  d.origin = origin;
+  d.seq_lo = lo;
+  d.seq_hi = hi;
+  d.context.add_range(origin, counter, counter);
+  GraphDelta::NodeOp op;
+  op.id = NodeId{graph::Dot{origin, counter}};
+  op.has_header = true;
+  op.type = Symbol("thing");
+  op.name = name;
+  d.nodes.push_back(op);
+  return d;
+}
+
 bool has_error(const Node& n, ErrorCode code, const std::string& text) {
   for (const Error& e : n.errors)
     if (e.code == code && e.message.find(text) != std::string::npos) return true;
@@ -151,16 +169,7 @@ TEST(ReplicatorHardeningTest, TheSameIntervalWithAnotherPayloadIsReportedAndJoin
   const PeerId origin = net.nodes[a].g->replica();
   // The forged payload's dots are not the real one's (a forger reusing the very same dots is the
   // case only authenticated identities close: docs/protocol.md).
-  GraphDelta other;
-  other.origin = origin;
-  other.seq_lo = other.seq_hi = 1;
-  other.context.add_range(origin, 500, 500);
-  GraphDelta::NodeOp op;
-  op.id = NodeId{graph::Dot{origin, 500}};
-  op.has_header = true;
-  op.type = Symbol("thing");
-  op.name = "not_x";
-  other.nodes.push_back(op);
+  const GraphDelta other = one_node_delta(origin, 1, 1, 500, "not_x");
   inject(net, b, kRogue, DeltaMsg{origin, 1, 1, bytes_of(other)});
   EXPECT_TRUE(has_error(net.nodes[b], ErrorCode::kEquivocation, "differs from the one already applied"));
   EXPECT_EQ(net.nodes[b].rep->stats().equivocations, 1u);
@@ -187,17 +196,7 @@ TEST(ReplicatorHardeningTest, AForgedIntervalCoveringRealDeltasIsFoundByTheDiges
   add_node(*net.nodes[a].g, "x");
   net.pump();
   const PeerId victim = net.nodes[a].g->replica();
-  GraphDelta forged;
-  forged.origin = victim;
-  forged.seq_lo = 2;
-  forged.seq_hi = 1000;
-  forged.context.add_range(victim, 500, 500);
-  GraphDelta::NodeOp op;
-  op.id = NodeId{graph::Dot{victim, 500}};
-  op.has_header = true;
-  op.type = Symbol("thing");
-  op.name = "forged";
-  forged.nodes.push_back(op);
+  const GraphDelta forged = one_node_delta(victim, 2, 1000, 500, "forged");
   inject(net, b, kRogue, DeltaMsg{victim, 2, 1000, bytes_of(forged)});
   add_node(*net.nodes[a].g, "y");  // the victim's real 2: an equivocation at b, joined
   add_node(*net.nodes[a].g, "z");  // the victim's real 3: inside the forged interval at b
@@ -221,17 +220,7 @@ TEST(ReplicatorHardeningTest, AForgeryUnderOurNameIsReportedAndOurWritesStillFlo
   add_node(*net.nodes[a].g, "x");
   net.pump();
   const PeerId victim = net.nodes[a].g->replica();
-  GraphDelta forged;
-  forged.origin = victim;
-  forged.seq_lo = 2;
-  forged.seq_hi = 5;
-  forged.context.add_range(victim, 50, 50);
-  GraphDelta::NodeOp op;
-  op.id = NodeId{graph::Dot{victim, 50}};
-  op.has_header = true;
-  op.type = Symbol("thing");
-  op.name = "forged";
-  forged.nodes.push_back(op);
+  const GraphDelta forged = one_node_delta(victim, 2, 5, 50, "forged");
   for (int i : {a, b, c}) inject(net, i, kRogue, DeltaMsg{victim, 2, 5, bytes_of(forged)});
   EXPECT_TRUE(has_error(net.nodes[a], ErrorCode::kEquivocation, "under this replica's name"));
   NodeId y = add_node(*net.nodes[a].g, "y");

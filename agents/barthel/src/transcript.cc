@@ -19,8 +19,10 @@ void Transcript::on_changes(const graph::ChangeBatch& b) {
       }
     } else if (e.key.type == speaking && e.kind == ChangeKind::kDeleted) {
       auto p = prompt_at(g_, e.key.to);
-      if (p && !marked(g_, node::kSpeaker, edge::kSpoke, p->id))
+      if (p && !marked(g_, node::kSpeaker, edge::kSpoke, p->id)) {
+        ++interruptions_;
         out_("robot:   (stops mid-sentence: \"" + p->text.substr(0, 40) + "...\")");
+      }
     } else if ((e.key.type == heard || e.key.type == tapped) && e.kind == ChangeKind::kCreated) {
       auto p = prompt_at(g_, e.key.to);
       auto a = answer_to(g_, e.key.to);

@@ -21,6 +21,8 @@ class Transcript {
   std::string status() const { return status_; }
   int item() const { return item_; }
   bool goodbye_said() const { return goodbye_said_; }
+  /// Sentences the robot stopped before their end (the speaking mark taken back, never spoken).
+  int interruptions() const { return interruptions_; }
 
  private:
   const graph::Graph& g_;
@@ -28,6 +30,7 @@ class Transcript {
   std::set<std::int64_t> said_, answered_;
   std::string status_;
   int item_ = -1;
+  int interruptions_ = 0;
   bool present_ = false, seen_presence_ = false, goodbye_said_ = false, called_ = false;
 };
 

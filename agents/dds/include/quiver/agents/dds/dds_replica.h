@@ -17,6 +17,7 @@
 #include <type_traits>
 #include <vector>
 
+#include "quiver/posted_call.h"
 #include "quiver/agents/dds/dds_transport.h"
 #include "quiver/agents/replication/replicator.h"
 #include "quiver/graph/graph.h"
@@ -72,11 +73,7 @@ class DdsReplica {
   /// wait for itself).
   template <class F>
   auto call(F fn) -> std::future<std::invoke_result_t<F&>> {
-    using R = std::invoke_result_t<F&>;
-    auto task = std::make_shared<std::packaged_task<R()>>(std::move(fn));
-    std::future<R> result = task->get_future();
-    post([task] { (*task)(); });
-    return result;
+    return posted_call([this](std::function<void()> task) { post(std::move(task)); }, std::move(fn));
   }
 
   /// Identifies a timer (to cancel it). 0 is never a timer.

@@ -21,6 +21,7 @@
 #include <string>
 #include <vector>
 
+#include "quiver/posted_call.h"
 #include "quiver/agents/runtime/action.h"
 #include "quiver/agents/runtime/context.h"
 #include "quiver/graph/graph.h"
@@ -96,11 +97,7 @@ class Agent {
   /// (broken_promise). @pre not waited on from the agent's own thread.
   template <class F>
   auto call(F fn) -> std::future<std::invoke_result_t<F&>> {
-    using R = std::invoke_result_t<F&>;
-    auto task = std::make_shared<std::packaged_task<R()>>(std::move(fn));
-    std::future<R> result = task->get_future();
-    post([task] { (*task)(); });
-    return result;
+    return posted_call([this](std::function<void()> task) { post(std::move(task)); }, std::move(fn));
   }
   /// The host's side: takes the tasks posted so far (the runtime runs them in tick()).
   std::vector<std::function<void()>> take_posted() {
