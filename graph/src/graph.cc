@@ -9,9 +9,12 @@ namespace quiver::graph {
 
 const char* to_string(ChangeKind k) {
   switch (k) {
-    case ChangeKind::kCreated: return "created";
-    case ChangeKind::kUpdated: return "updated";
-    case ChangeKind::kDeleted: return "deleted";
+    case ChangeKind::kCreated:
+      return "created";
+    case ChangeKind::kUpdated:
+      return "updated";
+    case ChangeKind::kDeleted:
+      return "deleted";
   }
   return "unknown";
 }
@@ -121,7 +124,8 @@ void Graph::Impl::set_alive(NodeRec* r, bool alive, Symbol type, const std::stri
     // An earlier namesake takes the name from the node that held it: that one is renamed.
     const NodeRec* holder = sakes.empty() ? nullptr : name_winner(sakes);
     sakes.push_back(r);
-    if (holder && name_winner(sakes) == r) touch_renamed(const_cast<NodeRec*>(holder), holder->name);
+    if (holder && name_winner(sakes) == r)
+      touch_renamed(const_cast<NodeRec*>(holder), holder->name);
     by_type[r->type].insert(r);
   } else {
     r->alive = false;
@@ -134,7 +138,8 @@ void Graph::Impl::set_alive(NodeRec* r, bool alive, Symbol type, const std::stri
           it->second.swap_erase(p);
           break;
         }
-      if (it->second.empty()) by_name.erase(it);
+      if (it->second.empty())
+        by_name.erase(it);
       else if (held) {  // the name passes on to the earliest remaining namesake
         NodeRec* heir = const_cast<NodeRec*>(name_winner(it->second));
         touch_renamed(heir, heir->name + "~" + heir->id.to_string());
@@ -212,8 +217,10 @@ void Graph::Impl::gc_candidates_sweep() {
   for (NodeId id : gc_candidates) {
     NodeRec* r = find_node(id);
     if (r == nullptr) continue;
-    if (!r->alive && ctx.contains(id.dot)) kill_record(r);
-    else erase_node_record_if_empty(r);
+    if (!r->alive && ctx.contains(id.dot))
+      kill_record(r);
+    else
+      erase_node_record_if_empty(r);
   }
   gc_candidates.clear();
 }
@@ -230,7 +237,8 @@ RtView Graph::Impl::rt_view(const NodeRec& r) const {
   v.stamp = e.stamp;
   Hasher h(7);
   for (const RtSample& s : r.history)
-    if (s.epoch == r.rt_epoch) h.i64(s.stamp).u64(s.dot.replica.agent).u64(s.dot.replica.incarnation).u64(s.dot.counter);
+    if (s.epoch == r.rt_epoch)
+      h.i64(s.stamp).u64(s.dot.replica.agent).u64(s.dot.replica.incarnation).u64(s.dot.counter);
   v.history = h.h64();
   return v;
 }
@@ -241,7 +249,8 @@ void Graph::Impl::touch_edge(const EdgeRec& e) {
   if (was) {
     const NodeRec* f = find_node(e.key.from);
     const NodeRec* t = find_node(e.key.to);
-    was = tracker.node_was_alive(e.key.from, f && f->alive) && tracker.node_was_alive(e.key.to, t && t->alive);
+    was = tracker.node_was_alive(e.key.from, f && f->alive) &&
+          tracker.node_was_alive(e.key.to, t && t->alive);
   }
   tracker.touch_edge(e.key, was);
 }
@@ -310,7 +319,8 @@ void Graph::Impl::finish_tracking(bool local, ReplicaId origin,
     bool now = r && r->alive;
     if (!t.was_alive && now) {
       NodeChange c{t.id, ChangeKind::kCreated, r->type, {}, false};
-      for (const AttrSlot& a : r->attrs) c.attrs.push_back(a.name);  // all of them, whenever they came
+      for (const AttrSlot& a : r->attrs)
+        c.attrs.push_back(a.name);  // all of them, whenever they came
       b.nodes.push_back(std::move(c));
     } else if (t.was_alive && !now) {
       b.nodes.push_back(NodeChange{t.id, ChangeKind::kDeleted, t.type, {}, false});
@@ -344,11 +354,15 @@ void Graph::Impl::finish_tracking(bool local, ReplicaId origin,
     const RtView after = c ? rt_view(*c) : RtView{};
     if (after == before) continue;
     if (before.parent != after.parent) {
-      if (!before.parent.is_null()) b.edges.push_back(EdgeChange{EdgeKey{before.parent, child, symbols::rt()}, ChangeKind::kDeleted, {}});
+      if (!before.parent.is_null())
+        b.edges.push_back(
+            EdgeChange{EdgeKey{before.parent, child, symbols::rt()}, ChangeKind::kDeleted, {}});
       if (!after.parent.is_null())
-        b.edges.push_back(EdgeChange{EdgeKey{after.parent, child, symbols::rt()}, ChangeKind::kCreated, {symbols::pose()}});
+        b.edges.push_back(EdgeChange{
+            EdgeKey{after.parent, child, symbols::rt()}, ChangeKind::kCreated, {symbols::pose()}});
     } else if (!after.parent.is_null()) {
-      b.edges.push_back(EdgeChange{EdgeKey{after.parent, child, symbols::rt()}, ChangeKind::kUpdated, {symbols::pose()}});
+      b.edges.push_back(EdgeChange{
+          EdgeKey{after.parent, child, symbols::rt()}, ChangeKind::kUpdated, {symbols::pose()}});
     }
   }
   tracker.reset();
@@ -416,7 +430,8 @@ std::vector<NodeId> Graph::namesakes(std::string_view name) const {
   auto it = impl_->by_name.find(std::string(name));
   if (it == impl_->by_name.end()) return out;
   for (const NodeRec* r : it->second) out.push_back(r->id);
-  std::sort(out.begin(), out.end(), [](NodeId a, NodeId b) { return crdt::lamport_less(a.dot, b.dot); });
+  std::sort(out.begin(), out.end(),
+            [](NodeId a, NodeId b) { return crdt::lamport_less(a.dot, b.dot); });
   return out;
 }
 
@@ -448,16 +463,18 @@ std::vector<Symbol> Graph::attr_names(NodeId id) const {
 
 Error Graph::missing_attr_error(NodeId id, std::string_view name) const {
   const NodeRec* r = impl_->visible_node(id);
-  if (r == nullptr) return make_error(ErrorCode::kNotFound, "get(): node " + id.to_string() + " does not exist");
-  return make_error(ErrorCode::kNotFound,
-                    "get(): node '" + name_of(id) + "' has no attribute '" + std::string(name) + "'");
+  if (r == nullptr)
+    return make_error(ErrorCode::kNotFound, "get(): node " + id.to_string() + " does not exist");
+  return make_error(ErrorCode::kNotFound, "get(): node '" + name_of(id) + "' has no attribute '" +
+                                              std::string(name) + "'");
 }
 
-Error Graph::wrong_type_error(NodeId id, std::string_view name, const Value& v, ValueType wanted) const {
-  return make_error(ErrorCode::kTypeMismatch, std::string("get<") + to_string(wanted) + ">(): attribute '" +
-                                                  std::string(name) + "' of node '" + name_of(id) + "' (" +
-                                                  id.to_string() + ") is " + Value::article(v.type()) +
-                                                  ", not " + Value::article(wanted));
+Error Graph::wrong_type_error(NodeId id, std::string_view name, const Value& v,
+                              ValueType wanted) const {
+  return make_error(ErrorCode::kTypeMismatch,
+                    std::string("get<") + to_string(wanted) + ">(): attribute '" +
+                        std::string(name) + "' of node '" + name_of(id) + "' (" + id.to_string() +
+                        ") is " + Value::article(v.type()) + ", not " + Value::article(wanted));
 }
 
 namespace {
@@ -468,17 +485,18 @@ std::string describe_edge(const Graph& g, const EdgeKey& k) {
 
 Error Graph::missing_attr_error(const EdgeKey& key, std::string_view name) const {
   if (!has_edge(key.from, key.to, key.type))
-    return make_error(ErrorCode::kNotFound, "get(): " + describe_edge(*this, key) + " does not exist (" +
-                                                key.to_string() + ")");
-  return make_error(ErrorCode::kNotFound,
-                    "get(): " + describe_edge(*this, key) + " has no attribute '" + std::string(name) + "'");
+    return make_error(ErrorCode::kNotFound, "get(): " + describe_edge(*this, key) +
+                                                " does not exist (" + key.to_string() + ")");
+  return make_error(ErrorCode::kNotFound, "get(): " + describe_edge(*this, key) +
+                                              " has no attribute '" + std::string(name) + "'");
 }
 
-Error Graph::wrong_type_error(const EdgeKey& key, std::string_view name, const Value& v, ValueType wanted) const {
-  return make_error(ErrorCode::kTypeMismatch, std::string("get<") + to_string(wanted) + ">(): attribute '" +
-                                                  std::string(name) + "' of " + describe_edge(*this, key) +
-                                                  " is " + Value::article(v.type()) + ", not " +
-                                                  Value::article(wanted));
+Error Graph::wrong_type_error(const EdgeKey& key, std::string_view name, const Value& v,
+                              ValueType wanted) const {
+  return make_error(ErrorCode::kTypeMismatch,
+                    std::string("get<") + to_string(wanted) + ">(): attribute '" +
+                        std::string(name) + "' of " + describe_edge(*this, key) + " is " +
+                        Value::article(v.type()) + ", not " + Value::article(wanted));
 }
 
 Symbol Graph::typed(std::string_view type) { return Symbol(type); }
@@ -545,7 +563,8 @@ std::size_t Graph::edge_count() const {
 std::optional<Dot> Graph::edge_version(const EdgeKey& key) const {
   if (key.type == symbols::rt()) {
     const NodeRec* c = impl_->visible_node(key.to);
-    if (c == nullptr || c->rt_parent == nullptr || !(c->rt_parent->id == key.from)) return std::nullopt;
+    if (c == nullptr || c->rt_parent == nullptr || !(c->rt_parent->id == key.from))
+      return std::nullopt;
     return c->rt_epoch;
   }
   const EdgeRec* e = impl_->find_edge(key);
@@ -619,17 +638,30 @@ std::vector<NodeId> Graph::rt_roots() const {
 
 const crdt::CausalContext& Graph::context() const { return impl_->ctx; }
 
-void Graph::set_delta_sink(std::function<void(const GraphDelta&)> sink) { impl_->sink = std::move(sink); }
+void Graph::set_delta_sink(std::function<void(const GraphDelta&)> sink) {
+  impl_->sink = std::move(sink);
+}
 void Graph::set_commit_validator(CommitValidator v) { impl_->validator = std::move(v); }
 void Graph::set_fence_provider(FenceProvider f) { impl_->fence_of = std::move(f); }
-void Graph::set_merge_observer(MergeObserver o) { impl_->merge_observer = std::move(o); }
-Status Graph::annotate_commit(std::string rule, std::vector<std::pair<std::string, NodeId>> binding) {
+Graph::ObserverId Graph::add_merge_observer(MergeObserver o) {
+  const ObserverId id = impl_->next_observer++;
+  impl_->merge_observers.emplace_back(id, std::move(o));
+  return id;
+}
+void Graph::remove_merge_observer(ObserverId id) {
+  std::erase_if(impl_->merge_observers, [id](const auto& e) { return e.first == id; });
+}
+Status Graph::annotate_commit(std::string rule,
+                              std::vector<std::pair<std::string, NodeId>> binding) {
   if (Status s = check_name("annotate_commit(): the rule name", rule); !s.ok()) return s;
   if (binding.size() > limits::kMaxTable)
-    return make_error(ErrorCode::kTooLarge, "annotate_commit(): " + std::to_string(binding.size()) + " variables");
+    return make_error(ErrorCode::kTooLarge,
+                      "annotate_commit(): " + std::to_string(binding.size()) + " variables");
   for (const auto& [var, id] : binding) {
     if (Status s = check_name("annotate_commit(): a variable name", var); !s.ok()) return s;
-    if (id.is_null()) return make_error(ErrorCode::kInvalidArgument, "annotate_commit(): variable '" + var + "' is bound to no node");
+    if (id.is_null())
+      return make_error(ErrorCode::kInvalidArgument,
+                        "annotate_commit(): variable '" + var + "' is bound to no node");
   }
   impl_->out.rule = std::move(rule);
   impl_->out.binding = std::move(binding);
@@ -654,13 +686,16 @@ void Graph::set_origin_namer(OriginNamer namer) { impl_->origin_namer = std::mov
 
 void Graph::unsubscribe(SubscriptionId id) {
   auto& s = impl_->subscribers;
-  s.erase(std::remove_if(s.begin(), s.end(), [&](const auto& p) { return p.first == id; }), s.end());
+  s.erase(std::remove_if(s.begin(), s.end(), [&](const auto& p) { return p.first == id; }),
+          s.end());
 }
 
 void Graph::merge(const GraphDelta& delta) {
-  if (impl_->merge_observer) impl_->merge_observer(*this, delta);
-  if (delta.kind == GraphDelta::Kind::kState) impl_->merge_state(delta);
-  else impl_->merge_delta(delta);
+  for (const auto& [id, observe] : impl_->merge_observers) observe(*this, delta);
+  if (delta.kind == GraphDelta::Kind::kState)
+    impl_->merge_state(delta);
+  else
+    impl_->merge_delta(delta);
 }
 
 }  // namespace quiver::graph

@@ -185,7 +185,8 @@ struct Graph::Impl {
   CommitValidator validator;
   FenceProvider fence_of;
   Graph::OriginNamer origin_namer;
-  MergeObserver merge_observer;
+  std::vector<std::pair<Graph::ObserverId, MergeObserver>> merge_observers;
+  Graph::ObserverId next_observer = 1;
   std::uint64_t fence(NodeId n) const { return fence_of ? fence_of(n) : 0; }
   /// An edge attribute carries the higher fence of its two ends.
   std::uint64_t edge_fence(const EdgeKey& k) const { return std::max(fence(k.from), fence(k.to)); }

@@ -12,7 +12,7 @@ GrammarGuard::GrammarGuard(graph::Graph& g, GrammarChecker checker, std::string 
   // Starting from a graph without violations, on_changes keeps every violation in open_.
   complete_ = where_free_ && (g_.node_count() == 0 || checker_.all_violations(g_).empty());
   sub_ = g_.subscribe([this](const graph::ChangeBatch& b) { on_changes(b); });
-  g_.set_merge_observer([this](const graph::Graph& before, const graph::GraphDelta& d) {
+  merge_observer_ = g_.add_merge_observer([this](const graph::Graph& before, const graph::GraphDelta& d) {
     if (d.kind != graph::GraphDelta::Kind::kDelta) return;  // states carry no single rule
     auto peer = peers_.find(d.origin.agent);
     Status s = (peer == peers_.end() ? checker_ : peer->second).verify_delta(before, d);
@@ -27,7 +27,7 @@ GrammarGuard::GrammarGuard(graph::Graph& g, GrammarChecker checker, std::string 
 
 GrammarGuard::~GrammarGuard() {
   g_.unsubscribe(sub_);
-  g_.set_merge_observer(nullptr);
+  g_.remove_merge_observer(merge_observer_);
 }
 
 graph::Graph::CommitValidator GrammarGuard::validator() {

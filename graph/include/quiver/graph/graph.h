@@ -347,9 +347,12 @@ class Graph {
   /// a commit validator that matched the transaction to a rule.
   /// @returns kInvalidArgument / kTooLarge if a name breaks the limits table (nothing attached).
   Status annotate_commit(std::string rule, std::vector<std::pair<std::string, NodeId>> binding);
-  /// Called at the start of every merge with the state before it and the incoming fragment.
+  /// Called at the start of every merge with the state before it and the incoming fragment
+  /// (several observers may watch: a grammar guard, a recorder), in the order they were added.
   using MergeObserver = std::function<void(const Graph& before, const GraphDelta& incoming)>;
-  void set_merge_observer(MergeObserver o);
+  using ObserverId = std::uint64_t;
+  ObserverId add_merge_observer(MergeObserver o);
+  void remove_merge_observer(ObserverId id);
   /// The fencing epoch local writes to a node's attributes carry (a lock module installs it;
   /// edge attributes take the greater of their endpoints'). Without a provider, writes carry 0.
   using FenceProvider = std::function<std::uint64_t(NodeId)>;

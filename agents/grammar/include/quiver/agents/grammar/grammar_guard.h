@@ -58,6 +58,7 @@ class GrammarGuard {
   std::map<std::uint64_t, GrammarChecker> peers_;
   std::string name_;
   graph::Graph::SubscriptionId sub_ = 0;
+  graph::Graph::ObserverId merge_observer_ = 0;
   std::function<void(const Violation&)> cb_;
   std::function<void(const graph::ReplicaId&, const Error&)> unverified_cb_;
   std::uint64_t verified_ = 0, unverified_ = 0;

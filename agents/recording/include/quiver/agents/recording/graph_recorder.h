@@ -1,0 +1,42 @@
+#pragma once
+/// @file
+/// Turns what a replica receives into frames: every merge into the graph (a peer's delta, a
+/// state transfer) becomes one Frame, handed to a sink (a RecordWriter, a History) with its time
+/// and its origin's name. The first frame is the replica's state when recording began (if it
+/// holds anything), so that a recording replays on its own.
+///
+/// Local commits are not recorded (recorders are observers); the same graph may carry other
+/// merge observers (a grammar guard).
+
+#include <cstdint>
+#include <functional>
+#include <string>
+
+#include "quiver/agents/recording/frame.h"
+#include "quiver/graph/graph.h"
+
+namespace quiver::agents::recording {
+
+class GraphRecorder {
+ public:
+  using Clock = std::function<std::int64_t()>;
+  using Namer = std::function<std::string(const graph::ReplicaId&)>;
+  using Sink = std::function<void(Frame&&)>;
+  /// `clock` gives the frames' times (ns); `namer` names an origin (e.g. Replicator::name_of).
+  GraphRecorder(graph::Graph& g, Clock clock, Namer namer, Sink sink);
+  ~GraphRecorder();
+  GraphRecorder(const GraphRecorder&) = delete;
+  GraphRecorder& operator=(const GraphRecorder&) = delete;
+
+  std::uint64_t frames() const { return frames_; }
+
+ private:
+  graph::Graph& g_;
+  Clock clock_;
+  Namer namer_;
+  Sink sink_;
+  graph::Graph::ObserverId observer_ = 0;
+  std::uint64_t frames_ = 0;
+};
+
+}  // namespace quiver::agents::recording

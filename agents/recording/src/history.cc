@@ -1,0 +1,68 @@
+#include "quiver/agents/recording/history.h"
+
+#include "quiver/graph/codec.h"
+#include "quiver/hash.h"
+
+namespace quiver::agents::recording {
+
+graph::ReplicaId replay_replica_id() { return graph::ReplicaId{fnv1a64("quiver-replay"), 1}; }
+
+History::History(std::uint64_t max_bytes) : max_bytes_(max_bytes) {}
+History::~History() = default;
+History::History(History&&) noexcept = default;
+History& History::operator=(History&&) noexcept = default;
+
+void History::add(Frame f) {
+  Kept k{f.t_ns, std::move(f.origin), graph::encode(f.delta)};
+  bytes_ += k.delta.size() + k.origin.size();
+  kept_.push_back(std::move(k));
+  while (bytes_ > max_bytes_ && kept_.size() > 1) {
+    Kept& old = kept_.front();
+    if (!base_) base_ = std::make_unique<graph::Graph>(replay_replica_id());
+    // Stored bytes came from encode() of a delta that was merged once already: they decode.
+    if (auto d = graph::decode(old.delta); d.ok()) base_->merge(d.value());
+    bytes_ -= old.delta.size() + old.origin.size();
+    kept_.pop_front();
+    ++first_;
+  }
+}
+
+Result<Frame> History::frame(std::uint64_t i) const {
+  if (i < first_ || i >= end())
+    return make_error(ErrorCode::kNotFound,
+                      "frame " + std::to_string(i) + " is not in the history (it holds " +
+                          std::to_string(first_) + ".." + std::to_string(end()) + ")");
+  const Kept& k = kept_[i - first_];
+  auto d = graph::decode(k.delta);
+  if (!d.ok()) return d.error();
+  return Frame{k.t_ns, k.origin, std::move(d.value())};
+}
+
+std::int64_t History::time_of(std::uint64_t i) const { return kept_.at(i - first_).t_ns; }
+const std::string& History::origin_of(std::uint64_t i) const { return kept_.at(i - first_).origin; }
+
+Result<std::unique_ptr<graph::Graph>> History::state_after(std::uint64_t i,
+                                                           graph::ChangeBatch* changes) const {
+  if (i < first_ || i >= end())
+    return make_error(ErrorCode::kNotFound,
+                      "frame " + std::to_string(i) + " is not in the history (it holds " +
+                          std::to_string(first_) + ".." + std::to_string(end()) + ")");
+  auto g = std::make_unique<graph::Graph>(replay_replica_id());
+  if (base_) g->merge(base_->state());
+  graph::GraphDelta d;
+  for (std::uint64_t j = first_; j <= i; ++j) {
+    if (Status s = graph::decode(kept_[j - first_].delta, d); !s.ok()) return s.error();
+    if (j == i && changes != nullptr) {
+      const auto sub = g->subscribe([changes](const graph::ChangeBatch& b) { *changes = b; });
+      *changes = graph::ChangeBatch{};
+      g->merge(d);
+      g->unsubscribe(sub);
+      changes->origin_name = kept_[j - first_].origin;
+    } else {
+      g->merge(d);
+    }
+  }
+  return g;
+}
+
+}  // namespace quiver::agents::recording
