@@ -18,6 +18,8 @@ void add_agents_bench_commands(CLI::App& app);
 void add_barthel_commands(CLI::App& app);
 /// bench reaction (needs add_bench_commands first).
 void add_reaction_bench_command(CLI::App& app);
+/// view, record.
+void add_view_commands(CLI::App& app);
 /// The process exit status the command that ran has chosen.
 int exit_code();
 void set_exit_code(int code);

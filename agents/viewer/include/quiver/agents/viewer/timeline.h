@@ -1,0 +1,44 @@
+#pragma once
+/// @file
+/// The viewer's timeline: the frames a replica received (a bounded recording::History) with a
+/// summary of what each one changed, so that a page can list them and show the state after any.
+
+#include <cstdint>
+#include <deque>
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+#include "quiver/agents/recording/history.h"
+#include "quiver/agents/viewer/view_json.h"
+
+namespace quiver::agents::viewer {
+
+class Timeline {
+ public:
+  explicit Timeline(std::uint64_t max_bytes = 64ull << 20, std::uint64_t max_frames = 200'000);
+
+  /// A frame, as it arrives (before the graph merged it).
+  void add_frame(recording::Frame f);
+  /// What the last frame changed (after the merge; `g` is the graph after it).
+  void on_batch(const graph::Graph& g, const graph::ChangeBatch& b);
+
+  std::uint64_t begin() const { return history_.begin(); }
+  std::uint64_t end() const { return history_.end(); }
+  const recording::History& history() const { return history_; }
+
+  /// {"begin", "end", "frames": [{"i", "t_ms", "origin", "kind", "summary"}...]} for frames
+  /// [from, from + limit) that are still listed.
+  nlohmann::json list(std::uint64_t from, std::uint64_t limit) const;
+  /// The state after frame i as snapshot_json(), plus "frame" (its list entry) and "changed"
+  /// (node keys) and "changed_edges" for highlighting. kNotFound when i is not listed.
+  Result<nlohmann::json> state_after(std::uint64_t i, const Decor& d) const;
+
+ private:
+  nlohmann::json entry(std::uint64_t i) const;
+  recording::History history_;
+  std::deque<std::string> summaries_;  // aligned with history_ (dumped JSON; "" until its batch)
+  std::deque<bool> states_;            // frame i was a state fragment
+};
+
+}  // namespace quiver::agents::viewer
