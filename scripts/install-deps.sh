@@ -12,6 +12,8 @@ packages=(
   libtf2-dev
   nlohmann-json3-dev libcli11-dev libspdlog-dev
   espeak-ng libopencv-dev
+  libcpp-httplib-dev libjs-d3 libjs-three libgraphviz-dev
+  chromium chromium-driver python3-selenium
   iproute2 procps python3
   pybind11-dev python3-dev python3-pytest python3-numpy python3-pytest-benchmark
 )

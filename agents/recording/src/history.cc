@@ -7,7 +7,7 @@ namespace quiver::agents::recording {
 
 graph::ReplicaId replay_replica_id() { return graph::ReplicaId{fnv1a64("quiver-replay"), 1}; }
 
-History::History(std::uint64_t max_bytes) : max_bytes_(max_bytes) {}
+History::History(std::uint64_t max_bytes, std::uint64_t max_frames) : max_bytes_(max_bytes), max_frames_(max_frames) {}
 History::~History() = default;
 History::History(History&&) noexcept = default;
 History& History::operator=(History&&) noexcept = default;
@@ -16,7 +16,7 @@ void History::add(Frame f) {
   Kept k{f.t_ns, std::move(f.origin), graph::encode(f.delta)};
   bytes_ += k.delta.size() + k.origin.size();
   kept_.push_back(std::move(k));
-  while (bytes_ > max_bytes_ && kept_.size() > 1) {
+  while ((bytes_ > max_bytes_ || kept_.size() > max_frames_) && kept_.size() > 1) {
     Kept& old = kept_.front();
     if (!base_) base_ = std::make_unique<graph::Graph>(replay_replica_id());
     // Stored bytes came from encode() of a delta that was merged once already: they decode.

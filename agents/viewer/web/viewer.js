@@ -381,6 +381,7 @@ quiver.worldPosition = (name) => {
   }
   return null;
 };
+quiver.draw = drawGraph;
 quiver.showFrame = showFrame; quiver.goLive = goLive; quiver.inspectNode = inspectNode;
 quiver.inspectByName = (name) => { for (const n of quiver.nodes.values()) if (n.name === name) { inspectNode(n.id); return true; } return false; };
 

@@ -4,7 +4,7 @@
 /// viewer's timeline, a renderer of a recording).
 ///
 /// Frames are numbered from 0 in arrival order; numbers stay valid while the history runs. When
-/// the frames kept pass `max_bytes` (their encoded size), the oldest are folded into a base
+/// the frames kept pass `max_bytes` (their encoded size) or `max_frames`, the oldest are folded into a base
 /// state, so the earliest frame still listed moves on but every listed one can still be rebuilt.
 
 #include <cstdint>
@@ -22,7 +22,7 @@ namespace quiver::agents::recording {
 
 class History {
  public:
-  explicit History(std::uint64_t max_bytes = 64ull << 20);
+  explicit History(std::uint64_t max_bytes = 64ull << 20, std::uint64_t max_frames = UINT64_MAX);
   ~History();
   History(History&&) noexcept;
   History& operator=(History&&) noexcept;
@@ -55,6 +55,7 @@ class History {
     std::vector<std::uint8_t> delta;  // graph codec
   };
   std::uint64_t max_bytes_;
+  std::uint64_t max_frames_;
   std::uint64_t first_ = 0;
   std::uint64_t bytes_ = 0;
   std::deque<Kept> kept_;
