@@ -6,9 +6,14 @@
 // measured directly: the writer stores its clock in the value it writes, readers subtract it
 // from their clock in their change-event callback.
 
+#include <httplib.h>
+#include <signal.h>
 #include <unistd.h>
 
 #include <algorithm>
+#include <atomic>
+#include <memory>
+#include <thread>
 #include <cstdio>
 #include <iostream>
 #include <nlohmann/json.hpp>
@@ -77,6 +82,7 @@ struct RoleFlags {
   int join_nodes = 10000;
   int agents = 20;
   double seconds = 5;
+  bool with_viewer = false;
 };
 
 // ------------------------------------------------------------------ throughput / latency / join
@@ -333,12 +339,72 @@ std::optional<json> read_json(Subprocess& p, const char* who, int timeout_ms) {
   }
 }
 
+// `quiver view` on the benchmark's domain with a page's event stream open (read by a thread of
+// this process), so the viewer does all its work while the writer writes.
+class AttachedViewer {
+ public:
+  static std::unique_ptr<AttachedViewer> start(const DdsFlags& dds) {
+    auto p = Subprocess::spawn({self_exe(), "--log-level", "warn", "view", "--domain", std::to_string(dds.domain),
+                                "--dds-config", dds.dds_config, "--listen", "127.0.0.1:0"});
+    if (!p) return nullptr;
+    auto line = p->read_line(20'000);
+    const auto at = line ? line->find("http://127.0.0.1:") : std::string::npos;
+    if (at == std::string::npos) {
+      agents::named_logger("quiver bench dds")->error("quiver view did not start");
+      return nullptr;
+    }
+    auto v = std::make_unique<AttachedViewer>();
+    v->process_ = std::make_unique<Subprocess>(std::move(*p));
+    v->state_ = std::make_shared<State>();
+    const int port = std::stoi(line->substr(at + 17));
+    v->reader_ = std::thread([state = v->state_, port] {
+      httplib::Client c("127.0.0.1", port);
+      c.set_read_timeout(1, 0);
+      while (!state->stop.load())
+        (void)c.Get("/api/events", [&](const char*, std::size_t n) {
+          state->bytes += n;
+          return !state->stop.load();
+        });
+    });
+    return v;
+  }
+  AttachedViewer() = default;
+  AttachedViewer(const AttachedViewer&) = delete;
+  AttachedViewer& operator=(const AttachedViewer&) = delete;
+  ~AttachedViewer() { (void)stop(); }
+  /// Stops the viewer; @returns the event bytes the page received.
+  std::uint64_t stop() {
+    if (state_) state_->stop.store(true);
+    if (reader_.joinable()) reader_.join();
+    if (process_) {
+      ::kill(process_->pid(), SIGTERM);
+      process_->wait(10'000);
+      process_.reset();
+    }
+    return state_ ? state_->bytes.load() : 0;
+  }
+
+ private:
+  struct State {
+    std::atomic<bool> stop{false};
+    std::atomic<std::uint64_t> bytes{0};
+  };
+  std::unique_ptr<Subprocess> process_;
+  std::shared_ptr<State> state_;
+  std::thread reader_;
+};
+
 int run_bench_dds(const RoleFlags& f) {
   std::vector<std::string> common = {"--updates", std::to_string(f.updates), "--batch", std::to_string(f.batch),
                                      "--readers", std::to_string(f.readers), "--latency-samples",
                                      std::to_string(f.latency_samples), "--join-nodes", std::to_string(f.join_nodes)};
   auto readers = spawn_roles("reader", f.readers, f.dds, common);
   if (!readers) return 2;
+  std::unique_ptr<AttachedViewer> viewer;
+  if (f.with_viewer) {
+    viewer = AttachedViewer::start(f.dds);
+    if (!viewer) return 2;
+  }
   auto writer = Subprocess::spawn(role_argv("writer", f.dds, common));
   if (!writer) return 2;
   auto ready = read_json(*writer, "writer", 600'000);
@@ -371,6 +437,8 @@ int run_bench_dds(const RoleFlags& f) {
   out["join_ms_10k"] = joined ? (*joined)["join_ms"] : json(nullptr);
   if (joined) out["join_ms_10k_from_process_start"] = (*joined)["join_ms_from_process_start"];
   out["write_timeouts"] = (*ready)["write_timeouts"];
+  out["with_viewer"] = f.with_viewer;
+  if (viewer) out["viewer_event_bytes"] = viewer->stop();
   std::cout << out.dump() << std::endl;
   return joined && (*joined)["synced"].get<bool>() ? 0 : 1;
 }
@@ -415,6 +483,8 @@ void add_dds_bench_commands(CLI::App& app) {
   dds->add_option("--readers", f->readers)->check(CLI::Range(1, 64))->capture_default_str();
   dds->add_option("--latency-samples", f->latency_samples)->check(CLI::Range(0, 10'000'000))->capture_default_str();
   dds->add_option("--join-nodes", f->join_nodes)->check(CLI::Range(0, 10'000'000))->capture_default_str();
+  dds->add_flag("--with-viewer", f->with_viewer,
+                "run `quiver view` on the domain, with a page's event stream open, during the benchmark");
   dds->callback([f] { set_exit_code(run_bench_dds(*f)); });
 
   auto* tr = bench->add_subcommand("dds-tracking",

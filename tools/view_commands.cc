@@ -4,7 +4,11 @@
 #include <CLI/CLI.hpp>
 
 #include <atomic>
+#include <sys/resource.h>
+
+#include <cerrno>
 #include <csignal>
+#include <cstring>
 #include <iostream>
 #include <map>
 #include <mutex>
@@ -39,6 +43,7 @@ struct ViewFlags {
   std::string replay, world, grammar, assets;
   double run_for_s = 0;
   double history_mb = 64;
+  int nice = 10;
 };
 
 Result<std::pair<std::string, int>> parse_listen(const std::string& s) {
@@ -137,9 +142,13 @@ int run_view(const ViewFlags& f) {
     vo.title = f.replay.empty() ? f.world : f.replay;
     return view_static(f, vo);
   }
+  // An observer yields the processor to the agents it watches (docs/viewer.md).
+  if (f.nice != 0 && ::setpriority(PRIO_PROCESS, 0, f.nice) != 0)
+    log->warn("could not lower the viewer's priority to nice {}: {}", f.nice, std::strerror(errno));
   agents::DdsReplicaOptions o;
   o.name = "quiver-view";
   o.observer = true;
+  o.dds.best_effort_reader = true;
   auto created = f.dds.create_agent(o);
   if (!created.ok()) {
     log->error("{}", created.error().to_string());
@@ -197,6 +206,7 @@ int run_record(const RecordFlags& f) {
   agents::DdsReplicaOptions o;
   o.name = "quiver-record";
   o.observer = true;
+  o.dds.best_effort_reader = true;
   auto created = f.dds.create_agent(o);
   if (!created.ok()) {
     log->error("{}", created.error().to_string());
@@ -250,6 +260,9 @@ void add_view_commands(CLI::App& app) {
   view->add_option("--assets", vf->assets, "the page's files (default: installed with Quiver)");
   view->add_option("--history-mb", vf->history_mb, "memory for the timeline (oldest frames fold into a base state)")
       ->check(CLI::Range(1.0, 65536.0));
+  view->add_option("--nice", vf->nice, "live: run at this scheduling niceness, so that the agents come first (0: as started)")
+      ->check(CLI::Range(0, 19))
+      ->capture_default_str();
   view->add_option("--for", vf->run_for_s, "stop after this many seconds (default: until Ctrl-C)")->check(CLI::Range(0.0, 1e7));
   view->callback([vf] { set_exit_code(run_view(*vf)); });
 

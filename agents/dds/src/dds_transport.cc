@@ -210,6 +210,10 @@ Result<std::unique_ptr<DdsTransport>> DdsTransport::create(const PeerId& self, c
   dds_qset_history(reliable.q, DDS_HISTORY_KEEP_ALL, 0);
   dds_qset_resource_limits(reliable.q, 100000, DDS_LENGTH_UNLIMITED, DDS_LENGTH_UNLIMITED);
   dds_qset_ignorelocal(reliable.q, DDS_IGNORELOCAL_PARTICIPANT);
+  Qos best_effort;
+  dds_qset_reliability(best_effort.q, DDS_RELIABILITY_BEST_EFFORT, 0);
+  dds_qset_history(best_effort.q, DDS_HISTORY_KEEP_LAST, 1024);
+  dds_qset_ignorelocal(best_effort.q, DDS_IGNORELOCAL_PARTICIPANT);
 
   for (int i = 0; i < Impl::kKinds; ++i) {
     const auto topic = static_cast<DdsTopic>(i);
@@ -221,7 +225,8 @@ Result<std::unique_ptr<DdsTransport>> DdsTransport::create(const PeerId& self, c
     dds_entity_t w = dds_create_writer(pp, tp, q.q, nullptr);
     if (w < 0) return dds_error("DdsTransport: dds_create_writer" + what, w);
     d.writers[i] = Entity(w);
-    dds_entity_t r = dds_create_reader(pp, tp, q.q, nullptr);
+    const Qos& rq = i != Impl::kSummary && cfg.best_effort_reader ? best_effort : q;
+    dds_entity_t r = dds_create_reader(pp, tp, rq.q, nullptr);
     if (r < 0) return dds_error("DdsTransport: dds_create_reader" + what, r);
     d.readers[i] = Entity(r);
   }

@@ -41,27 +41,36 @@ Result<Frame> History::frame(std::uint64_t i) const {
 std::int64_t History::time_of(std::uint64_t i) const { return kept_.at(i - first_).t_ns; }
 const std::string& History::origin_of(std::uint64_t i) const { return kept_.at(i - first_).origin; }
 
-Result<std::unique_ptr<graph::Graph>> History::state_after(std::uint64_t i,
-                                                           graph::ChangeBatch* changes) const {
-  if (i < first_ || i >= end())
-    return make_error(ErrorCode::kNotFound,
-                      "frame " + std::to_string(i) + " is not in the history (it holds " +
-                          std::to_string(first_) + ".." + std::to_string(end()) + ")");
-  auto g = std::make_unique<graph::Graph>(replay_replica_id());
-  if (base_) g->merge(base_->state());
+Status History::replay(std::uint64_t from, std::uint64_t last,
+                       const std::function<void(std::uint64_t, const graph::Graph&, const graph::ChangeBatch&)>& fn) const {
+  if (last < first_ || last >= end())
+    return make_error(ErrorCode::kNotFound, "frame " + std::to_string(last) + " is not in the history (it holds " +
+                                                std::to_string(first_) + ".." + std::to_string(end()) + ")");
+  graph::Graph g(replay_replica_id());
+  if (base_) g.merge(base_->state());
+  graph::ChangeBatch changes;
+  const auto sub = g.subscribe([&changes](const graph::ChangeBatch& b) { changes = b; });
   graph::GraphDelta d;
-  for (std::uint64_t j = first_; j <= i; ++j) {
-    if (Status s = graph::decode(kept_[j - first_].delta, d); !s.ok()) return s.error();
-    if (j == i && changes != nullptr) {
-      const auto sub = g->subscribe([changes](const graph::ChangeBatch& b) { *changes = b; });
-      *changes = graph::ChangeBatch{};
-      g->merge(d);
-      g->unsubscribe(sub);
-      changes->origin_name = kept_[j - first_].origin;
-    } else {
-      g->merge(d);
+  for (std::uint64_t j = first_; j <= last; ++j) {
+    if (Status s = graph::decode(kept_[j - first_].delta, d); !s.ok()) return s;
+    changes = graph::ChangeBatch{};
+    g.merge(d);
+    if (j >= from) {
+      changes.origin_name = kept_[j - first_].origin;
+      fn(j, g, changes);
     }
   }
+  g.unsubscribe(sub);
+  return {};
+}
+
+Result<std::unique_ptr<graph::Graph>> History::state_after(std::uint64_t i, graph::ChangeBatch* changes) const {
+  auto g = std::make_unique<graph::Graph>(replay_replica_id());
+  Status s = replay(i, i, [&](std::uint64_t, const graph::Graph& after, const graph::ChangeBatch& b) {
+    g->merge(after.state());
+    if (changes != nullptr) *changes = b;
+  });
+  if (!s.ok()) return s.error();
   return g;
 }
 

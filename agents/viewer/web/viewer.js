@@ -6,7 +6,7 @@
 const quiver = window.quiver = {
   nodes: new Map(),      // key -> node object (server JSON + layout x, y)
   edges: new Map(),      // "from|type|to" -> edge object
-  live: true, frame: null, fps: 0, frames: 0, changes: 0, loadedMs: null,
+  live: true, frame: null, fps: 0, frames: 0, changes: 0, loadedMs: null, readyMs: null,
   appearedAt: {},        // node name -> Date.now() when it first appeared on the page
   highlight: new Map(),  // key -> until (performance.now())
   hideGeometry: false, selected: null, filter: '',
@@ -58,15 +58,18 @@ function layoutGraph(reheat) {
 }
 
 // A new node starts next to a node it is linked to, so the layout moves little.
+const neighbours = new Map();  // key -> Set of keys linked to it by a symbolic edge
+function link(e, on) {
+  for (const [a, b] of [[e.from, e.to], [e.to, e.from]]) {
+    if (!neighbours.has(a)) neighbours.set(a, new Set());
+    if (on) neighbours.get(a).add(b); else neighbours.get(a).delete(b);
+  }
+}
 function placeNear(n) {
   if (n.x !== undefined) return;
-  let anchor = null;
-  if (n.pose && quiver.nodes.has(n.pose.parent)) anchor = quiver.nodes.get(n.pose.parent);
-  for (const e of quiver.edges.values()) {
-    if (anchor && anchor.x !== undefined) break;
-    if (e.to === n.id) anchor = quiver.nodes.get(e.from);
-    else if (e.from === n.id) anchor = quiver.nodes.get(e.to);
-  }
+  let anchor = n.pose ? quiver.nodes.get(n.pose.parent) : undefined;
+  if (!anchor || anchor.x === undefined)
+    for (const k of neighbours.get(n.id) || []) { const m = quiver.nodes.get(k); if (m && m.x !== undefined) { anchor = m; break; } }
   const i = quiver.nodes.size;
   if (anchor && anchor.x !== undefined) { n.x = anchor.x + 20 * Math.cos(i); n.y = anchor.y + 20 * Math.sin(i); }
   else { const r = 10 * Math.sqrt(i); n.x = width / 2 + r * Math.cos(i * 2.4); n.y = height / 2 + r * Math.sin(i * 2.4); }
@@ -218,7 +221,8 @@ function putNode(n) {
 function dropNode(key) { quiver.nodes.delete(key); three.remove(key); }
 
 function loadSnapshot(s) {
-  quiver.nodes.clear(); quiver.edges.clear(); three.clear();
+  quiver.nodes.clear(); quiver.edges.clear(); neighbours.clear(); three.clear();
+  for (const e of s.edges) { quiver.edges.set(edgeKey(e), e); link(e, true); }
   // Parents first, so each 3D object finds its parent.
   const byKey = new Map(s.nodes.map((n) => [n.id, n]));
   const done = new Set();
@@ -228,7 +232,6 @@ function loadSnapshot(s) {
     putNode(n);
   };
   s.nodes.forEach(visit);
-  for (const e of s.edges) quiver.edges.set(edgeKey(e), e);
   quiver.violations = s.violations;
   quiver.highlight.clear();
   const until = performance.now() + 1e9;
@@ -243,10 +246,10 @@ function loadSnapshot(s) {
 function applyChange(m) {
   const until = performance.now() + HIGHLIGHT_MS;
   let structural = false;
+  for (const e of m.edges) { const k = edgeKey(e); if (!quiver.edges.has(k)) structural = true; quiver.edges.set(k, e); link(e, true); quiver.highlight.set(k, until); }
+  for (const e of m.deleted_edges) { quiver.edges.delete(edgeKey(e)); link(e, false); structural = true; }
   for (const n of m.nodes) { if (!quiver.nodes.has(n.id)) structural = true; putNode(n); quiver.highlight.set(n.id, until); }
   for (const k of m.deleted_nodes) { dropNode(k); structural = true; }
-  for (const e of m.edges) { const k = edgeKey(e); if (!quiver.edges.has(k)) structural = true; quiver.edges.set(k, e); quiver.highlight.set(k, until); }
-  for (const e of m.deleted_edges) { quiver.edges.delete(edgeKey(e)); structural = true; }
   for (const p of m.poses) {
     const n = quiver.nodes.get(p.id);
     if (n) n.pose = p;
@@ -389,7 +392,10 @@ quiver.inspectByName = (name) => { for (const n of quiver.nodes.values()) if (n.
 let fpsCount = 0, fpsSince = performance.now();
 function animate(now) {
   three.frame();
-  if (dirty || quiver.highlight.size) { drawGraph(); dirty = false; }
+  if (dirty || quiver.highlight.size) {
+    drawGraph(); dirty = false;
+    if (quiver.readyMs === null) quiver.readyMs = performance.now();  // since navigation began
+  }
   for (const [k, until] of quiver.highlight) if (until < now) quiver.highlight.delete(k);
   quiver.frames++; fpsCount++;
   if (now - fpsSince >= 1000) { quiver.fps = fpsCount * 1000 / (now - fpsSince); fpsCount = 0; fpsSince = now; }

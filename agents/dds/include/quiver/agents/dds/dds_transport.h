@@ -42,6 +42,10 @@ struct DdsConfig {
   int xmit_loss_permille = 0;                  ///< testing: Cyclone drops this share of sent packets
   bool own_domain_instance = false;            ///< a private Cyclone instance (threads, sockets) for this transport
   std::int64_t max_blocking_ns = 100'000'000;  ///< how long a reliable write may wait for a lagging reader
+  /// Read deltas, pulls and states best effort: writers never wait for this participant (a viewer
+  /// or a recorder that falls behind must not hold the agents back). What it misses it pulls, as
+  /// after any loss.
+  bool best_effort_reader = false;
 };
 
 /// The largest sample the embedded configuration lets Cyclone accept or send: a delta at the

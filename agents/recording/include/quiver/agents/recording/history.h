@@ -9,6 +9,7 @@
 
 #include <cstdint>
 #include <deque>
+#include <functional>
 #include <memory>
 #include <optional>
 #include <string>
@@ -47,6 +48,10 @@ class History {
   /// if `changes` is given, what frame i changed. kNotFound when i is not listed.
   Result<std::unique_ptr<graph::Graph>> state_after(std::uint64_t i,
                                                     graph::ChangeBatch* changes = nullptr) const;
+  /// Rebuilds the states after frames begin()..last in order and calls `fn(i, graph after i,
+  /// what frame i changed)` for each i >= `from`. kNotFound when `last` is not listed.
+  Status replay(std::uint64_t from, std::uint64_t last,
+                const std::function<void(std::uint64_t, const graph::Graph&, const graph::ChangeBatch&)>& fn) const;
 
  private:
   struct Kept {

@@ -1,7 +1,9 @@
 #pragma once
 /// @file
-/// The viewer's timeline: the frames a replica received (a bounded recording::History) with a
-/// summary of what each one changed, so that a page can list them and show the state after any.
+/// The viewer's timeline: the frames a replica received (a bounded recording::History), listed
+/// with what each one changed, and the state after any of them. Nothing is computed as frames
+/// arrive beyond keeping them: summaries come from replaying the history when a page asks, so a
+/// busy domain costs the viewer little.
 
 #include <cstdint>
 #include <deque>
@@ -20,8 +22,6 @@ class Timeline {
 
   /// A frame, as it arrives (before the graph merged it).
   void add_frame(recording::Frame f);
-  /// What the last frame changed (after the merge; `g` is the graph after it).
-  void on_batch(const graph::Graph& g, const graph::ChangeBatch& b);
 
   std::uint64_t begin() const { return history_.begin(); }
   std::uint64_t end() const { return history_.end(); }
@@ -35,10 +35,9 @@ class Timeline {
   Result<nlohmann::json> state_after(std::uint64_t i, const Decor& d) const;
 
  private:
-  nlohmann::json entry(std::uint64_t i) const;
+  nlohmann::json entry(std::uint64_t i, const graph::Graph& after, const graph::ChangeBatch& b) const;
   recording::History history_;
-  std::deque<std::string> summaries_;  // aligned with history_ (dumped JSON; "" until its batch)
-  std::deque<bool> states_;            // frame i was a state fragment
+  std::deque<bool> states_;  // aligned with history_: frame i was a state fragment
 };
 
 }  // namespace quiver::agents::viewer

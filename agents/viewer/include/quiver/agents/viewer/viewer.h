@@ -35,7 +35,9 @@ struct ViewerOptions {
   std::string title;               ///< e.g. "DDS domain 0"
   std::uint64_t history_bytes = 64ull << 20;
   std::uint64_t history_frames = 200'000;
-  std::int64_t flush_ns = 33'000'000;  ///< changes are pushed at most this often
+  /// Changes are pushed at most this often, and less often when pushing takes more than a tenth
+  /// of the time.
+  std::int64_t flush_ns = 33'000'000;
 };
 
 /// Where the page's files are: $QUIVER_VIEWER_ASSETS, else the source tree (a build that was not
@@ -86,7 +88,7 @@ class Viewer {
   EventHub hub_;
   std::unique_ptr<recording::GraphRecorder> recorder_;
   graph::Graph::SubscriptionId sub_ = 0;
-  std::int64_t last_flush_ = 0;
+  std::int64_t next_flush_ = 0;
   std::string last_agents_;
   std::string last_violations_;
   int port_ = 0;
