@@ -38,9 +38,10 @@ set(QUIVER_PC_agents_LIBS "-lquiver_runtime -lquiver_locks -lquiver_grammar -lqu
 set(QUIVER_PC_dds_REQUIRES "quiver-agents = ${PROJECT_VERSION}, CycloneDDS, CLI11")
 set(QUIVER_PC_dds_PRIVATE "spdlog")
 set(QUIVER_PC_dds_LIBS "-lquiver_runtime_process -lquiver_agents_dds")
-set(QUIVER_PC_sim_REQUIRES "quiver-agents = ${PROJECT_VERSION}")
-set(QUIVER_PC_sim_PRIVATE "opencv4")
-set(QUIVER_PC_sim_LIBS "-lquiver_sim -lquiver_barthel -lquiver_devices")
+# cv::Mat is in quiver::images' API: opencv4 is a public requirement (its include path).
+set(QUIVER_PC_sim_REQUIRES "quiver-agents = ${PROJECT_VERSION}, opencv4")
+set(QUIVER_PC_sim_PRIVATE "")
+set(QUIVER_PC_sim_LIBS "-lquiver_sim -lquiver_barthel -lquiver_images -lquiver_devices")
 # Relocatable: the prefix is found from the .pc file's own place, so `cmake --install --prefix`
 # anywhere gives working files.
 file(RELATIVE_PATH QUIVER_PC_PREFIX_FROM_PCDIR

@@ -298,8 +298,14 @@ bool uniform(const cv::Mat& img) {
   return true;
 }
 
+// The screen's picture as text, to compare with a file's bytes.
+std::string image_text(const Screen& screen) {
+  return {reinterpret_cast<const char*>(screen.image().data()), screen.image().size()};
+}
+
 TEST_F(DevicesTest, OpenCvScreenWritesPngs) {
   OpenCvScreen screen(path("screen"));
+  EXPECT_TRUE(screen.image().empty()) << "nothing rendered yet";
   ScreenContent c;
   c.title = "Stairs";
   c.text = "Can you go up and down stairs? Touch an answer or say it.";
@@ -314,6 +320,8 @@ TEST_F(DevicesTest, OpenCvScreenWritesPngs) {
   EXPECT_EQ(shown.cols, 800);
   EXPECT_EQ(shown.rows, 480);
   EXPECT_FALSE(uniform(shown));
+  // image() is the PNG just written, byte for byte.
+  EXPECT_EQ(image_text(screen), read_all(screen.last_png()));
 
   // The highlight changes the picture.
   c.highlighted = -1;
@@ -331,6 +339,8 @@ TEST_F(DevicesTest, OpenCvScreenWritesPngs) {
   ASSERT_FALSE(blank.empty());
   EXPECT_EQ(blank.size(), cv::Size(800, 480));
   EXPECT_TRUE(uniform(blank));
+  EXPECT_EQ(image_text(screen), read_all(screen.last_png())) << "the blank picture";
+  const std::string blank_png = image_text(screen);
 
   // Bad content is refused before anything is written.
   c.highlighted = 3;
@@ -341,6 +351,7 @@ TEST_F(DevicesTest, OpenCvScreenWritesPngs) {
       << bad.error().message;
   EXPECT_FALSE(fs::exists(path("screen") + "/screen_0004.png"));
   EXPECT_FALSE(screen.current().has_value());
+  EXPECT_EQ(image_text(screen), blank_png) << "a refused show() keeps the picture";
 }
 
 TEST_F(DevicesTest, OpenCvScreenWrapsLongTextInsideTheScreen) {
@@ -382,6 +393,7 @@ TEST_F(DevicesTest, SimulatedScreenRecordsAndChecks) {
   SimulatedScreen screen;
   ScreenContent c{"Bathing", "Can you bathe by yourself?", {"dependent", "independent"}, 0};
   ASSERT_TRUE(screen.show(c, 10).ok());
+  EXPECT_TRUE(screen.image().empty()) << "the simulated screen renders no pictures";
   ASSERT_TRUE(screen.clear(20).ok());
   EXPECT_FALSE(screen.current().has_value());
   c.options.push_back("");

@@ -21,7 +21,7 @@ step() { echo "== $*"; }
 step "cmake --install $build --prefix $prefix"
 cmake --install "$build" --prefix "$prefix" >"$work/install.log"
 test -x "$prefix/bin/quiver"
-for lib in crdt graph kinematics replication grammar locks runtime agents_dds runtime_process; do
+for lib in crdt graph kinematics replication grammar locks runtime agents_dds runtime_process images; do
   find "$prefix" -name "libquiver_$lib.a" | grep -q . || { echo "FAIL: no libquiver_$lib.a" >&2; exit 1; }
   find "$prefix" -name "libquiver_$lib.so" | grep -q . || { echo "FAIL: no libquiver_$lib.so" >&2; exit 1; }
 done
@@ -70,6 +70,47 @@ c++ -std=c++20 -O1 "$src/examples/graph_basics/graph_basics.cc" -o "$work/graph_
   $(pkg-config --cflags --libs quiver-graph)
 LD_LIBRARY_PATH=$(pkg-config --variable=libdir quiver-graph) "$work/graph_basics_pc"
 pkg-config --exists --print-errors "quiver-kinematics >= 0.2" "quiver-dds >= 0.2"
+
+step "an images consumer: component sim re-finds OpenCV (cv::Mat is in quiver::images' API)"
+mkdir -p "$work/images"
+cat >"$work/images/images.cc" <<'CPP'
+#include <cstdio>
+
+#include "quiver/agents/images/image_attrs.h"
+using namespace quiver;
+
+int main() {
+  graph::Graph g(graph::ReplicaId{1, 1});
+  auto tx = g.begin();
+  auto cam = tx.create_node("camera", "camera");
+  cv::Mat m(48, 64, CV_8UC3, cv::Scalar(10, 20, 30));
+  if (!cam.ok() || !agents::images::set_image(tx, *cam, m).ok() || !tx.commit().ok()) return 1;
+  auto back = agents::images::get_image(g, *cam);
+  if (!back.ok() || back->size() != m.size()) return 1;
+  std::printf("images: %dx%d %s\n", back->cols, back->rows,
+              agents::images::mime_type(agents::images::image_info(g, *cam)->encoding));
+  return 0;
+}
+CPP
+cat >"$work/images/CMakeLists.txt" <<'CMAKE'
+cmake_minimum_required(VERSION 3.22)
+project(images_consumer LANGUAGES CXX)
+find_package(quiver 0.2 CONFIG REQUIRED COMPONENTS sim)
+add_executable(images images.cc)
+target_link_libraries(images PRIVATE quiver::images)
+add_executable(images_shared images.cc)
+target_link_libraries(images_shared PRIVATE quiver::images_shared)
+CMAKE
+cmake -S "$work/images" -B "$work/images/build" "${generator[@]}" -DCMAKE_PREFIX_PATH="$prefix" \
+  -DCMAKE_BUILD_TYPE=Release >"$work/images.log"
+cmake --build "$work/images/build" >>"$work/images.log"
+"$work/images/build/images"
+# The installed shared libraries carry no RUNPATH: their own dependencies (libquiver_crdt.so
+# under libquiver_graph.so) are found through the loader's path.
+libdir=$(dirname "$(find "$prefix" -name libquiver_images.so | head -1)")
+LD_LIBRARY_PATH=$libdir "$work/images/build/images_shared"
+c++ -std=c++20 -O1 "$work/images/images.cc" -o "$work/images_pc" $(pkg-config --cflags --libs quiver-sim)
+LD_LIBRARY_PATH=$(pkg-config --variable=libdir quiver-graph) "$work/images_pc"
 
 step "examples/ against the installed package"
 start=$(date +%s%N)

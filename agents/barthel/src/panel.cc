@@ -4,6 +4,7 @@
 
 #include "quiver/agents/barthel/grammars.h"
 #include "quiver/agents/barthel/schema.h"
+#include "quiver/agents/images/image_attrs.h"
 
 namespace quiver::agents::barthel {
 
@@ -42,7 +43,9 @@ class Panel::Display final : public Action {
     if (p->buttons) c.options = p->options;
     if (Status s = p_.screen_->show(c, ctx.now()); !s.ok()) return s;
     graph::Transaction tx = g.begin();
-    if (Status s = tx.insert_edge(node_id(g, node::kPanel), p->id, edge::kShowing); !s.ok()) return s;
+    const NodeId panel = node_id(g, node::kPanel);
+    if (Status s = tx.insert_edge(panel, p->id, edge::kShowing); !s.ok()) return s;
+    p_.store_screen_image(ctx, tx, panel);
     ++p_.shown_;
     auto c2 = tx.commit();
     return c2.ok() ? Status{} : Status(c2.error());
@@ -52,9 +55,19 @@ class Panel::Display final : public Action {
   Status finish(AgentContext&, const Match&) override { return {}; }
 
   void cancel(AgentContext& ctx, const Match& m, CancelReason) override {
-    (void)p_.screen_->clear(ctx.now());
+    graph::Graph& g = ctx.graph();
+    const NodeId panel = node_id(g, node::kPanel);
+    {
+      graph::Transaction tx = g.begin();
+      if (p_.screen_->clear(ctx.now()).ok()) {
+        p_.store_screen_image(ctx, tx, panel);  // the blank picture
+      } else {
+        (void)images::remove_image(tx, panel, kScreenImage);  // what it shows is unknown
+      }
+      if (!tx.empty()) (void)tx.commit();
+    }
     ++p_.cleared_;
-    (void)take_back(ctx.graph(), node::kPanel, edge::kShowing, m.at("utterance"));
+    (void)take_back(g, node::kPanel, edge::kShowing, m.at("utterance"));
   }
 
  private:
@@ -80,13 +93,34 @@ Panel::Panel(std::unique_ptr<devices::Screen> screen, std::unique_ptr<TouchInput
 Panel::~Panel() = default;
 
 void Panel::setup(AgentContext& ctx) {
-  // A screen mark left by an earlier incarnation: this screen shows nothing yet.
-  (void)take_back(ctx.graph(), node::kPanel, edge::kShowing);
+  // A screen mark or picture left by an earlier incarnation: this screen shows nothing yet.
+  graph::Graph& g = ctx.graph();
+  (void)take_back(g, node::kPanel, edge::kShowing);
+  if (const NodeId panel = node_id(g, node::kPanel); !panel.is_null()) {
+    graph::Transaction tx = g.begin();
+    if (images::remove_image(tx, panel, kScreenImage).ok() && !tx.empty()) (void)tx.commit();
+  }
   ChangeFilter interest;
   interest.edge_types = {std::string(edge::kSay), std::string(edge::kInFrontOf)};
   interest.attributes = {"obsolete", "status", "seen_ns", "present"};
   add_action(std::make_unique<Display>(*this), interest);
   if (touch_) ctx.every(opt_.touch_period_ns, [this, &ctx] { poll_touch(ctx); });
+}
+
+// Puts the picture the screen now shows on the panel node in `tx`, when the screen renders
+// pictures. One that cannot be stored is logged, and the stale one removed: the graph never
+// shows what the screen no longer does.
+void Panel::store_screen_image(AgentContext& ctx, graph::Transaction& tx, NodeId panel) {
+  const std::span<const std::uint8_t> picture = screen_->image();
+  if (picture.empty()) return;
+  Status s = images::set_encoded_image(tx, panel, graph::Bytes(picture.begin(), picture.end()),
+                                       kScreenImage);
+  if (s.ok()) {
+    ++images_;
+    return;
+  }
+  ctx.log("the screen's picture is not stored: " + s.error().message);
+  (void)images::remove_image(tx, panel, kScreenImage);
 }
 
 void Panel::poll_touch(AgentContext& ctx) {
@@ -123,6 +157,7 @@ void Panel::status(nlohmann::json& out) const {
   out["shown"] = shown_;
   out["cleared"] = cleared_;
   out["taps"] = taps_;
+  out["images"] = images_;
 }
 
 }  // namespace quiver::agents::barthel

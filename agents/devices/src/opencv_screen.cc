@@ -24,10 +24,11 @@ OpenCvScreen::OpenCvScreen(std::string out_dir, int width, int height)
 
 namespace {
 
-// Renders with `draw` and writes the PNG atomically to the next `<out_dir>/screen_NNNN.png`.
+// Renders with `draw` and writes the PNG atomically to the next `<out_dir>/screen_NNNN.png`;
+// on success `last_png` names it and `image` holds its bytes.
 template <class Draw>
 Status write_png(const std::string& out_dir, int& next_index, std::string& last_png,
-                 const char* fn, Draw draw) {
+                 std::vector<std::uint8_t>& image, const char* fn, Draw draw) {
   if (Status s = internal::ensure_directory(out_dir, fn); !s) return s;
   char name[32];
   std::snprintf(name, sizeof name, "screen_%04d.png", next_index++);
@@ -45,6 +46,7 @@ Status write_png(const std::string& out_dir, int& next_index, std::string& last_
   const std::string_view bytes(reinterpret_cast<const char*>(png.data()), png.size());
   if (Status s = internal::write_file_atomically(path, bytes, fn); !s) return s;
   last_png = path;
+  image = std::move(png);
   return Status::Ok();
 }
 
@@ -53,7 +55,7 @@ Status write_png(const std::string& out_dir, int& next_index, std::string& last_
 Status OpenCvScreen::show(const ScreenContent& c, std::int64_t now_ns) {
   constexpr const char* kFn = "OpenCvScreen::show()";
   if (Status s = check_screen_content(c, kFn); !s) return s;
-  Status s = write_png(out_dir_, next_index_, last_png_, kFn,
+  Status s = write_png(out_dir_, next_index_, last_png_, image_, kFn,
                        [&] { return internal::render_screen(c, width_, height_); });
   if (!s) return s;
   current_ = c;
@@ -62,7 +64,7 @@ Status OpenCvScreen::show(const ScreenContent& c, std::int64_t now_ns) {
 
 Status OpenCvScreen::clear(std::int64_t now_ns) {
   constexpr const char* kFn = "OpenCvScreen::clear()";
-  Status s = write_png(out_dir_, next_index_, last_png_, kFn,
+  Status s = write_png(out_dir_, next_index_, last_png_, image_, kFn,
                        [&] { return internal::render_blank_screen(width_, height_); });
   if (!s) return s;
   current_.reset();

@@ -4,6 +4,12 @@
 /// the screen while the patient is there (`panel -[showing]-> u`), clears it when the person is
 /// lost, and writes the option the patient touches as `panel -[tapped]-> u`. Grammar:
 /// grammars/panel.aggl.
+///
+/// The picture the screen shows (devices::Screen::image()) goes onto the panel node as the image
+/// `screen` (agents/images: `screen`, `screen_width`, `screen_height`, `screen_encoding`), in the
+/// same transaction as the `showing` mark; a clear replaces it with the blank picture the screen
+/// then shows; a (re)started Panel removes a picture an earlier incarnation left. A screen that
+/// renders no pictures (SimulatedScreen) stores none.
 #include <cstdint>
 #include <memory>
 
@@ -31,11 +37,12 @@ class Panel final : public Agent {
  private:
   class Display;
   void poll_touch(AgentContext& ctx);
+  void store_screen_image(AgentContext& ctx, graph::Transaction& tx, graph::NodeId panel);
   std::unique_ptr<devices::Screen> screen_;
   std::unique_ptr<TouchInput> touch_;
   PanelOptions opt_;
   std::int64_t handled_touch_ = 0;
-  std::uint64_t shown_ = 0, cleared_ = 0, taps_ = 0;
+  std::uint64_t shown_ = 0, cleared_ = 0, taps_ = 0, images_ = 0;
 };
 
 }  // namespace quiver::agents::barthel

@@ -14,7 +14,8 @@
 ///   item, attempt, seq, options, and what the screen shows with it: title, screen_text, buttons).
 /// - `speaker -[speaking]-> u` while Speech says it; `speaker -[spoke]-> u` once it has been said
 ///   to the end (an interrupted utterance goes back to neither).
-/// - `panel -[showing]-> u` while the Panel shows u's screen.
+/// - `panel -[showing]-> u` while the Panel shows u's screen; the picture the screen shows is the
+///   image `screen` on `panel` (kScreenImage; docs/images.md), when the screen renders pictures.
 /// - `speaker -[heard]-> u` / `panel -[tapped]-> u`: the patient's answer to question u (edge
 ///   attributes `option` (index, -1 when not understood) and `text`).
 /// - `test -[calls]-> clinician`: the clinician was paged.
@@ -52,6 +53,10 @@ inline constexpr std::string_view kHeard = "heard";
 inline constexpr std::string_view kTapped = "tapped";
 inline constexpr std::string_view kCalls = "calls";
 }  // namespace edge
+
+/// The image prefix of the picture the panel's screen shows: attributes `screen`,
+/// `screen_width`, `screen_height`, `screen_encoding` of `panel` (agents/images/image_attrs.h).
+inline constexpr std::string_view kScreenImage = "screen";
 
 /// The 15 body joints the person sensor tracks (the AGM paper's human model).
 const std::vector<std::string>& joint_names();

@@ -4,8 +4,10 @@
 
 #include <cstdint>
 #include <optional>
+#include <span>
 #include <string>
 #include <string_view>
+#include <vector>
 
 #include "quiver/agents/devices/screen.h"
 #include "quiver/result.h"
@@ -41,6 +43,9 @@ class OpenCvScreen final : public Screen {
   Status clear(std::int64_t now_ns) override;
   const std::optional<ScreenContent>& current() const override { return current_; }
 
+  /// The bytes of the last PNG written (what the screen shows); empty before the first.
+  std::span<const std::uint8_t> image() const override { return image_; }
+
   /// The path of the last PNG written; empty before the first.
   const std::string& last_png() const { return last_png_; }
   int width() const { return width_; }
@@ -53,6 +58,7 @@ class OpenCvScreen final : public Screen {
   int next_index_ = 1;
   std::optional<ScreenContent> current_;
   std::string last_png_;
+  std::vector<std::uint8_t> image_;
 };
 
 }  // namespace quiver::agents::devices

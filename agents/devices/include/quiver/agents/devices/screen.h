@@ -7,6 +7,7 @@
 
 #include <cstdint>
 #include <optional>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -48,6 +49,12 @@ class Screen {
 
   /// What the screen shows now; empty before the first show() and after clear().
   virtual const std::optional<ScreenContent>& current() const = 0;
+
+  /// The picture the screen shows now, as an encoded image file (PNG or JPEG bytes): the render
+  /// of the last successful show() or clear() (a blank picture after clear()). Empty when this
+  /// screen renders no pictures (SimulatedScreen: the simulator stays cheap) or has rendered
+  /// none yet. Valid until the next show() or clear(). The Panel stores it in the graph.
+  virtual std::span<const std::uint8_t> image() const { return {}; }
 };
 
 }  // namespace quiver::agents::devices

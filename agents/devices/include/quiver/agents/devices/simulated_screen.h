@@ -19,7 +19,8 @@ struct ScreenChange {
   bool operator==(const ScreenChange&) const = default;
 };
 
-/// Records contents; checks them as every Screen does. Not thread-safe.
+/// Records contents; checks them as every Screen does. Renders no pictures (image() stays
+/// empty), so the simulator pays nothing for them. Not thread-safe.
 class SimulatedScreen final : public Screen {
  public:
   Status show(const ScreenContent& c, std::int64_t now_ns) override;
