@@ -160,3 +160,31 @@ def test_a_damaged_recording_is_refused_with_its_name(tmp_path):
     r = subprocess.run([QUIVER, "view", "--replay", str(bad), "--listen", "127.0.0.1:0"], capture_output=True, text=True, timeout=20)
     assert r.returncode == 2
     assert "bad.qrec: frame 0 at byte 13" in r.stderr, r.stderr
+
+
+def png_bytes(width, height, rgb):
+    """A PNG of one colour, written by hand (zlib + CRCs) so the test needs no image library."""
+    import struct
+    import zlib
+
+    def chunk(kind, data):
+        return struct.pack(">I", len(data)) + kind + data + struct.pack(">I", zlib.crc32(kind + data) & 0xFFFFFFFF)
+    rows = b"".join(b"\0" + bytes(rgb) * width for _ in range(height))
+    return (b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", struct.pack(">IIBBBBB", width, height, 8, 2, 0, 0, 0)) +
+            chunk(b"IDAT", zlib.compress(rows)) + chunk(b"IEND", b""))
+
+
+def test_an_image_attribute_is_shown_in_the_inspector(page, writer):
+    png = png_bytes(64, 48, (200, 30, 30))
+    writer.write(lambda t: t.update("robot", {"screen": png, "screen_width": 64, "screen_height": 48,
+                                              "screen_encoding": "png"}))
+    wait_for(page, "(() => { const n = [...quiver.nodes.values()].find((n) => n.name === 'robot');"
+                   " return n.images.includes('screen'); })()")
+    page.execute_script("quiver.inspectByName('robot')")
+    size = wait_for(page, "(() => { const i = document.querySelector('#inspector img[alt=screen]');"
+                          " return i && i.complete && i.naturalWidth && [i.naturalWidth, i.naturalHeight]; })()")
+    assert size == [64, 48]
+    # A picture whose attributes lie about its size is not offered (images::image_info refuses it).
+    writer.write(lambda t: t.set("robot", "screen_width", 65))
+    wait_for(page, "(() => { const n = [...quiver.nodes.values()].find((n) => n.name === 'robot');"
+                   " return !n.images.includes('screen'); })()")

@@ -1,5 +1,6 @@
 #include "quiver/agents/viewer/view_json.h"
 
+#include "quiver/agents/images/image_attrs.h"
 #include "quiver/graph/world_file.h"
 #include "quiver/kinematics/shape.h"
 
@@ -29,16 +30,16 @@ json attrs_json(const std::vector<graph::Symbol>& names,
   return out;
 }
 
-// An image stored with the images schema: <prefix> bytes and <prefix>_encoding.
+// The images a node holds (the images schema, docs/images.md): the prefixes whose attributes
+// check out.
 json images_json(const graph::Graph& g, graph::NodeId id) {
   json out = json::array();
   for (graph::Symbol a : g.attr_names(id)) {
     const std::string& n = a.str();
-    const std::string suffix = "_encoding";
+    const std::string_view suffix = images::kEncodingSuffix;
     if (n.size() <= suffix.size() || n.compare(n.size() - suffix.size(), suffix.size(), suffix) != 0) continue;
     const std::string prefix = n.substr(0, n.size() - suffix.size());
-    const graph::Value* bytes = g.attr(id, prefix);
-    if (bytes != nullptr && bytes->get_if<graph::Bytes>() != nullptr) out.push_back(prefix);
+    if (images::image_info(g, id, prefix).ok()) out.push_back(prefix);
   }
   return out;
 }

@@ -1,6 +1,8 @@
 #include "quiver/agents/viewer/viewer.h"
 
 #include <httplib.h>
+
+#include "quiver/agents/images/image_attrs.h"
 #include <unistd.h>
 
 #include <chrono>
@@ -196,27 +198,20 @@ void Viewer::routes() {
     send_json(res, out);
   });
 
-  // An image attribute's bytes (the images schema: <prefix>, <prefix>_encoding).
+  // An image attribute's bytes (the images schema, docs/images.md).
   srv.Get("/api/image", [this](const httplib::Request& req, httplib::Response& res) {
     const auto id = parse_node_key(req.get_param_value("node"));
     const std::string prefix = req.has_param("prefix") ? req.get_param_value("prefix") : "image";
     if (!id) return send_error(res, 400, "'node' must be a node id such as 00000000000000ab.3:42");
     std::string body, type, error;
     hooks_.run_on_owner([&] {
-      if (!g_.has_node(*id)) {
-        error = "no node " + id->to_string();
+      auto info = images::image_info(g_, *id, prefix);
+      if (!info.ok()) {
+        error = info.error().message;
         return;
       }
-      const graph::Value* bytes = g_.attr(*id, prefix);
-      const graph::Value* enc = g_.attr(*id, prefix + "_encoding");
-      const auto* b = bytes != nullptr ? bytes->get_if<graph::Bytes>() : nullptr;
-      const auto* e = enc != nullptr ? enc->get_if<std::string>() : nullptr;
-      if (b == nullptr || e == nullptr || (*e != "png" && *e != "jpeg")) {
-        error = "node '" + g_.name_of(*id) + "' holds no image '" + prefix + "'";
-        return;
-      }
-      body.assign(b->begin(), b->end());
-      type = *e == "png" ? "image/png" : "image/jpeg";
+      body.assign(info->bytes.begin(), info->bytes.end());
+      type = images::mime_type(info->encoding);
     });
     if (!error.empty()) return send_error(res, 404, error);
     res.set_header("Cache-Control", "no-store");
