@@ -34,7 +34,7 @@ set(QUIVER_PC_kinematics_PRIVATE "urdfdom")
 set(QUIVER_PC_kinematics_LIBS "-lquiver_kinematics")
 set(QUIVER_PC_agents_REQUIRES "quiver-graph = ${PROJECT_VERSION}, nlohmann_json")
 set(QUIVER_PC_agents_PRIVATE "")
-set(QUIVER_PC_agents_LIBS "-lquiver_runtime -lquiver_locks -lquiver_grammar -lquiver_replication")
+set(QUIVER_PC_agents_LIBS "-lquiver_runtime -lquiver_recording -lquiver_locks -lquiver_grammar -lquiver_replication")
 set(QUIVER_PC_dds_REQUIRES "quiver-agents = ${PROJECT_VERSION}, CycloneDDS, CLI11")
 set(QUIVER_PC_dds_PRIVATE "spdlog")
 set(QUIVER_PC_dds_LIBS "-lquiver_runtime_process -lquiver_agents_dds")
@@ -42,6 +42,9 @@ set(QUIVER_PC_dds_LIBS "-lquiver_runtime_process -lquiver_agents_dds")
 set(QUIVER_PC_sim_REQUIRES "quiver-agents = ${PROJECT_VERSION}, opencv4")
 set(QUIVER_PC_sim_PRIVATE "")
 set(QUIVER_PC_sim_LIBS "-lquiver_sim -lquiver_barthel -lquiver_images -lquiver_devices")
+set(QUIVER_PC_viewer_REQUIRES "quiver-sim = ${PROJECT_VERSION}, quiver-kinematics = ${PROJECT_VERSION}, nlohmann_json")
+set(QUIVER_PC_viewer_PRIVATE "cpp-httplib")
+set(QUIVER_PC_viewer_LIBS "-lquiver_viewer")
 # Relocatable: the prefix is found from the .pc file's own place, so `cmake --install --prefix`
 # anywhere gives working files.
 file(RELATIVE_PATH QUIVER_PC_PREFIX_FROM_PCDIR
