@@ -447,6 +447,8 @@ int run_bench_tracking(const RoleFlags& f) {
   std::vector<std::string> common = {"--agents", std::to_string(f.agents), "--seconds", std::to_string(f.seconds)};
   auto listeners = spawn_roles("listener", f.agents - 1, f.dds, common);
   if (!listeners) return 2;
+  std::unique_ptr<AttachedViewer> viewer;
+  if (f.with_viewer && !(viewer = AttachedViewer::start(f.dds))) return 2;
   auto tracker = Subprocess::spawn(role_argv("tracker", f.dds, common));
   if (!tracker) return 2;
   auto t = read_json(*tracker, "tracker", static_cast<int>((f.seconds + 120) * 1000));
@@ -466,6 +468,8 @@ int run_bench_tracking(const RoleFlags& f) {
   out["latency_us_p50"] = round_to(pct.at(0.50), 1);
   out["latency_us_p99"] = round_to(pct.at(0.99), 1);
   out["latency_us_max"] = round_to(pct.at(1.0), 1);
+  out["with_viewer"] = f.with_viewer;
+  if (viewer) out["viewer_event_bytes"] = viewer->stop();
   std::cout << out.dump() << std::endl;
   return 0;
 }
@@ -492,6 +496,7 @@ void add_dds_bench_commands(CLI::App& app) {
   f->dds.add_to(tr);
   tr->add_option("--agents", f->agents)->check(CLI::Range(2, 100))->capture_default_str();
   tr->add_option("--seconds", f->seconds)->check(CLI::Range(0.1, 3600.0))->capture_default_str();
+  tr->add_flag("--with-viewer", f->with_viewer, "run `quiver view` on the domain, with a page's event stream open");
   tr->callback([f] { set_exit_code(run_bench_tracking(*f)); });
 
   auto r = std::make_shared<RoleFlags>();
