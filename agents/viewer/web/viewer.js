@@ -52,9 +52,10 @@ function layoutGraph(reheat) {
         links.push({ source: quiver.nodes.get(n.pose.parent), target: n, rt: true });
   quiver.links = links;
   force.nodes(nodes).links(links);
-  force.start();
-  force.alpha(reheat);
   dirty = true;
+  // A big graph is drawn where it was placed first, and laid out from the next frame on.
+  const start = () => { force.start(); force.alpha(reheat); };
+  if (nodes.length > 3000) requestAnimationFrame(() => requestAnimationFrame(start)); else start();
 }
 
 // A new node starts next to a node it is linked to, so the layout moves little.
@@ -267,7 +268,9 @@ async function goLive() {
   quiver.live = true; $('live').classList.add('on');
   if (events) events.close();
   const t0 = performance.now();
-  const s = await (await fetch('api/snapshot')).json();
+  const first = window.firstSnapshot;
+  window.firstSnapshot = null;
+  const s = first ? await first : await (await fetch('api/snapshot')).json();
   loadSnapshot(s);
   setFrameEnd(s.frame_end);
   quiver.frame = null;
