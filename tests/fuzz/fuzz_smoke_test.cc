@@ -11,6 +11,8 @@
 #include <iterator>
 
 #include "fuzz_targets.h"
+#include "quiver/agents/recording/record_file.h"
+#include "quiver/graph/graph.h"
 #include "quiver/agents/dds/cdr.h"
 #include "quiver/agents/replication/packet_codec.h"
 #include "quiver/agents/replication/replicator.h"
@@ -108,6 +110,7 @@ TEST(FuzzSmokeTest, Regressions) {
       [](const std::uint8_t* d, std::size_t n) { return dds_sample(4, d, n); }};
   for (Target t : {Target{"graph_delta", graph_delta}, Target{"replication_packet", replication_packet},
                    Target{"world_file", world_file}, Target{"grammar_file", grammar_file},
+                   Target{"recording_file", recording_file},
                    Target{"dds_summary", kDds[0]}, Target{"dds_delta", kDds[1]}, Target{"dds_pull", kDds[2]},
                    Target{"dds_state", kDds[3]}, Target{"dds_bye", kDds[4]}}) {
     int n = 0;
@@ -263,6 +266,45 @@ TEST(FuzzSmokeTest, WorldFiles) {
     accepted += world_file(m.data(), m.size());
   }
   std::printf("[fuzz] %d of %d mutated world files loaded\n", accepted, n);
+  EXPECT_GT(accepted, 0);
+}
+
+TEST(FuzzSmokeTest, RecordingFiles) {
+  const auto base = quiver::testing::base_seed("FuzzSmokeTest.RecordingFiles", 83);
+  Rng rng(base);
+  // A real recording: a state frame, then deltas of two writers (nodes, an edge, attributes, RT).
+  graph::Graph a(graph::ReplicaId{11, 1}), b(graph::ReplicaId{12, 1});
+  std::vector<std::uint8_t> seed;
+  agents::recording::encode_header(0, seed);
+  auto frame = [&](std::int64_t t, const char* origin, const graph::GraphDelta& d) {
+    agents::recording::encode_frame({t, origin, d}, seed);
+  };
+  a.set_delta_sink([&](const graph::GraphDelta& d) { frame(1, "a", d); });
+  b.set_delta_sink([&](const graph::GraphDelta& d) { frame(2, "b", d); });
+  {
+    auto tx = a.begin();
+    auto w = *tx.create_node("world", "world");
+    auto r = *tx.create_node("robot", "robot", {{graph::Symbol("battery"), graph::Value(0.5)}});
+    (void)tx.set_rt(w, r, graph::Pose{}, 1);
+    (void)tx.commit();
+  }
+  {
+    auto tx = b.begin();
+    auto k = *tx.create_node("room", "kitchen", {{graph::Symbol("area"), graph::Value(12.5)}});
+    auto r = *tx.create_node("robot", "r2");
+    (void)tx.insert_edge(r, k, graph::Symbol("in"));
+    (void)tx.set_rt(k, r, graph::Pose{{1, 2, 3}, {1, 0, 0, 0}}, 5);
+    (void)tx.commit();
+  }
+  maybe_save("recording", {seed});
+  ASSERT_TRUE(recording_file(seed.data(), seed.size()));
+  int accepted = 0;
+  const int n = 20000;
+  for (int i = 0; i < n; ++i) {
+    auto m = mutate(seed, rng);
+    accepted += recording_file(m.data(), m.size());
+  }
+  std::printf("[fuzz] %d of %d mutated recordings replayed\n", accepted, n);
   EXPECT_GT(accepted, 0);
 }
 

@@ -10,6 +10,8 @@
 #include "quiver/graph/codec.h"
 #include "quiver/graph/graph.h"
 #include "quiver/graph/world_file.h"
+#include "quiver/agents/recording/history.h"
+#include "quiver/agents/recording/record_file.h"
 
 namespace quiver::fuzz {
 namespace {
@@ -107,6 +109,26 @@ bool grammar_file(const std::uint8_t* data, std::size_t size) {
   (void)tx.insert_edge(*g.find_node("person"), *g.find_node("robot"), Symbol("is_with"));
   (void)checker.check(g, tx.ops());
   (void)checker.all_violations(g);
+  return true;
+}
+
+bool recording_file(const std::uint8_t* data, std::size_t size) {
+  auto rec = agents::recording::parse_recording(std::span<const std::uint8_t>(data, size), "fuzz.qrec");
+  if (!rec.ok()) {
+    if (rec.error().message.find("fuzz.qrec") == std::string::npos) std::abort();  // errors name the file
+    return false;
+  }
+  agents::recording::History h;
+  Graph g(agents::recording::replay_replica_id());
+  for (auto& f : rec->frames) {
+    g.merge(f.delta);
+    h.add(std::move(f));
+  }
+  check(g, "recording_file");
+  if (!h.empty() && !(h.state_after(h.end() - 1).value()->digest() == g.digest())) {
+    std::fprintf(stderr, "recording_file: the history does not rebuild the replayed state\n");
+    std::abort();
+  }
   return true;
 }
 

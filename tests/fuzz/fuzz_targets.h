@@ -17,6 +17,8 @@ bool replication_packet(const std::uint8_t* data, std::size_t size);
 bool world_file(const std::uint8_t* data, std::size_t size);
 /// Grammar files: parsed, then used to check a transaction and search for violations.
 bool grammar_file(const std::uint8_t* data, std::size_t size);
+/// A .qrec recording: refused with a message, or every frame replays into a graph.
+bool recording_file(const std::uint8_t* data, std::size_t size);
 /// Serialized CDR samples of one DDS topic (0 summary, 1 delta, 2 pull, 3 state, 4 bye), as a rogue
 /// participant can publish them: decoded as Cyclone would, then validated and handled by a
 /// replicator. Accepted = the replicator took the envelope without rejecting it.
