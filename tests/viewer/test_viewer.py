@@ -179,7 +179,7 @@ def test_an_image_attribute_is_shown_in_the_inspector(page, writer):
     writer.write(lambda t: t.update("robot", {"screen": png, "screen_width": 64, "screen_height": 48,
                                               "screen_encoding": "png"}))
     wait_for(page, "(() => { const n = [...quiver.nodes.values()].find((n) => n.name === 'robot');"
-                   " return n.images.includes('screen'); })()")
+                   " return n.images.some((i) => i.prefix === 'screen'); })()")
     page.execute_script("quiver.inspectByName('robot')")
     size = wait_for(page, "(() => { const i = document.querySelector('#inspector img[alt=screen]');"
                           " return i && i.complete && i.naturalWidth && [i.naturalWidth, i.naturalHeight]; })()")
@@ -187,4 +187,4 @@ def test_an_image_attribute_is_shown_in_the_inspector(page, writer):
     # A picture whose attributes lie about its size is not offered (images::image_info refuses it).
     writer.write(lambda t: t.set("robot", "screen_width", 65))
     wait_for(page, "(() => { const n = [...quiver.nodes.values()].find((n) => n.name === 'robot');"
-                   " return !n.images.includes('screen'); })()")
+                   " return !n.images.some((i) => i.prefix === 'screen'); })()")

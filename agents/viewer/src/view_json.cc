@@ -30,8 +30,8 @@ json attrs_json(const std::vector<graph::Symbol>& names,
   return out;
 }
 
-// The images a node holds (the images schema, docs/images.md): the prefixes whose attributes
-// check out.
+// The images a node holds (the images schema, docs/images.md): [{"prefix", "version"}] for the
+// prefixes whose attributes check out.
 json images_json(const graph::Graph& g, graph::NodeId id) {
   json out = json::array();
   for (graph::Symbol a : g.attr_names(id)) {
@@ -39,7 +39,9 @@ json images_json(const graph::Graph& g, graph::NodeId id) {
     const std::string_view suffix = images::kEncodingSuffix;
     if (n.size() <= suffix.size() || n.compare(n.size() - suffix.size(), suffix.size(), suffix) != 0) continue;
     const std::string prefix = n.substr(0, n.size() - suffix.size());
-    if (images::image_info(g, id, prefix).ok()) out.push_back(prefix);
+    if (!images::image_info(g, id, prefix).ok()) continue;
+    // The version changes when the picture does (the dot of the bytes' winning write).
+    out.push_back({{"prefix", prefix}, {"version", g.attr_values(id, graph::Symbol(prefix))[0].dot.to_string()}});
   }
   return out;
 }

@@ -171,6 +171,8 @@ const three = (() => {
     } else g = new THREE.BoxBufferGeometry(0.1, 0.1, 0.1);  // a mesh file: a marker (see docs/viewer.md)
     return new THREE.Mesh(g, shape.kind === 'mesh' ? new THREE.MeshBasicMaterial({ color: colour, wireframe: true }) : m);
   }
+  // A frame without a collision shape: a small dot, so the tree shows.
+  function marker(colour) { return new THREE.Mesh(new THREE.SphereBufferGeometry(0.025, 8, 6), new THREE.MeshBasicMaterial({ color: colour })); }
   function setPose(o, p) {
     o.obj.position.set(p.t[0], p.t[1], p.t[2]);
     o.obj.quaternion.set(p.q[1], p.q[2], p.q[3], p.q[0]);
@@ -192,7 +194,7 @@ const three = (() => {
       if (sk !== o.shapeKey) {
         o.shapeKey = sk;
         if (o.mesh) o.obj.remove(o.mesh);
-        o.mesh = n.shape ? meshFor(n.shape, n.colour) : null;
+        o.mesh = n.shape ? meshFor(n.shape, n.colour) : marker(n.colour);
         if (o.mesh) o.obj.add(o.mesh);
       }
     },
@@ -260,7 +262,10 @@ function applyChange(m) {
   quiver.changes++;
   setFrameEnd(m.frame_end);
   if (structural) layoutGraph(0.03); else dirty = true;
-  refreshInspector();
+  const shown = (k) => k === quiver.selected || k === quiver.selectedEdge;
+  if (m.nodes.some((n) => shown(n.id)) || m.edges.some((e) => shown(edgeKey(e))) ||
+      m.deleted_nodes.some(shown) || m.deleted_edges.some((e) => shown(edgeKey(e))))
+    refreshInspector();
 }
 
 let events = null;
@@ -343,7 +348,6 @@ function attrRows(attrs) {
 }
 function inspectNode(key) { quiver.selected = key; quiver.selectedEdge = null; refreshInspector(); dirty = true; }
 function inspectEdge(key) { quiver.selected = null; quiver.selectedEdge = key; refreshInspector(); }
-let imageVersion = 0;
 function refreshInspector() {
   const el = $('inspector');
   if (quiver.selected && quiver.nodes.has(quiver.selected)) {
@@ -353,8 +357,9 @@ function refreshInspector() {
     if (n.lock) h += `<div class="lock">locked by ${esc(n.lock.holder)} (epoch ${n.lock.epoch}, priority ${n.lock.priority})</div>`;
     for (const v of n.violations) h += `<div class="violation">violates ${esc(v)}</div>`;
     h += attrRows(n.attrs);
-    for (const p of n.images)
-      h += `<div>${esc(p)}:<br><img alt="${esc(p)}" src="api/image?node=${encodeURIComponent(n.id)}&prefix=${encodeURIComponent(p)}&v=${++imageVersion}"></div>`;
+    for (const im of n.images)
+      h += `<div>${esc(im.prefix)}:<br><img alt="${esc(im.prefix)}" src="api/image?node=${encodeURIComponent(n.id)}` +
+           `&prefix=${encodeURIComponent(im.prefix)}&v=${encodeURIComponent(im.version)}"></div>`;
     el.innerHTML = h;
   } else if (quiver.selectedEdge && quiver.edges.has(quiver.selectedEdge)) {
     const e = quiver.edges.get(quiver.selectedEdge);
