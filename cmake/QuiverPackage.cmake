@@ -39,8 +39,8 @@ set(QUIVER_PC_dds_REQUIRES "quiver-agents = ${PROJECT_VERSION}, CycloneDDS, CLI1
 set(QUIVER_PC_dds_PRIVATE "spdlog")
 set(QUIVER_PC_dds_LIBS "-lquiver_runtime_process -lquiver_agents_dds")
 set(QUIVER_PC_sim_REQUIRES "quiver-agents = ${PROJECT_VERSION}")
-set(QUIVER_PC_sim_PRIVATE "opencv4")
-set(QUIVER_PC_sim_LIBS "-lquiver_sim -lquiver_barthel -lquiver_devices")
+set(QUIVER_PC_sim_PRIVATE "opencv4, libgvc, libcgraph")
+set(QUIVER_PC_sim_LIBS "-lquiver_sim -lquiver_render -lquiver_render_rules -lquiver_barthel -lquiver_devices")
 # Relocatable: the prefix is found from the .pc file's own place, so `cmake --install --prefix`
 # anywhere gives working files.
 file(RELATIVE_PATH QUIVER_PC_PREFIX_FROM_PCDIR

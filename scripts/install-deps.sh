@@ -11,7 +11,7 @@ packages=(
   libeigen3-dev libfcl-dev liburdfdom-dev liburdfdom-headers-dev libconsole-bridge-dev
   libtf2-dev
   nlohmann-json3-dev libcli11-dev libspdlog-dev
-  espeak-ng libopencv-dev
+  espeak-ng libopencv-dev libgraphviz-dev
   iproute2 procps python3
   pybind11-dev python3-dev python3-pytest python3-numpy python3-pytest-benchmark
 )
