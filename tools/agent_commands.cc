@@ -7,6 +7,7 @@
 #include "commands.h"
 #include "quiver/agents/runtime/logging.h"
 #include "dds_options.h"
+#include "observer.h"
 #include "quiver/agents/dds/dds_replica.h"
 #include "quiver/graph/world_file.h"
 #include "quiver/rng.h"
@@ -16,7 +17,6 @@ namespace quiver::tools {
 namespace {
 
 using agents::DdsReplica;
-using agents::monotonic_ns;
 
 // The testing agent of `quiver agent`: random graph churn at a rate, for a while (or nothing: a
 // replica that only follows), under a grammar if given. Its status lines say whether it still
@@ -80,37 +80,14 @@ void print_graph(const graph::Graph& g) {
 }
 
 int run_dump(const DumpFlags& f) {
-  agents::DdsReplicaOptions o;
-  o.name = "quiver-dump";
-  o.observer = true;
-  auto created = f.dds.create_agent(o);
-  if (!created.ok()) {
-    agents::named_logger("quiver dump")->error("{}", created.error().to_string());
-    return 2;
+  auto joined = join_as_observer(f.dds, "quiver-dump", f.timeout_s);
+  if (!joined.ok()) {
+    const bool timeout = joined.error().code == ErrorCode::kTimeout;
+    agents::named_logger("quiver dump")
+        ->error("{}", timeout ? joined.error().message : joined.error().to_string());
+    return timeout ? 1 : 2;
   }
-  DdsReplica& a = **created;
-  const std::int64_t timeout = static_cast<std::int64_t>(f.timeout_s * 1e9);
-  if (!a.spin_until([&] { return a.replicator().live_peer_count() > 0; }, timeout)) {
-    agents::named_logger("quiver dump")->error("no agent answered on DDS domain {} within {:.1f} s", f.dds.domain, f.timeout_s);
-    return 1;
-  }
-  // Synced = we hold everything every live peer says it holds; require it to stay so briefly.
-  std::int64_t synced_since = -1;
-  bool ok = a.spin_until(
-      [&] {
-        if (!a.replicator().synced()) {
-          synced_since = -1;
-          return false;
-        }
-        if (synced_since < 0) synced_since = monotonic_ns();
-        return monotonic_ns() - synced_since > 150'000'000;
-      },
-      timeout);
-  if (!ok) {
-    agents::named_logger("quiver dump")->error("could not sync with the {} live agents within {:.1f} s",
-                                              a.replicator().live_peer_count(), f.timeout_s);
-    return 1;
-  }
+  DdsReplica& a = **joined;
   if (f.digest) std::cout << a.graph().digest().hex() << std::endl;
   else if (f.json) std::cout << graph::save_world(a.graph());
   else print_graph(a.graph());

@@ -16,6 +16,9 @@ void add_dds_bench_commands(CLI::App& app);
 void add_agents_bench_commands(CLI::App& app);
 /// run ROLE, scenario barthel.
 void add_barthel_commands(CLI::App& app);
+/// render (a picture of a world, a recording's state or a live domain), timeline (a recording's
+/// evolution as PNG frames or an MP4).
+void add_render_commands(CLI::App& app);
 /// bench reaction (needs add_bench_commands first).
 void add_reaction_bench_command(CLI::App& app);
 /// view, record.

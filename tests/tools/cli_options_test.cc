@@ -29,6 +29,8 @@ std::vector<std::string> required(const std::vector<std::string>& path) {
   if (path == std::vector<std::string>{"bench-dds-role"}) return {"writer"};
   if (path == std::vector<std::string>{"run"}) return {"planner"};
   if (path == std::vector<std::string>{"record"}) return {"-o", "/dev/null"};
+  if (path == std::vector<std::string>{"render"}) return {"world.json", "-o", "x.png"};
+  if (path == std::vector<std::string>{"timeline"}) return {"run.qrec", "-o", "x.mp4"};
   return {};
 }
 

@@ -1,6 +1,8 @@
 #include "quiver/agents/viewer/view_json.h"
 
 #include "quiver/agents/images/image_attrs.h"
+#include "quiver/agents/render/geometric_part.h"
+#include "quiver/agents/render/type_colour.h"
 #include "quiver/graph/world_file.h"
 #include "quiver/kinematics/shape.h"
 
@@ -67,22 +69,11 @@ json shape_json(const graph::Graph& g, graph::NodeId id) {
   return j;
 }
 
-bool symbolic(const graph::EdgeKey& k) { return !(k.type == graph::symbols::rt()); }
+bool symbolic(const graph::EdgeKey& k) { return !render::is_geometric(k); }
 
-// Geometric: in no symbolic edge, but in the RT tree.
-bool geometric(const graph::Graph& g, graph::NodeId id) {
-  for (const auto& k : g.edges_from(id))
-    if (symbolic(k)) return false;
-  for (const auto& k : g.edges_to(id))
-    if (symbolic(k)) return false;
-  return g.rt_parent(id).has_value() || !g.rt_children(id).empty();
-}
+bool geometric(const graph::Graph& g, graph::NodeId id) { return render::is_geometric(g, id); }
 
-std::string type_colour(const std::string& type) {
-  static const char* kPalette[] = {"#4e79a7", "#f28e2b", "#e15759", "#76b7b2", "#59a14f", "#edc948",
-                                   "#b07aa1", "#ff9da7", "#9c755f", "#bab0ac", "#86bcb6", "#d37295"};
-  return kPalette[fnv1a64(type) % (sizeof kPalette / sizeof kPalette[0])];
-}
+std::string type_colour(const std::string& type) { return render::css_hex(render::type_colour(type)); }
 
 json edge_ref(const graph::EdgeKey& k) {
   return {{"from", node_key(k.from)}, {"to", node_key(k.to)}, {"type", k.type.str()}};

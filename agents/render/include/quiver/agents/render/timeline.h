@@ -1,0 +1,70 @@
+#pragma once
+/// @file
+/// The evolution of a recorded world as a sequence of pictures (seed 000, Fig. 6): one picture
+/// per recorded frame, the nodes and edges that frame changed drawn bold in the highlight colour,
+/// those it removed as dashed ghosts, and a caption ("t = 12.3 s  origin: planner  created X,
+/// set attr on Z").
+///
+/// The layout is stable: every node and edge that is ever shown is laid out once, together
+/// (Graphviz, layout.h), and each frame draws the ones present then at those places, so nothing
+/// jumps between frames. Output: PNG frames in a directory (0000.png, 0001.png, ...) or an MP4
+/// video (OpenCV's VideoWriter, fourcc mp4v), all frames of one size.
+
+#include <cstddef>
+#include <cstdint>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "quiver/agents/recording/frame.h"
+#include "quiver/agents/render/layout.h"
+#include "quiver/result.h"
+
+namespace quiver::agents::render {
+
+struct TimelineOptions {
+  /// Leave out the geometric part (geometric_part.h) in every frame.
+  bool hide_geometry = false;
+  /// Also draw frames that change nothing drawn. By default they are left out: frames whose
+  /// changes are all hidden (with hide_geometry, those that only move things) or empty.
+  bool every_frame = false;
+  /// At most this many pictures, the first ones (0: no limit).
+  std::size_t max_frames = 0;
+  double fps = 2;  ///< of an MP4
+  Engine engine = Engine::kAuto;
+  /// The pictures' size: the layout is scaled down to fit (never up beyond 96 dpi).
+  int max_width = 1920;
+  int max_height = 1080;
+};
+
+/// What render_timeline() did.
+struct TimelineInfo {
+  std::size_t recorded = 0;  ///< frames in the recording
+  std::size_t written = 0;   ///< pictures written
+  std::size_t skipped = 0;   ///< frames that changed nothing drawn (see every_frame)
+  std::size_t cut = 0;       ///< frames left out by max_frames
+  int width = 0;             ///< of every picture, pixels
+  int height = 0;
+  std::size_t nodes = 0;  ///< laid out (every node ever shown)
+  std::size_t edges = 0;
+  Engine engine = Engine::kDot;
+  std::vector<std::size_t> frames;    ///< the recording frame of each picture
+  std::vector<std::string> captions;  ///< the caption of each picture
+};
+
+/// Where render_timeline() writes: an .mp4 file, or a directory of PNG frames (a path ending
+/// in '/', an existing directory, or a path with no extension).
+enum class TimelineOutput { kPngFrames, kMp4 };
+/// kInvalidArgument naming the path and its extension when it is neither.
+Result<TimelineOutput> timeline_output_of(const std::string& path);
+
+/// Draws `frames` (in recorded order, the first holding the state recording began with) to
+/// `out`. A directory is created if missing; PNG frames an earlier run left there (names of
+/// four or more digits, ".png") are removed first.
+/// @returns kInvalidArgument for an unknown output kind or an empty recording, kIo naming the
+///   path when it cannot be written (or OpenCV cannot encode MP4: no ffmpeg backend), kInternal
+///   when Graphviz fails.
+Result<TimelineInfo> render_timeline(std::span<const recording::Frame> frames,
+                                     const TimelineOptions& options, const std::string& out);
+
+}  // namespace quiver::agents::render

@@ -1,0 +1,41 @@
+#include "observer.h"
+
+#include <cstdio>
+
+namespace quiver::tools {
+
+Result<std::unique_ptr<agents::DdsReplica>> join_as_observer(const DdsFlags& dds,
+                                                             const std::string& name,
+                                                             double timeout_s) {
+  agents::DdsReplicaOptions o;
+  o.name = name;
+  o.observer = true;
+  auto created = dds.create_agent(o);
+  if (!created.ok()) return created.error();
+  agents::DdsReplica& a = **created;
+  const std::int64_t timeout = static_cast<std::int64_t>(timeout_s * 1e9);
+  char seconds[32];
+  std::snprintf(seconds, sizeof seconds, "%.1f s", timeout_s);
+  if (!a.spin_until([&] { return a.replicator().live_peer_count() > 0; }, timeout))
+    return make_error(ErrorCode::kTimeout, "no agent answered on DDS domain " +
+                                               std::to_string(dds.domain) + " within " + seconds);
+  // Synced = we hold everything every live peer says it holds; require it to stay so briefly.
+  std::int64_t synced_since = -1;
+  const bool ok = a.spin_until(
+      [&] {
+        if (!a.replicator().synced()) {
+          synced_since = -1;
+          return false;
+        }
+        if (synced_since < 0) synced_since = agents::monotonic_ns();
+        return agents::monotonic_ns() - synced_since > 150'000'000;
+      },
+      timeout);
+  if (!ok)
+    return make_error(ErrorCode::kTimeout, "could not sync with the " +
+                                               std::to_string(a.replicator().live_peer_count()) +
+                                               " live agents within " + seconds);
+  return created;
+}
+
+}  // namespace quiver::tools

@@ -1,0 +1,23 @@
+#pragma once
+// Joining a live DDS domain as an observer and waiting until it holds the shared graph: what
+// `quiver dump` and `quiver render --domain` do before they read the graph.
+
+#include <memory>
+#include <string>
+
+#include "dds_options.h"
+#include "quiver/agents/dds/dds_replica.h"
+#include "quiver/result.h"
+
+namespace quiver::tools {
+
+/// Joins the domain `dds` names as an observer called `name`, waits for a live peer, then until
+/// the replica is synced (it holds everything every live peer says it holds) and stays so for
+/// 150 ms. @returns the replica, or the error of its creation, or kTimeout saying which wait
+/// ended ("no agent answered on DDS domain 7 within 10.0 s", "could not sync with the 2 live
+/// agents within 10.0 s").
+Result<std::unique_ptr<agents::DdsReplica>> join_as_observer(const DdsFlags& dds,
+                                                             const std::string& name,
+                                                             double timeout_s);
+
+}  // namespace quiver::tools
