@@ -194,8 +194,7 @@ int run_timeline(TimelineArgs a) {
     return 1;
   }
   log->info(
-      "wrote {}: {} pictures of {}x{} from {} frames ({} changed nothing drawn, {} over "
-      "--max-frames); "
+      "wrote {}: {} pictures of {}x{} from {} frames ({} left out, {} over --max-frames); "
       "{} nodes, {} edges, {} layout, {:.2f} s",
       a.out, info->written, info->width, info->height, info->recorded, info->skipped, info->cut,
       info->nodes, info->edges, render::to_string(info->engine), seconds_since(t0));
@@ -251,6 +250,9 @@ void add_render_commands(CLI::App& app) {
               "that only change them");
   t->add_flag("--every-frame", ta->options.every_frame,
               "also draw frames that change nothing drawn");
+  t->add_flag(
+      "--structure-only", ta->options.structure_only,
+      "draw only frames in which a node or an edge appears or goes (not attribute updates)");
   t->add_option("--fps", ta->options.fps, "frames per second of an MP4")
       ->check(CLI::Range(0.1, 120.0))
       ->capture_default_str();

@@ -327,6 +327,27 @@ TEST(LayoutTest, DotRanksTheKinematicTreeTopDown) {
   EXPECT_LT(y("robot"), y("camera"));
 }
 
+TEST(LayoutTest, FittingAFrameLaysAWideLayerAcross) {
+  Graph g(graph::ReplicaId{4, 1});
+  auto tx = g.begin();
+  const NodeId hub = *tx.create_node("test", "hub");
+  for (int i = 0; i < 20; ++i)
+    ASSERT_TRUE(
+        tx.insert_edge(hub, *tx.create_node("utterance", "u" + std::to_string(i)), "said").ok());
+  ASSERT_TRUE(tx.commit().ok());
+  const Picture p = make_picture(g);
+  auto down = lay_out(p, Engine::kDot);
+  ASSERT_TRUE(down.ok());
+  EXPECT_GT(down->width, 3 * down->height);  // one wide layer under the hub
+  auto fit = lay_out_to_fit(p, Engine::kDot, 800, 800);
+  ASSERT_TRUE(fit.ok());
+  EXPECT_GT(fit->height, fit->width);                      // laid across: the layer runs down
+  auto wide = lay_out_to_fit(p, Engine::kDot, 4000, 400);  // a wide frame keeps top-down
+  ASSERT_TRUE(wide.ok());
+  EXPECT_DOUBLE_EQ(wide->width, down->width);
+  EXPECT_DOUBLE_EQ(wide->height, down->height);
+}
+
 // A generated world of 2,000 nodes: 1,999 RT edges and 1,000 symbolic ones.
 TEST(LayoutTest, TwoThousandNodesRenderInSeconds) {
   Graph g(graph::ReplicaId{3, 1});

@@ -130,6 +130,17 @@ TEST(TimelineTest, HidingGeometrySkipsFramesThatOnlyMoveThings) {
   EXPECT_EQ(pngs_in(dir), (std::vector<std::string>{"0000.png", "0001.png"}));
 }
 
+TEST(TimelineTest, StructureOnlyDrawsFramesWhereSomethingAppearsOrGoes) {
+  const auto frames = render_test::sample_frames();
+  TimelineOptions o;
+  o.structure_only = true;
+  o.every_frame = true;  // overridden
+  auto info = render_timeline(frames, o, temp_path("structure"));
+  ASSERT_TRUE(info.ok()) << info.error().to_string();
+  EXPECT_EQ(info->frames, (std::vector<std::size_t>{0, 1, 4}));
+  EXPECT_EQ(info->skipped, 2u);
+}
+
 TEST(TimelineTest, Mp4ReopensWithTheFrameCount) {
   const auto frames = render_test::sample_frames();
   const std::string path = temp_path("run.mp4");

@@ -3,6 +3,7 @@
 #include <graphviz/cgraph.h>
 #include <graphviz/gvc.h>
 
+#include <algorithm>
 #include <mutex>
 #include <string>
 #include <unordered_set>
@@ -78,8 +79,10 @@ class GvGraph {
   GvGraph(const GvGraph&) = delete;
   GvGraph& operator=(const GvGraph&) = delete;
 
-  Status build_and_lay_out(const Picture& p, Engine engine, bool with_title) {
+  Status build_and_lay_out(const Picture& p, Engine engine, bool with_title,
+                           const LayoutStyle& style = {}) {
     engine_ = resolve_engine(engine, p.nodes.size());
+    style_ = style;
     if (context() == nullptr)
       return make_error(ErrorCode::kInternal, "lay_out(): Graphviz gave no context");
     g_ = agopen(c("quiver"), Agdirected, nullptr);
@@ -205,6 +208,8 @@ class GvGraph {
     agattr(g_, AGRAPH, c("bgcolor"), c("white"));
     agattr(g_, AGRAPH, c("pad"), c("0.2"));
     if (engine_ == Engine::kDot) {
+      if (style_.direction == LayoutStyle::Direction::kLeftRight)
+        agattr(g_, AGRAPH, c("rankdir"), c("LR"));
       agattr(g_, AGRAPH, c("nodesep"), c("0.3"));
       agattr(g_, AGRAPH, c("ranksep"), c("0.5"));
     } else {
@@ -223,6 +228,7 @@ class GvGraph {
   agusererrf previous_handler_ = nullptr;
   agerrlevel_t previous_level_ = AGWARN;
   Engine engine_ = Engine::kDot;
+  LayoutStyle style_;
   Agraph_t* g_ = nullptr;
   bool laid_out_ = false;
   std::vector<Agnode_t*> nodes_;
@@ -258,10 +264,24 @@ Engine resolve_engine(Engine e, std::size_t nodes) {
   return nodes <= kDotMaxNodes ? Engine::kDot : Engine::kSfdp;
 }
 
-Result<Layout> lay_out(const Picture& p, Engine engine) {
+Result<Layout> lay_out(const Picture& p, Engine engine, LayoutStyle style) {
   GvGraph g;
-  if (Status s = g.build_and_lay_out(p, engine, /*with_title=*/false); !s.ok()) return s.error();
+  if (Status s = g.build_and_lay_out(p, engine, /*with_title=*/false, style); !s.ok())
+    return s.error();
   return g.read();
+}
+
+Result<Layout> lay_out_to_fit(const Picture& p, Engine engine, double width, double height) {
+  auto down = lay_out(p, engine);
+  if (!down.ok() || down->engine != Engine::kDot) return down;
+  auto across = lay_out(p, engine, LayoutStyle{LayoutStyle::Direction::kLeftRight});
+  if (!across.ok()) return across;
+  auto fit = [&](const Layout& l) {
+    return std::min(width / std::max(l.width, 1.0), height / std::max(l.height, 1.0));
+  };
+  // Across only when clearly larger: top-down is how the RT tree reads.
+  if (fit(*across) > 1.2 * fit(*down)) return across;
+  return down;
 }
 
 Result<std::string> graphviz_text(const Picture& p, TextFormat format, Engine engine) {

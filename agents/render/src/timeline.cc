@@ -126,9 +126,13 @@ class Tracker {
     edge_looks_.assign(edge_on_.size(), Look::kHidden);
   }
 
-  // Brings the shown sets up to date after a frame; true when the frame changed anything drawn.
-  // `quiet`: the recording's initial state, drawn without highlights.
-  bool update(const graph::Graph& g, const graph::ChangeBatch& b, bool everything, bool quiet) {
+  struct Changed {
+    bool drawn = false;       // anything drawn changed (appeared, went, or was updated)
+    bool structural = false;  // a node or an edge appeared or went
+  };
+  // Brings the shown sets up to date after a frame. `quiet`: the recording's initial state,
+  // drawn without highlights.
+  Changed update(const graph::Graph& g, const graph::ChangeBatch& b, bool everything, bool quiet) {
     std::fill(node_looks_.begin(), node_looks_.end(), Look::kHidden);
     std::fill(edge_looks_.begin(), edge_looks_.end(), Look::kHidden);
     std::vector<std::size_t> nodes, edges;  // to check again
@@ -149,13 +153,13 @@ class Tracker {
     for (std::size_t i : nodes)
       edges.insert(edges.end(), u_.incident[i].begin(), u_.incident[i].end());
 
-    bool drawn_change = false;
+    bool drawn_change = false, structural = false;
     for (std::size_t i : nodes) {
       const bool was = node_on_[i], now = node_shown(g, u_.picture.nodes[i].id, hide_);
       node_on_[i] = now;
       if (!quiet && was != now) {
         node_looks_[i] = now ? Look::kHighlighted : Look::kGhost;
-        drawn_change = true;
+        drawn_change = structural = true;
       }
     }
     for (std::size_t i : edges) {
@@ -163,7 +167,7 @@ class Tracker {
       edge_on_[i] = now;
       if (!quiet && was != now) {
         edge_looks_[i] = now ? Look::kHighlighted : Look::kGhost;
-        drawn_change = true;
+        drawn_change = structural = true;
       }
     }
     // Updates of things shown: attributes, names, poses.
@@ -184,7 +188,7 @@ class Tracker {
       if (node_on_[i] && node_looks_[i] == Look::kHidden) node_looks_[i] = Look::kNormal;
     for (std::size_t i = 0; i < edge_on_.size(); ++i)
       if (edge_on_[i] && edge_looks_[i] == Look::kHidden) edge_looks_[i] = Look::kNormal;
-    return drawn_change;
+    return Changed{drawn_change, structural};
   }
 
   // The changes drawn, in words.
@@ -339,7 +343,8 @@ Result<TimelineInfo> render_timeline(std::span<const recording::Frame> frames,
                           std::to_string(64 + kCaptionBandPx) + " pixels");
 
   const Union u = collect_union(frames, o.hide_geometry);
-  auto layout = lay_out(u.picture, o.engine);
+  auto layout = lay_out_to_fit(u.picture, o.engine, o.max_width - 2.0 * kMarginPx,
+                               o.max_height - 2.0 * kMarginPx - kCaptionBandPx);
   if (!layout.ok()) return layout.error();
   const Layout& l = *layout;
 
@@ -370,8 +375,10 @@ Result<TimelineInfo> render_timeline(std::span<const recording::Frame> frames,
     const std::size_t i = r.next();
     const graph::ChangeBatch& b = r.step();
     const bool initial = i == 0 && frames[0].delta.kind == graph::GraphDelta::Kind::kState;
-    const bool changed = tracker.update(r.graph(), b, /*everything=*/i == 0, /*quiet=*/initial);
-    if (!changed && !initial && !o.every_frame) {
+    const Tracker::Changed changed =
+        tracker.update(r.graph(), b, /*everything=*/i == 0, /*quiet=*/initial);
+    const bool wanted = o.structure_only ? changed.structural : changed.drawn || o.every_frame;
+    if (!wanted && !initial) {
       ++info.skipped;
       continue;
     }

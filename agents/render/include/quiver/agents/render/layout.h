@@ -68,9 +68,20 @@ struct Layout {
   std::vector<EdgePlace> edges;  ///< parallel to Picture::edges
 };
 
+/// How dot arranges its layers (the other engines ignore it).
+struct LayoutStyle {
+  enum class Direction { kTopDown, kLeftRight };
+  Direction direction = Direction::kTopDown;
+};
+
 /// Lays `p` out. kInternal naming Graphviz's message when its layout fails (e.g. the engine's
 /// plugin is missing).
-Result<Layout> lay_out(const Picture& p, Engine engine = Engine::kAuto);
+Result<Layout> lay_out(const Picture& p, Engine engine = Engine::kAuto, LayoutStyle style = {});
+
+/// Lays `p` out to fill a width x height frame best: with dot, top-down and left-to-right are
+/// tried, and left-to-right is kept when it can be drawn 20% larger in the frame (a hub with
+/// many children is one wide layer top-down); other engines lay out once.
+Result<Layout> lay_out_to_fit(const Picture& p, Engine engine, double width, double height);
 
 enum class TextFormat { kDot, kSvg };
 /// Lays `p` out and returns Graphviz's own rendering of it: DOT with positions ("pos", "bb")

@@ -28,6 +28,9 @@ struct TimelineOptions {
   /// Also draw frames that change nothing drawn. By default they are left out: frames whose
   /// changes are all hidden (with hide_geometry, those that only move things) or empty.
   bool every_frame = false;
+  /// Draw only frames in which a node or an edge appears or goes (attribute and pose updates
+  /// are still highlighted when such a frame carries them). Overrides every_frame.
+  bool structure_only = false;
   /// At most this many pictures, the first ones (0: no limit).
   std::size_t max_frames = 0;
   double fps = 2;  ///< of an MP4
@@ -41,7 +44,8 @@ struct TimelineOptions {
 struct TimelineInfo {
   std::size_t recorded = 0;  ///< frames in the recording
   std::size_t written = 0;   ///< pictures written
-  std::size_t skipped = 0;   ///< frames that changed nothing drawn (see every_frame)
+  std::size_t skipped = 0;   ///< frames left out: they changed nothing drawn (see every_frame)
+                             ///< or, with structure_only, nothing appeared or went
   std::size_t cut = 0;       ///< frames left out by max_frames
   int width = 0;             ///< of every picture, pixels
   int height = 0;
