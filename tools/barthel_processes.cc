@@ -3,9 +3,32 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include <atomic>
 #include <csignal>
 
 namespace quiver::tools {
+namespace {
+
+// The agents' pids, for the signal handler: a scenario stopped by SIGINT or SIGTERM takes its
+// agents with it instead of leaving them running on the domain.
+constexpr int kMaxAgents = 32;
+std::atomic<pid_t> g_agents[kMaxAgents];
+
+extern "C" void stop_agents_and_exit(int sig) {
+  for (auto& a : g_agents)
+    if (pid_t p = a.load(); p > 0) ::kill(p, SIGTERM);
+  std::signal(sig, SIG_DFL);
+  std::raise(sig);
+}
+
+void remember(pid_t old_pid, pid_t new_pid) {
+  for (auto& a : g_agents) {
+    pid_t expected = old_pid;
+    if (a.compare_exchange_strong(expected, new_pid)) return;
+  }
+}
+
+}  // namespace
 
 std::string self_executable() {
   char buf[4096];
@@ -16,6 +39,8 @@ std::string self_executable() {
 BarthelProcesses::BarthelProcesses(BarthelProcessOptions o) : o_(std::move(o)), exe_(self_executable()) {
   ::mkdir(o_.out.c_str(), 0755);
   ::mkdir((o_.out + "/logs").c_str(), 0755);
+  std::signal(SIGINT, stop_agents_and_exit);
+  std::signal(SIGTERM, stop_agents_and_exit);
 }
 
 BarthelProcesses::~BarthelProcesses() { stop_all(); }
@@ -33,7 +58,11 @@ bool BarthelProcesses::start(const std::string& role, const std::string& name) {
   const std::string key = name.empty() ? role : name;
   auto p = Subprocess::spawn(argv_of(role, name), o_.out + "/logs/" + key + ".log");
   if (!p) return false;
-  procs_.erase(key);
+  if (auto old = procs_.find(key); old != procs_.end()) {
+    remember(old->second.pid(), 0);
+    procs_.erase(old);
+  }
+  remember(0, p->pid());
   procs_.emplace(key, std::move(*p));
   return true;
 }
@@ -48,7 +77,10 @@ int BarthelProcesses::kill(const std::string& name, int sig) {
 
 void BarthelProcesses::stop_all() {
   for (auto& [name, p] : procs_) p.kill(SIGTERM);
-  for (auto& [name, p] : procs_) p.wait(5000);
+  for (auto& [name, p] : procs_) {
+    p.wait(5000);
+    remember(p.pid(), 0);
+  }
 }
 
 std::optional<nlohmann::json> BarthelProcesses::last_status(const std::string& name) {
