@@ -4,13 +4,20 @@
 
 namespace quiver::tools {
 
-Result<std::unique_ptr<agents::DdsReplica>> join_as_observer(const DdsFlags& dds,
-                                                             const std::string& name,
-                                                             double timeout_s) {
+Result<std::unique_ptr<agents::DdsReplica>> open_observer(const DdsFlags& dds,
+                                                          const std::string& name,
+                                                          bool best_effort) {
   agents::DdsReplicaOptions o;
   o.name = name;
   o.observer = true;
-  auto created = dds.create_agent(o);
+  o.dds.best_effort_reader = best_effort;
+  return dds.create_agent(o);
+}
+
+Result<std::unique_ptr<agents::DdsReplica>> join_as_observer(const DdsFlags& dds,
+                                                             const std::string& name,
+                                                             double timeout_s) {
+  auto created = open_observer(dds, name);
   if (!created.ok()) return created.error();
   agents::DdsReplica& a = **created;
   const std::int64_t timeout = static_cast<std::int64_t>(timeout_s * 1e9);

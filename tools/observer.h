@@ -11,11 +11,17 @@
 
 namespace quiver::tools {
 
-/// Joins the domain `dds` names as an observer called `name`, waits for a live peer, then until
-/// the replica is synced (it holds everything every live peer says it holds) and stays so for
-/// 150 ms. @returns the replica, or the error of its creation, or kTimeout saying which wait
-/// ended ("no agent answered on DDS domain 7 within 10.0 s", "could not sync with the 2 live
-/// agents within 10.0 s").
+/// Opens an observer replica called `name` on the domain `dds` names, without waiting for
+/// anyone. `best_effort`: writers never wait for it (a viewer, a recorder; DdsConfig).
+Result<std::unique_ptr<agents::DdsReplica>> open_observer(const DdsFlags& dds,
+                                                          const std::string& name,
+                                                          bool best_effort = false);
+
+/// Joins the domain `dds` names as an observer called `name` (open_observer()), waits for a live
+/// peer, then until the replica is synced (it holds everything every live peer says it holds) and
+/// stays so for 150 ms. @returns the replica, or the error of its creation, or kTimeout saying
+/// which wait ended ("no agent answered on DDS domain 7 within 10.0 s", "could not sync with the 2
+/// live agents within 10.0 s").
 Result<std::unique_ptr<agents::DdsReplica>> join_as_observer(const DdsFlags& dds,
                                                              const std::string& name,
                                                              double timeout_s);

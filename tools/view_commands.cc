@@ -1,11 +1,10 @@
 // quiver view: the live viewer (a page on 127.0.0.1); quiver record: a .qrec file of what a
 // replica receives. Both join as observers, or view a recording or a world file.
 
-#include <CLI/CLI.hpp>
-
-#include <atomic>
 #include <sys/resource.h>
 
+#include <CLI/CLI.hpp>
+#include <atomic>
 #include <cerrno>
 #include <csignal>
 #include <cstring>
@@ -15,6 +14,7 @@
 
 #include "commands.h"
 #include "dds_options.h"
+#include "observer.h"
 #include "quiver/agents/grammar/grammar_guard.h"
 #include "quiver/agents/locks/locks.h"
 #include "quiver/agents/recording/graph_recorder.h"
@@ -49,24 +49,37 @@ struct ViewFlags {
 Result<std::pair<std::string, int>> parse_listen(const std::string& s) {
   const auto colon = s.rfind(':');
   if (colon == std::string::npos || colon == 0)
-    return make_error(ErrorCode::kInvalidArgument, "--listen '" + s + "': expected HOST:PORT, e.g. 127.0.0.1:8080");
+    return make_error(ErrorCode::kInvalidArgument,
+                      "--listen '" + s + "': expected HOST:PORT, e.g. 127.0.0.1:8080");
   const std::string port = s.substr(colon + 1);
-  if (port.empty() || port.size() > 5 || port.find_first_not_of("0123456789") != std::string::npos || std::stoi(port) > 65535)
-    return make_error(ErrorCode::kInvalidArgument, "--listen '" + s + "': the port must be 0..65535");
+  if (port.empty() || port.size() > 5 ||
+      port.find_first_not_of("0123456789") != std::string::npos || std::stoi(port) > 65535)
+    return make_error(ErrorCode::kInvalidArgument,
+                      "--listen '" + s + "': the port must be 0..65535");
   return std::pair{s.substr(0, colon), std::stoi(port)};
 }
 
 json agents_json(agents::Replicator& r) {
   json out = json::array();
-  out.push_back({{"name", r.options().name}, {"id", r.graph().replica().to_string()}, {"observer", true}, {"alive", true}, {"self", true}});
+  out.push_back({{"name", r.options().name},
+                 {"id", r.graph().replica().to_string()},
+                 {"observer", true},
+                 {"alive", true},
+                 {"self", true}});
   for (const agents::PeerInfo& p : r.peers())
-    out.push_back({{"name", p.name}, {"id", p.id.to_string()}, {"observer", p.observer}, {"alive", p.alive}, {"self", false}});
+    out.push_back({{"name", p.name},
+                   {"id", p.id.to_string()},
+                   {"observer", p.observer},
+                   {"alive", p.alive},
+                   {"self", false}});
   return out;
 }
 
 // Runs `tick` every few ms until SIGINT/SIGTERM or `run_for_s`.
 void serve_until_stopped(double run_for_s, const std::function<void()>& wait_a_little) {
-  const std::int64_t end = run_for_s > 0 ? agents::monotonic_ns() + static_cast<std::int64_t>(run_for_s * 1e9) : INT64_MAX;
+  const std::int64_t end = run_for_s > 0
+                               ? agents::monotonic_ns() + static_cast<std::int64_t>(run_for_s * 1e9)
+                               : INT64_MAX;
   while (!g_stop.load() && agents::monotonic_ns() < end) wait_a_little();
 }
 
@@ -106,8 +119,10 @@ int view_static(const ViewFlags& f, agents::viewer::ViewerOptions vo) {
         if (!fr.origin.empty()) names[fr.delta.origin] = fr.origin;
         g.merge(fr.delta);
       }
-      log->info("{}: {} frames, {:.1f} s; {} nodes, {} edges at the end", f.replay, rec->frames.size(),
-                rec->frames.empty() ? 0.0 : static_cast<double>(rec->frames.back().t_ns) / 1e9, g.node_count(), g.edge_count());
+      log->info("{}: {} frames, {:.1f} s; {} nodes, {} edges at the end", f.replay,
+                rec->frames.size(),
+                rec->frames.empty() ? 0.0 : static_cast<double>(rec->frames.back().t_ns) / 1e9,
+                g.node_count(), g.edge_count());
     } else {
       auto seed = graph::world_seed_file(f.world);
       if (!seed.ok()) {
@@ -145,11 +160,7 @@ int run_view(const ViewFlags& f) {
   // An observer yields the processor to the agents it watches (docs/viewer.md).
   if (f.nice != 0 && ::setpriority(PRIO_PROCESS, 0, f.nice) != 0)
     log->warn("could not lower the viewer's priority to nice {}: {}", f.nice, std::strerror(errno));
-  agents::DdsReplicaOptions o;
-  o.name = "quiver-view";
-  o.observer = true;
-  o.dds.best_effort_reader = true;
-  auto created = f.dds.create_agent(o);
+  auto created = open_observer(f.dds, "quiver-view", /*best_effort=*/true);
   if (!created.ok()) {
     log->error("{}", created.error().to_string());
     return 2;
@@ -163,7 +174,8 @@ int run_view(const ViewFlags& f) {
       log->error("{}", gr.error().message);
       return 2;
     }
-    guard = std::make_unique<agents::GrammarGuard>(a.graph(), agents::GrammarChecker(std::move(gr.value())), "quiver-view");
+    guard = std::make_unique<agents::GrammarGuard>(
+        a.graph(), agents::GrammarChecker(std::move(gr.value())), "quiver-view");
   }
   const std::int64_t start = agents::monotonic_ns();
   agents::viewer::Hooks hooks;
@@ -172,10 +184,8 @@ int run_view(const ViewFlags& f) {
   hooks.name_of = [&a](const graph::ReplicaId& r) { return a.replicator().name_of(r); };
   hooks.agents = [&a] { return agents_json(a.replicator()); };
   hooks.decorate = [&](agents::viewer::Decor& d) {
-    for (graph::NodeId root : a.graph().nodes())
-      if (a.graph().attr(root, "__lock") != nullptr)
-        if (auto w = locks.winner(root); w && !w->free)
-          d.locks[root] = {a.replicator().name_of(w->holder), w->epoch, w->priority};
+    for (const auto& [root, w] : locks.winners())
+      d.locks[root] = {a.replicator().name_of(w.holder), w.epoch, w.priority};
     if (guard)
       for (const auto& v : guard->open()) d.violations.push_back(v);
   };
@@ -203,11 +213,7 @@ struct RecordFlags {
 
 int run_record(const RecordFlags& f) {
   auto log = agents::named_logger("quiver record");
-  agents::DdsReplicaOptions o;
-  o.name = "quiver-record";
-  o.observer = true;
-  o.dds.best_effort_reader = true;
-  auto created = f.dds.create_agent(o);
+  auto created = open_observer(f.dds, "quiver-record", /*best_effort=*/true);
   if (!created.ok()) {
     log->error("{}", created.error().to_string());
     return 2;
@@ -215,9 +221,10 @@ int run_record(const RecordFlags& f) {
   DdsReplica& a = **created;
   auto writer = agents::recording::RecordWriter::create(
       f.out, {.max_bytes = static_cast<std::uint64_t>(f.max_mb * (1 << 20)),
-              .start_wall_ns = static_cast<std::uint64_t>(std::chrono::duration_cast<std::chrono::nanoseconds>(
-                                                              std::chrono::system_clock::now().time_since_epoch())
-                                                              .count())});
+              .start_wall_ns = static_cast<std::uint64_t>(
+                  std::chrono::duration_cast<std::chrono::nanoseconds>(
+                      std::chrono::system_clock::now().time_since_epoch())
+                      .count())});
   if (!writer.ok()) {
     log->error("{}", writer.error().message);
     return 2;
@@ -234,15 +241,18 @@ int run_record(const RecordFlags& f) {
         if (!failed.ok()) g_stop.store(true);
       });
   a.every(500'000'000, [&] { (void)(*writer)->flush(); });
-  std::cout << "quiver record: recording DDS domain " << f.dds.domain << " into " << f.out << std::endl;
+  std::cout << "quiver record: recording DDS domain " << f.dds.domain << " into " << f.out
+            << std::endl;
   serve_until_stopped(f.run_for_s, [&] { a.spin_once(20'000'000); });
   Status flushed = (*writer)->flush();
   if (!failed.ok() || !flushed.ok()) {
     log->error("{}", (!failed.ok() ? failed : flushed).error().message);
     return 1;
   }
-  std::cout << "quiver record: " << (*writer)->frames_written() << " frames, " << (*writer)->bytes() << " bytes in "
-            << f.out << ((*writer)->rotations() > 0 ? " (older part in " + f.out + ".1)" : std::string()) << std::endl;
+  std::cout << "quiver record: " << (*writer)->frames_written() << " frames, " << (*writer)->bytes()
+            << " bytes in " << f.out
+            << ((*writer)->rotations() > 0 ? " (older part in " + f.out + ".1)" : std::string())
+            << std::endl;
   return 0;
 }
 
@@ -250,29 +260,45 @@ int run_record(const RecordFlags& f) {
 
 void add_view_commands(CLI::App& app) {
   auto vf = std::make_shared<ViewFlags>();
-  auto* view = app.add_subcommand("view", "Serve a live page of the world model (graph, 3D tree, inspector, timeline)");
+  auto* view = app.add_subcommand(
+      "view", "Serve a live page of the world model (graph, 3D tree, inspector, timeline)");
   vf->dds.add_to(view);
-  view->add_option("--listen", vf->listen, "HOST:PORT to serve on (default 127.0.0.1:8080; port 0: any free one)");
-  auto* replay = view->add_option("--replay", vf->replay, "show a recording (.qrec) instead of a live domain")
-                     ->check(CLI::ExistingFile);
-  view->add_option("--world", vf->world, "show a world file instead of a live domain")->check(CLI::ExistingFile)->excludes(replay);
-  view->add_option("--grammar", vf->grammar, "highlight the violations of this grammar's constraints")->check(CLI::ExistingFile);
+  view->add_option("--listen", vf->listen,
+                   "HOST:PORT to serve on (default 127.0.0.1:8080; port 0: any free one)");
+  auto* replay =
+      view->add_option("--replay", vf->replay, "show a recording (.qrec) instead of a live domain")
+          ->check(CLI::ExistingFile);
+  view->add_option("--world", vf->world, "show a world file instead of a live domain")
+      ->check(CLI::ExistingFile)
+      ->excludes(replay);
+  view->add_option("--grammar", vf->grammar,
+                   "highlight the violations of this grammar's constraints")
+      ->check(CLI::ExistingFile);
   view->add_option("--assets", vf->assets, "the page's files (default: installed with Quiver)");
-  view->add_option("--history-mb", vf->history_mb, "memory for the timeline (oldest frames fold into a base state)")
+  view->add_option("--history-mb", vf->history_mb,
+                   "memory for the timeline (oldest frames fold into a base state)")
       ->check(CLI::Range(1.0, 65536.0));
-  view->add_option("--nice", vf->nice, "live: run at this scheduling niceness, so that the agents come first (0: as started)")
+  view->add_option(
+          "--nice", vf->nice,
+          "live: run at this scheduling niceness, so that the agents come first (0: as started)")
       ->check(CLI::Range(0, 19))
       ->capture_default_str();
-  view->add_option("--for", vf->run_for_s, "stop after this many seconds (default: until Ctrl-C)")->check(CLI::Range(0.0, 1e7));
+  view->add_option("--for", vf->run_for_s, "stop after this many seconds (default: until Ctrl-C)")
+      ->check(CLI::Range(0.0, 1e7));
   view->callback([vf] { set_exit_code(run_view(*vf)); });
 
   auto rf = std::make_shared<RecordFlags>();
-  auto* record = app.add_subcommand("record", "Record every change a DDS domain's agents make, with origin and time, into a .qrec file");
+  auto* record = app.add_subcommand(
+      "record",
+      "Record every change a DDS domain's agents make, with origin and time, into a .qrec file");
   rf->dds.add_to(record);
   record->add_option("-o,--output", rf->out, "the recording file (.qrec)")->required();
-  record->add_option("--max-mb", rf->max_mb, "the file and its older part PATH.1 stay under this many MiB together")
+  record
+      ->add_option("--max-mb", rf->max_mb,
+                   "the file and its older part PATH.1 stay under this many MiB together")
       ->check(CLI::Range(0.01, 1e6));
-  record->add_option("--for", rf->run_for_s, "stop after this many seconds (default: until Ctrl-C)")->check(CLI::Range(0.0, 1e7));
+  record->add_option("--for", rf->run_for_s, "stop after this many seconds (default: until Ctrl-C)")
+      ->check(CLI::Range(0.0, 1e7));
   record->callback([rf] { set_exit_code(run_record(*rf)); });
 }
 

@@ -145,6 +145,13 @@ std::optional<LockClaim> LockManager::winner(NodeId root) const {
   return it->second.winner;
 }
 
+std::vector<std::pair<NodeId, LockClaim>> LockManager::winners() const {
+  std::vector<std::pair<NodeId, LockClaim>> out;
+  for (const auto& [root, seen] : seen_)
+    if (auto w = winner(root)) out.emplace_back(root, *w);
+  return out;
+}
+
 bool LockManager::pending(NodeId root) const {
   auto m = mine_.find(root);
   return m != mine_.end() && !holds(root);

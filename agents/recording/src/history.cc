@@ -7,7 +7,8 @@ namespace quiver::agents::recording {
 
 graph::ReplicaId replay_replica_id() { return graph::ReplicaId{fnv1a64("quiver-replay"), 1}; }
 
-History::History(std::uint64_t max_bytes, std::uint64_t max_frames) : max_bytes_(max_bytes), max_frames_(max_frames) {}
+History::History(std::uint64_t max_bytes, std::uint64_t max_frames)
+    : max_bytes_(max_bytes), max_frames_(max_frames) {}
 History::~History() = default;
 History::History(History&&) noexcept = default;
 History& History::operator=(History&&) noexcept = default;
@@ -41,18 +42,20 @@ Result<Frame> History::frame(std::uint64_t i) const {
 std::int64_t History::time_of(std::uint64_t i) const { return kept_.at(i - first_).t_ns; }
 const std::string& History::origin_of(std::uint64_t i) const { return kept_.at(i - first_).origin; }
 
-Status History::replay(std::uint64_t from, std::uint64_t last,
-                       const std::function<void(std::uint64_t, const graph::Graph&, const graph::ChangeBatch&)>& fn) const {
+Status History::replay_into(graph::Graph& g, std::uint64_t from, std::uint64_t last,
+                            const ReplayFn& fn) const {
   if (last < first_ || last >= end())
-    return make_error(ErrorCode::kNotFound, "frame " + std::to_string(last) + " is not in the history (it holds " +
-                                                std::to_string(first_) + ".." + std::to_string(end()) + ")");
-  graph::Graph g(replay_replica_id());
+    return make_error(ErrorCode::kNotFound,
+                      "frame " + std::to_string(last) + " is not in the history (it holds " +
+                          std::to_string(first_) + ".." + std::to_string(end()) + ")");
   if (base_) g.merge(base_->state());
   graph::ChangeBatch changes;
   const auto sub = g.subscribe([&changes](const graph::ChangeBatch& b) { changes = b; });
   graph::GraphDelta d;
-  for (std::uint64_t j = first_; j <= last; ++j) {
-    if (Status s = graph::decode(kept_[j - first_].delta, d); !s.ok()) return s;
+  Status status;
+  for (std::uint64_t j = first_; j <= last && status.ok(); ++j) {
+    status = graph::decode(kept_[j - first_].delta, d);
+    if (!status.ok()) break;
     changes = graph::ChangeBatch{};
     g.merge(d);
     if (j >= from) {
@@ -61,15 +64,21 @@ Status History::replay(std::uint64_t from, std::uint64_t last,
     }
   }
   g.unsubscribe(sub);
-  return {};
+  return status;
 }
 
-Result<std::unique_ptr<graph::Graph>> History::state_after(std::uint64_t i, graph::ChangeBatch* changes) const {
+Status History::replay(std::uint64_t from, std::uint64_t last, const ReplayFn& fn) const {
+  graph::Graph g(replay_replica_id());
+  return replay_into(g, from, last, fn);
+}
+
+Result<std::unique_ptr<graph::Graph>> History::state_after(std::uint64_t i,
+                                                           graph::ChangeBatch* changes) const {
   auto g = std::make_unique<graph::Graph>(replay_replica_id());
-  Status s = replay(i, i, [&](std::uint64_t, const graph::Graph& after, const graph::ChangeBatch& b) {
-    g->merge(after.state());
-    if (changes != nullptr) *changes = b;
-  });
+  Status s =
+      replay_into(*g, i, i, [&](std::uint64_t, const graph::Graph&, const graph::ChangeBatch& b) {
+        if (changes != nullptr) *changes = b;
+      });
   if (!s.ok()) return s.error();
   return g;
 }

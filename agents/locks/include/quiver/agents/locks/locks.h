@@ -84,6 +84,9 @@ class LockManager {
   bool pending(graph::NodeId root) const;
   /// The winning claim, if any live one.
   std::optional<LockClaim> winner(graph::NodeId root) const;
+  /// Every locked scope's root with its live winning claim (a viewer's overview; costs the
+  /// scopes ever claimed, not the graph).
+  std::vector<std::pair<graph::NodeId, LockClaim>> winners() const;
   /// True if `node` lies in a scope locked by another replica (writes to it are refused).
   bool locked_by_other(graph::NodeId node) const;
   /// The fencing epoch this replica's writes to `node` carry (0 outside its scopes).

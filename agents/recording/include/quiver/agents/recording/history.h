@@ -4,8 +4,9 @@
 /// viewer's timeline, a renderer of a recording).
 ///
 /// Frames are numbered from 0 in arrival order; numbers stay valid while the history runs. When
-/// the frames kept pass `max_bytes` (their encoded size) or `max_frames`, the oldest are folded into a base
-/// state, so the earliest frame still listed moves on but every listed one can still be rebuilt.
+/// the frames kept pass `max_bytes` (their encoded size) or `max_frames`, the oldest are folded
+/// into a base state, so the earliest frame still listed moves on but every listed one can still be
+/// rebuilt.
 
 #include <cstdint>
 #include <deque>
@@ -50,10 +51,14 @@ class History {
                                                     graph::ChangeBatch* changes = nullptr) const;
   /// Rebuilds the states after frames begin()..last in order and calls `fn(i, graph after i,
   /// what frame i changed)` for each i >= `from`. kNotFound when `last` is not listed.
-  Status replay(std::uint64_t from, std::uint64_t last,
-                const std::function<void(std::uint64_t, const graph::Graph&, const graph::ChangeBatch&)>& fn) const;
+  using ReplayFn =
+      std::function<void(std::uint64_t, const graph::Graph&, const graph::ChangeBatch&)>;
+  Status replay(std::uint64_t from, std::uint64_t last, const ReplayFn& fn) const;
 
  private:
+  // replay() into `g` (empty), which holds the state after `last` when it returns.
+  Status replay_into(graph::Graph& g, std::uint64_t from, std::uint64_t last,
+                     const ReplayFn& fn) const;
   struct Kept {
     std::int64_t t_ns;
     std::string origin;
