@@ -415,9 +415,19 @@ void Replicator::equivocate(const PeerId& from, const DeltaMsg& m, std::uint64_t
   g_.merge(scratch_);
   ++state_version_;
   applied_.add_range(m.origin, m.lo, m.hi);
+  // Remembered by its interval's end and digest, so that its echoes are duplicates: relayed
+  // versions that were not would bounce between the replicas for ever.
   Seen* seen = recorded(m.origin, m.lo);
-  const bool first_other = seen != nullptr && seen->others.empty();
-  if (seen != nullptr) seen->others.push_back(digest);
+  bool first_other = false;
+  if (seen == nullptr) {
+    record(m.origin, m.lo, m.hi, digest);
+  } else if (seen->others.size() < opt_.max_versions) {
+    first_other = seen->others.empty();
+    seen->others.push_back(Version{m.hi, digest});
+  } else {
+    ++stats_.versions_not_relayed;
+    return;
+  }
   queue(PeerId{}, DeltaMsg{m.origin, m.lo, m.hi, m.payload});
   if (first_other) {
     auto idx = buffer_index_.find(m.origin);
@@ -428,27 +438,39 @@ void Replicator::equivocate(const PeerId& from, const DeltaMsg& m, std::uint64_t
 }
 
 // A delta that claims this replica as its origin. An echo of what we published is a duplicate;
-// one that differs from it, or one beyond anything we published, was forged under our name.
+// one that differs from it, or one naming numbers we never published, was forged under our name.
 void Replicator::handle_own(const PeerId& from, const DeltaMsg& m) {
   const std::uint64_t digest = digest_of(*m.payload);
-  if (m.lo <= seq_) {
+  if (applied_.includes(self_, m.lo, m.hi)) {
     const Seen* seen = recorded(self_, m.lo);
-    if (m.hi > seq_ || (seen != nullptr && !seen->knows(m.hi, digest))) {
-      if (m.hi > seq_) seq_ = m.hi;  // our next numbers go beyond it
-      equivocate(from, m, digest, "claims to be ours but differs from what we published");
+    if (seen == nullptr || seen->knows(m.hi, digest)) {
+      ++stats_.deltas_duplicate;
+      return;
     }
-    return;
+    return equivocate(from, m, digest, "claims to be ours but differs from what we published");
   }
-  // Beyond our last sequence number: someone publishes under our name. Peers may already hold
-  // it, so this replica takes it too (every replica must hold the same), and our next deltas
-  // take sequence numbers (and dots, by the Lamport rule) beyond it.
+  // Numbers this replica never published: someone publishes under our name. Peers may already
+  // hold it, so this replica takes it too (every replica must hold the same), and our next
+  // deltas take sequence numbers (and dots, by the Lamport rule) beyond it. Checked first: a
+  // payload that does not decode moves nothing.
   if (Status s = decode_delta(from, m); !s.ok()) return reject(s.error());
+  const bool overlaps = applied_.intersects(self_, m.lo, m.hi);
+  skip_own_numbers_to(m.hi);
+  if (overlaps) return equivocate(from, m, digest, "claims to be ours but differs from what we published");
   equivocation("delta " + interval(m.origin, m.lo, m.hi) + " relayed by " + from.to_string() +
                " was published under this replica's name, which never published it; later deltas take sequence "
                "numbers beyond it");
-  if (m.lo > seq_ + 1) applied_.add_range(self_, seq_ + 1, m.lo - 1);  // numbers nobody used
-  seq_ = m.hi;
   apply_delta(from, m, digest);
+}
+
+// Our next sequence number goes beyond `hi` (someone used numbers of ours): coalesced local
+// changes are published first under the numbers they already have, and the numbers up to `hi`
+// nobody published here are marked used, so that [1, seq_] stays in applied_.
+void Replicator::skip_own_numbers_to(std::uint64_t hi) {
+  if (hi <= seq_) return;
+  flush();
+  applied_.add_range(self_, seq_ + 1, hi);
+  seq_ = hi;
 }
 
 void Replicator::pull_from(const PeerId& target, bool whole_state) {
@@ -581,6 +603,8 @@ void Replicator::handle(const PeerId& from, const StateMsg& m) {
   g_.merge(scratch_);
   ++state_version_;
   applied_.join(applied);
+  // A state may carry deltas forged under our name: our next numbers go beyond them.
+  skip_own_numbers_to(applied_.max_counter(self_));
   ++stats_.states_applied;
   stats_.state_bytes_received += all.size();
   gap_pending_ = false;

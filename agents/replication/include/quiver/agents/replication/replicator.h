@@ -64,6 +64,9 @@ struct ReplicatorOptions {
   std::size_t max_peers = 256;               ///< peers remembered at once (live or recently gone)
   std::size_t max_peer_ranges = 1u << 20;    ///< ranges of all peers' summaries kept together
   std::size_t equivocation_window = 1u << 16;  ///< (origin, seq) digests kept to detect equivocation
+  /// Versions of one (origin, seq) remembered and relayed; later ones are joined but not relayed
+  /// (the periodic state digest repairs replicas that missed them).
+  std::size_t max_versions = 64;
   int suspect_after_timeouts = 6;            ///< pulls in a row a talking peer leaves unanswered before...
   std::int64_t suspect_ns = 3'000'000'000;   ///< ...its summaries are ignored this long
   /// A summary carries the state digest this often (0: never). A peer that holds the same
@@ -94,6 +97,7 @@ struct ReplicatorStats {
   std::uint64_t peers_refused = 0;        ///< envelopes from new peers while the table was full
   std::uint64_t suspects = 0;             ///< peers found claiming what they did not deliver
   std::uint64_t divergences = 0;          ///< same (origin, seq) set, other digest: whole state pulled
+  std::uint64_t versions_not_relayed = 0;  ///< versions of one (origin, seq) beyond max_versions: joined only
 };
 
 class Replicator {
@@ -190,12 +194,19 @@ class Replicator {
   };
   // What each applied (origin, lo) carried, to tell a duplicate from an equivocation: the digest
   // of the first payload, and of any other that came under the same interval.
+  // The versions seen under one (origin, lo): the first, and the others (an equivocation), each
+  // known by its interval's end and its payload's digest.
+  struct Version {
+    std::uint64_t hi = 0;
+    std::uint64_t digest = 0;
+    bool operator==(const Version&) const = default;
+  };
   struct Seen {
     std::uint64_t hi = 0;
     std::uint64_t digest = 0;
-    std::vector<std::uint64_t> others;
+    std::vector<Version> others;
     bool knows(std::uint64_t hi_, std::uint64_t d) const {
-      return hi == hi_ && (digest == d || std::find(others.begin(), others.end(), d) != others.end());
+      return (hi == hi_ && digest == d) || std::find(others.begin(), others.end(), Version{hi_, d}) != others.end();
     }
   };
   struct Outgoing {
@@ -216,6 +227,7 @@ class Replicator {
   }
   void equivocation(const std::string& what);
   void equivocate(const PeerId& from, const DeltaMsg& m, std::uint64_t digest, const std::string& what);
+  void skip_own_numbers_to(std::uint64_t hi);
   bool counts(const Peer& p) const;
   void handle(const PeerId& from, const SummaryMsg& m);
   void handle(const PeerId& from, const DeltaMsg& m);
