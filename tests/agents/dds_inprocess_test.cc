@@ -6,6 +6,7 @@
 #include <future>
 #include <thread>
 
+#include "quiver/agents/dds/cdr.h"
 #include "quiver/agents/dds/dds_replica.h"
 #include "quiver/rng.h"
 #include "quiver/sim/workload.h"
@@ -89,6 +90,39 @@ void churn(Running& r, Rng& rng, int txns, std::int64_t t0) {
   r.call([&](DdsReplica& a) {
     for (int i = 0; i < txns; ++i) work.step(a.graph(), rng, t0 + i);
   });
+}
+
+// Every field the protocol relies on survives the mapping to DDS samples and back: the digest of
+// a summary (without it no replica over DDS could find a divergence) and a pull's whole-state and
+// as-state requests, in both CDR versions and byte orders.
+TEST(DdsInProcessTest, SummaryDigestAndPullFlagsTravelInSamples) {
+  const PeerId a{11, 1}, b{12, 1};
+  const RangeList applied{Range{a, 1, 7}, Range{b, 3, 9}};
+  for (int xcdr : {1, 2})
+    for (bool le : {true, false}) {
+      SummaryMsg sm{"agent a", true, applied};
+      sm.digest = 0x0123456789abcdefULL;
+      auto s = decode_cdr_sample(DdsTopic::kSummary, encode_cdr_sample(Envelope{a, PeerId{}, {sm}}, xcdr, le));
+      ASSERT_TRUE(s.ok()) << s.error().to_string();
+      const auto& got = std::get<SummaryMsg>(s->messages.at(0));
+      EXPECT_EQ(got.digest, sm.digest);
+      EXPECT_EQ(got.name, "agent a");
+      EXPECT_TRUE(got.observer);
+      EXPECT_EQ(got.applied, applied);
+      for (bool whole : {false, true})
+        for (bool as_state : {false, true}) {
+          PullMsg pm{77, applied, {Range{a, 2, 2}}, whole, as_state};
+          auto p = decode_cdr_sample(DdsTopic::kPull, encode_cdr_sample(Envelope{a, b, {pm}}, xcdr, le));
+          ASSERT_TRUE(p.ok()) << p.error().to_string();
+          const auto& gp = std::get<PullMsg>(p->messages.at(0));
+          EXPECT_EQ(gp.request, 77u);
+          EXPECT_EQ(gp.whole_state, whole);
+          EXPECT_EQ(gp.as_state, as_state);
+          EXPECT_EQ(gp.applied, applied);
+          EXPECT_EQ(gp.context, (RangeList{Range{a, 2, 2}}));
+          EXPECT_EQ(p->to, b);
+        }
+    }
 }
 
 TEST(DdsInProcessTest, TwoAgentsReplicate) {

@@ -72,11 +72,15 @@ TEST_F(RogueTest, HonestAgentsSurviveAndConvergeUnderAttack) {
   EXPECT_EQ(dump_digest(domain), digest) << "a fresh observer syncs to the same state";
   std::printf("[rogue] resident memory: %ld KiB before, %ld KiB at most during the attack\n", rss_before, rss_peak);
   EXPECT_LT(rss_peak, rss_before + 400 * 1024) << "memory stays bounded";
-  std::uint64_t rejected = 0, equivocations = 0;
+  std::uint64_t rejected = 0, equivocations = 0, divergences = 0;
   for (auto& a : agents) {
     rejected += a->last["rejected"].get<std::uint64_t>();
     equivocations += a->last["equivocations"].get<std::uint64_t>();
+    divergences += a->last.value("divergences", std::uint64_t{0});
   }
+  std::printf("[rogue] %llu packets refused, %llu equivocations reported, %llu divergences found by the digest\n",
+              static_cast<unsigned long long>(rejected), static_cast<unsigned long long>(equivocations),
+              static_cast<unsigned long long>(divergences));
   EXPECT_GT(rejected, 100u) << "the bad input reached the agents and was refused";
   EXPECT_GT(equivocations, 0u) << "the forgery and the equivocations were seen";
 

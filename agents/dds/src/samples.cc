@@ -51,6 +51,7 @@ Envelope envelope_of(const quiver_wire_Summary& s) {
   SummaryMsg m;
   m.name = s.name ? s.name : "";
   m.observer = s.observer;
+  m.digest = s.digest;
   read_ranges(s.applied, m.applied);
   e.messages.emplace_back(std::move(m));
   return e;
@@ -65,6 +66,8 @@ Envelope envelope_of(const quiver_wire_Pull& s) {
   m.request = s.request;
   read_ranges(s.applied, m.applied);
   read_ranges(s.context, m.context);
+  m.whole_state = s.whole_state;
+  m.as_state = s.as_state;
   return addressed(s, std::move(m));
 }
 
@@ -134,12 +137,14 @@ std::pair<DdsTopic, const void*> SampleBuilder::build(const Message& m, const Pe
           summary_.name = const_cast<char*>(msg.name.c_str());
           summary_.observer = msg.observer;
           summary_.applied = a_.build(msg.applied);
+          summary_.digest = msg.digest;
           return {DdsTopic::kSummary, &summary_};
         } else if constexpr (std::is_same_v<T, DeltaMsg>) {
           delta_ = quiver_wire_Delta{from, to, to_wire(msg.origin), msg.lo, msg.hi, octets(*msg.payload)};
           return {DdsTopic::kDelta, &delta_};
         } else if constexpr (std::is_same_v<T, PullMsg>) {
-          pull_ = quiver_wire_Pull{from, to, msg.request, a_.build(msg.applied), b_.build(msg.context)};
+          pull_ = quiver_wire_Pull{from, to, msg.request, a_.build(msg.applied), b_.build(msg.context), msg.whole_state,
+                                   msg.as_state};
           return {DdsTopic::kPull, &pull_};
         } else if constexpr (std::is_same_v<T, StateMsg>) {
           state_ = quiver_wire_StateChunk{from,

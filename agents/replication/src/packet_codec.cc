@@ -70,7 +70,7 @@ struct BodyWriter {
   void operator()(const PullMsg& m) {
     w.u8(kPull);
     w.varint(m.request);
-    w.varint(m.whole_state ? 1 : 0);
+    w.varint((m.whole_state ? 1 : 0) | (m.as_state ? 2 : 0));
     encode_ranges(m.applied, w);
     encode_ranges(m.context, w);
   }
@@ -166,8 +166,9 @@ Result<Envelope> decode_packet(std::span<const std::uint8_t> packet) {
         PullMsg m;
         m.request = b.varint("request id");
         const std::uint64_t flags = b.varint("flags");
-        if (b.ok() && flags > 1) b.fail(ErrorCode::kMalformed, "flags", "unknown flag bits");
+        if (b.ok() && flags > 3) b.fail(ErrorCode::kMalformed, "flags", "unknown flag bits");
         m.whole_state = flags & 1;
+        m.as_state = flags & 2;
         decode_ranges(b, m.applied);
         decode_ranges(b, m.context);
         e.messages.emplace_back(std::move(m));

@@ -345,7 +345,7 @@ void Replicator::record(const PeerId& origin, std::uint64_t lo, std::uint64_t hi
     seen_order_[seen_next_] = {origin, lo};
     seen_next_ = (seen_next_ + 1) % seen_order_.size();
   }
-  seen_[origin][lo] = Seen{hi, digest};
+  seen_[origin][lo] = Seen{hi, digest, {}};
 }
 
 const Replicator::Seen* Replicator::recorded(const PeerId& origin, std::uint64_t lo) const {

@@ -45,6 +45,7 @@ nlohmann::json status(Agent& agent, DdsReplica& r, const AgentRuntime& rt) {
   j["write_timeouts"] = r.transport().stats().write_timeouts;
   j["rejected"] = st.rejected_packets;
   j["equivocations"] = st.equivocations;
+  j["divergences"] = st.divergences;
   j["peers_known"] = r.replicator().peers().size();
   j["rss_kb"] = resident_kb();
   j["actions_started"] = rt.stats().started;

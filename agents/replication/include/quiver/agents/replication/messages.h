@@ -60,6 +60,7 @@ struct PullMsg {
   RangeList applied;
   RangeList context;
   bool whole_state = false;  ///< answer with the whole state, not deltas or a context diff
+  bool as_state = false;     ///< answer with a context diff even if recent deltas would do
 };
 
 /// One chunk of a state transfer (an encoded context diff split into `count` chunks), answering
