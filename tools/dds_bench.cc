@@ -83,6 +83,7 @@ struct RoleFlags {
   int agents = 20;
   double seconds = 5;
   bool with_viewer = false;
+  bool viewer_every_delta = false;
 };
 
 // ------------------------------------------------------------------ throughput / latency / join
@@ -343,9 +344,11 @@ std::optional<json> read_json(Subprocess& p, const char* who, int timeout_ms) {
 // this process), so the viewer does all its work while the writer writes.
 class AttachedViewer {
  public:
-  static std::unique_ptr<AttachedViewer> start(const DdsFlags& dds) {
-    auto p = Subprocess::spawn({self_exe(), "--log-level", "warn", "view", "--domain", std::to_string(dds.domain),
-                                "--dds-config", dds.dds_config, "--listen", "127.0.0.1:0"});
+  static std::unique_ptr<AttachedViewer> start(const DdsFlags& dds, bool every_delta) {
+    std::vector<std::string> argv = {self_exe(), "--log-level", "warn", "view", "--domain", std::to_string(dds.domain),
+                                     "--dds-config", dds.dds_config, "--listen", "127.0.0.1:0"};
+    if (every_delta) argv.push_back("--every-delta");
+    auto p = Subprocess::spawn(argv);
     if (!p) return nullptr;
     auto line = p->read_line(20'000);
     const auto at = line ? line->find("http://127.0.0.1:") : std::string::npos;
@@ -366,6 +369,9 @@ class AttachedViewer {
           return !state->stop.load();
         });
     });
+    // Measured attached, not starting: the viewer joins, loads the graph and opens its page
+    // before the writers begin (its start-up is a one-off, not a cost per change).
+    std::this_thread::sleep_for(std::chrono::seconds(2));
     return v;
   }
   AttachedViewer() = default;
@@ -402,7 +408,7 @@ int run_bench_dds(const RoleFlags& f) {
   if (!readers) return 2;
   std::unique_ptr<AttachedViewer> viewer;
   if (f.with_viewer) {
-    viewer = AttachedViewer::start(f.dds);
+    viewer = AttachedViewer::start(f.dds, f.viewer_every_delta);
     if (!viewer) return 2;
   }
   auto writer = Subprocess::spawn(role_argv("writer", f.dds, common));
@@ -438,6 +444,7 @@ int run_bench_dds(const RoleFlags& f) {
   if (joined) out["join_ms_10k_from_process_start"] = (*joined)["join_ms_from_process_start"];
   out["write_timeouts"] = (*ready)["write_timeouts"];
   out["with_viewer"] = f.with_viewer;
+  if (f.with_viewer) out["viewer_every_delta"] = f.viewer_every_delta;
   if (viewer) out["viewer_event_bytes"] = viewer->stop();
   std::cout << out.dump() << std::endl;
   return joined && (*joined)["synced"].get<bool>() ? 0 : 1;
@@ -448,7 +455,7 @@ int run_bench_tracking(const RoleFlags& f) {
   auto listeners = spawn_roles("listener", f.agents - 1, f.dds, common);
   if (!listeners) return 2;
   std::unique_ptr<AttachedViewer> viewer;
-  if (f.with_viewer && !(viewer = AttachedViewer::start(f.dds))) return 2;
+  if (f.with_viewer && !(viewer = AttachedViewer::start(f.dds, f.viewer_every_delta))) return 2;
   auto tracker = Subprocess::spawn(role_argv("tracker", f.dds, common));
   if (!tracker) return 2;
   auto t = read_json(*tracker, "tracker", static_cast<int>((f.seconds + 120) * 1000));
@@ -469,6 +476,7 @@ int run_bench_tracking(const RoleFlags& f) {
   out["latency_us_p99"] = round_to(pct.at(0.99), 1);
   out["latency_us_max"] = round_to(pct.at(1.0), 1);
   out["with_viewer"] = f.with_viewer;
+  if (f.with_viewer) out["viewer_every_delta"] = f.viewer_every_delta;
   if (viewer) out["viewer_event_bytes"] = viewer->stop();
   std::cout << out.dump() << std::endl;
   return 0;
@@ -489,6 +497,7 @@ void add_dds_bench_commands(CLI::App& app) {
   dds->add_option("--join-nodes", f->join_nodes)->check(CLI::Range(0, 10'000'000))->capture_default_str();
   dds->add_flag("--with-viewer", f->with_viewer,
                 "run `quiver view` on the domain, with a page's event stream open, during the benchmark");
+  dds->add_flag("--viewer-every-delta", f->viewer_every_delta, "the viewer reads every delta (`quiver view --every-delta`)");
   dds->callback([f] { set_exit_code(run_bench_dds(*f)); });
 
   auto* tr = bench->add_subcommand("dds-tracking",
@@ -497,6 +506,7 @@ void add_dds_bench_commands(CLI::App& app) {
   tr->add_option("--agents", f->agents)->check(CLI::Range(2, 100))->capture_default_str();
   tr->add_option("--seconds", f->seconds)->check(CLI::Range(0.1, 3600.0))->capture_default_str();
   tr->add_flag("--with-viewer", f->with_viewer, "run `quiver view` on the domain, with a page's event stream open");
+  tr->add_flag("--viewer-every-delta", f->viewer_every_delta, "the viewer reads every delta (`quiver view --every-delta`)");
   tr->callback([f] { set_exit_code(run_bench_tracking(*f)); });
 
   auto r = std::make_shared<RoleFlags>();

@@ -6,11 +6,12 @@ namespace quiver::tools {
 
 Result<std::unique_ptr<agents::DdsReplica>> open_observer(const DdsFlags& dds,
                                                           const std::string& name,
-                                                          bool best_effort) {
+                                                          ObserverMode mode) {
   agents::DdsReplicaOptions o;
   o.name = name;
   o.observer = true;
-  o.dds.best_effort_reader = best_effort;
+  o.dds.best_effort_reader = mode.best_effort;
+  o.replicator.sample_ns = mode.sample_ns;
   return dds.create_agent(o);
 }
 

@@ -11,11 +11,20 @@
 
 namespace quiver::tools {
 
+/// How an observer follows the domain.
+struct ObserverMode {
+  /// Writers never wait for it (a recorder; DdsConfig::best_effort_reader).
+  bool best_effort = false;
+  /// > 0: it reads no deltas and pulls what changed at most this often (a viewer;
+  /// ReplicatorOptions::sample_ns): writers pay nothing per change for it.
+  std::int64_t sample_ns = 0;
+};
+
 /// Opens an observer replica called `name` on the domain `dds` names, without waiting for
-/// anyone. `best_effort`: writers never wait for it (a viewer, a recorder; DdsConfig).
+/// anyone.
 Result<std::unique_ptr<agents::DdsReplica>> open_observer(const DdsFlags& dds,
                                                           const std::string& name,
-                                                          bool best_effort = false);
+                                                          ObserverMode mode = {});
 
 /// Joins the domain `dds` names as an observer called `name` (open_observer()), waits for a live
 /// peer, then until the replica is synced (it holds everything every live peer says it holds) and

@@ -4,12 +4,15 @@
 #include <sys/resource.h>
 
 #include <CLI/CLI.hpp>
+#include <algorithm>
 #include <atomic>
 #include <cerrno>
 #include <csignal>
 #include <cstring>
+#include <ctime>
 #include <iostream>
 #include <map>
+#include <memory>
 #include <mutex>
 
 #include "commands.h"
@@ -44,6 +47,8 @@ struct ViewFlags {
   double run_for_s = 0;
   double history_mb = 64;
   int nice = 10;
+  double sample_ms = 50;
+  bool every_delta = false;
 };
 
 Result<std::pair<std::string, int>> parse_listen(const std::string& s) {
@@ -139,6 +144,13 @@ int view_static(const ViewFlags& f, agents::viewer::ViewerOptions vo) {
   return 0;
 }
 
+// CPU time of this process, all threads (ns).
+std::int64_t process_cpu_ns() {
+  timespec ts{};
+  ::clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
+  return static_cast<std::int64_t>(ts.tv_sec) * 1'000'000'000 + ts.tv_nsec;
+}
+
 int run_view(const ViewFlags& f) {
   auto log = agents::named_logger("quiver view");
   auto listen = parse_listen(f.listen);
@@ -160,7 +172,11 @@ int run_view(const ViewFlags& f) {
   // An observer yields the processor to the agents it watches (docs/viewer.md).
   if (f.nice != 0 && ::setpriority(PRIO_PROCESS, 0, f.nice) != 0)
     log->warn("could not lower the viewer's priority to nice {}: {}", f.nice, std::strerror(errno));
-  auto created = open_observer(f.dds, "quiver-view", /*best_effort=*/true);
+  // By default the viewer samples: it reads no deltas (writers pay nothing per change for it) and
+  // pulls what changed 20 times a second. --every-delta reads each delta, best effort.
+  ObserverMode mode{.best_effort = true,
+                    .sample_ns = f.every_delta ? 0 : static_cast<std::int64_t>(f.sample_ms * 1e6)};
+  auto created = open_observer(f.dds, "quiver-view", mode);
   if (!created.ok()) {
     log->error("{}", created.error().to_string());
     return 2;
@@ -198,6 +214,20 @@ int run_view(const ViewFlags& f) {
   }
   std::cout << "quiver view: " << (*viewer)->url() << "  (" << vo.title << ")" << std::endl;
   a.every(5'000'000, [&] { (*viewer)->tick(agents::monotonic_ns()); });
+  // A twentieth of a core at most: when the viewer's whole process (pulls, merges, pushes,
+  // Cyclone's threads) used more over the last quarter second, it pulls half as often (down to
+  // once a second); under half of that, twice as often again (up to --sample-ms).
+  if (mode.sample_ns > 0) {
+    auto last = std::make_shared<std::pair<std::int64_t, std::int64_t>>(agents::monotonic_ns(), process_cpu_ns());
+    a.every(250'000'000, [&a, last, base = mode.sample_ns] {
+      const std::int64_t now = agents::monotonic_ns(), cpu = process_cpu_ns();
+      const double share = static_cast<double>(cpu - last->second) / static_cast<double>(std::max<std::int64_t>(1, now - last->first));
+      *last = {now, cpu};
+      const std::int64_t period = a.replicator().options().sample_ns;
+      if (share > 0.05) a.replicator().set_sample_ns(std::min<std::int64_t>(period * 2, 1'000'000'000));
+      else if (share < 0.025) a.replicator().set_sample_ns(std::max(period / 2, base));
+    });
+  }
   a.every(200'000'000, [&] { locks.tick(); });
   serve_until_stopped(f.run_for_s, [&] { a.spin_once(20'000'000); });
   viewer->reset();
@@ -213,7 +243,7 @@ struct RecordFlags {
 
 int run_record(const RecordFlags& f) {
   auto log = agents::named_logger("quiver record");
-  auto created = open_observer(f.dds, "quiver-record", /*best_effort=*/true);
+  auto created = open_observer(f.dds, "quiver-record", ObserverMode{.best_effort = true});
   if (!created.ok()) {
     log->error("{}", created.error().to_string());
     return 2;
@@ -283,6 +313,12 @@ void add_view_commands(CLI::App& app) {
           "live: run at this scheduling niceness, so that the agents come first (0: as started)")
       ->check(CLI::Range(0, 19))
       ->capture_default_str();
+  auto* every = view->add_flag("--every-delta", vf->every_delta,
+                               "live: read every delta (a timeline frame per change, each with its author); writers "
+                               "then send this viewer each change (default: pull what changed, --sample-ms)");
+  view->add_option("--sample-ms", vf->sample_ms, "live: how often to pull what changed (default 50 ms)")
+      ->check(CLI::Range(5.0, 10000.0))
+      ->excludes(every);
   view->add_option("--for", vf->run_for_s, "stop after this many seconds (default: until Ctrl-C)")
       ->check(CLI::Range(0.0, 1e7));
   view->callback([vf] { set_exit_code(run_view(*vf)); });

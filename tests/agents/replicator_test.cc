@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <deque>
 #include <map>
 
@@ -36,6 +37,36 @@ TEST(ReplicatorTest, DeltasReachEveryPeer) {
     EXPECT_EQ(net.nodes[i].g->digest(), net.nodes[a].g->digest());
   }
   EXPECT_EQ(net.nodes[c].rep->stats().deltas_applied, 2u);
+}
+
+// A sampling observer (a viewer) receives no deltas (its DDS transport subscribes to none; here
+// the network drops them) and pulls what changed as one context diff, at most once per period:
+// 200 writes in 1 s reach it in about ten transfers, and it ends equal to the writer.
+TEST(ReplicatorTest, ASamplingObserverPullsWhatChangedAtItsOwnPace) {
+  Net net;
+  ReplicatorOptions watcher;
+  watcher.observer = true;
+  watcher.sample_ns = 100'000'000;
+  int a = net.add(1), v = net.add(2, watcher);
+  net.drop = [&](const Frame& f) {
+    if (f.to != v) return false;
+    auto e = decode_packet(f.bytes);
+    return e.ok() && std::any_of(e->messages.begin(), e->messages.end(),
+                                 [](const Message& m) { return std::holds_alternative<DeltaMsg>(m); });
+  };
+  net.pump();
+  for (int i = 0; i < 200; ++i) {
+    add_node(*net.nodes[a].g, "n" + std::to_string(i));
+    net.advance(5'000'000, 1);
+  }
+  net.advance(500'000'000);
+  const auto& st = net.nodes[v].rep->stats();
+  EXPECT_EQ(net.nodes[v].g->digest(), net.nodes[a].g->digest());
+  EXPECT_EQ(net.nodes[v].g->node_count(), 200u);
+  EXPECT_EQ(st.deltas_applied, 0u) << "it read no delta";
+  EXPECT_GE(st.states_applied, 5u);
+  EXPECT_LE(st.pulls_sent, 16u) << "at most one pull per 100 ms over 1.5 s";
+  EXPECT_EQ(net.nodes[a].rep->stats().pulls_answered_with_deltas, 0u) << "answered with diffs, not deltas";
 }
 
 TEST(ReplicatorTest, DuplicatesAreIgnored) {

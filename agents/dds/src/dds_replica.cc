@@ -26,6 +26,8 @@ Result<std::unique_ptr<DdsReplica>> DdsReplica::create(DdsReplicaOptions options
   a->opt_ = std::move(options);
   PeerId id{fnv1a64(a->opt_.name), a->opt_.incarnation ? a->opt_.incarnation : fresh_incarnation()};
   a->graph_ = std::make_unique<graph::Graph>(id);
+  // A sampling observer pulls what changed: it subscribes to no delta, so nobody sends it any.
+  if (a->opt_.replicator.sample_ns > 0) a->opt_.dds.read_deltas = false;
   auto t = DdsTransport::create(id, a->opt_.dds);
   if (!t.ok()) return t.error();
   a->transport_ = std::move(*t);

@@ -225,6 +225,7 @@ Result<std::unique_ptr<DdsTransport>> DdsTransport::create(const PeerId& self, c
     dds_entity_t w = dds_create_writer(pp, tp, q.q, nullptr);
     if (w < 0) return dds_error("DdsTransport: dds_create_writer" + what, w);
     d.writers[i] = Entity(w);
+    if (i == Impl::kDelta && !cfg.read_deltas) continue;
     const Qos& rq = i != Impl::kSummary && cfg.best_effort_reader ? best_effort : q;
     dds_entity_t r = dds_create_reader(pp, tp, rq.q, nullptr);
     if (r < 0) return dds_error("DdsTransport: dds_create_reader" + what, r);
@@ -240,6 +241,7 @@ Result<std::unique_ptr<DdsTransport>> DdsTransport::create(const PeerId& self, c
   dds_return_t rc = dds_waitset_attach(ws, gc, 0);
   if (rc < 0) return dds_error("DdsTransport: dds_waitset_attach(guard)", rc);
   for (Entity* r = d.readers; r != d.readers + Impl::kKinds; ++r) {
+    if (r->get() == 0) continue;  // a topic this participant does not read
     // Data available, or (for summaries) an instance state change.
     rc = dds_set_status_mask(r->get(), DDS_DATA_AVAILABLE_STATUS);
     if (rc < 0) return dds_error("DdsTransport: dds_set_status_mask", rc);
@@ -317,6 +319,7 @@ void DdsTransport::drain(const std::function<void(const Envelope&)>& on_envelope
   auto for_us = [&](const PeerId& to) { return to.is_null() || to == self; };
 
   auto take_all = [&](const Entity& r, auto&& handle) {
+    if (r.get() == 0) return;
     if (!d.all_triggered &&
         std::find(d.triggered.begin(), d.triggered.end(), static_cast<dds_attach_t>(r.get())) == d.triggered.end())
       return;

@@ -1,6 +1,21 @@
 #include "quiver/agents/recording/graph_recorder.h"
 
+#include <algorithm>
+#include <vector>
+
 namespace quiver::agents::recording {
+
+std::string frame_origin(const graph::GraphDelta& d, const std::function<std::string(const graph::ReplicaId&)>& namer) {
+  if (d.kind != graph::GraphDelta::Kind::kState) return namer(d.origin);
+  std::vector<graph::ReplicaId> who;
+  d.for_each_mentioned_dot([&](const graph::Dot& dot) {
+    if (who.size() < 8 && std::find(who.begin(), who.end(), dot.replica) == who.end()) who.push_back(dot.replica);
+  });
+  if (who.empty()) return namer(d.origin);
+  std::string out;
+  for (const auto& r : who) out += (out.empty() ? "" : ", ") + namer(r);
+  return out;
+}
 
 GraphRecorder::GraphRecorder(graph::Graph& g, Clock clock, Namer namer, Sink sink)
     : g_(g), clock_(std::move(clock)), namer_(std::move(namer)), sink_(std::move(sink)) {
@@ -9,7 +24,7 @@ GraphRecorder::GraphRecorder(graph::Graph& g, Clock clock, Namer namer, Sink sin
     ++frames_;
   }
   observer_ = g_.add_merge_observer([this](const graph::Graph&, const graph::GraphDelta& d) {
-    sink_(Frame{clock_(), namer_(d.origin), d});
+    sink_(Frame{clock_(), frame_origin(d, namer_), d});
     ++frames_;
   });
 }

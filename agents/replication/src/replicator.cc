@@ -328,7 +328,8 @@ void Replicator::handle(const PeerId& from, const SummaryMsg& m) {
     pulling_ = false;
     pull_timeouts_in_a_row_ = 0;
   }
-  if (!pulling_ && counts(p) && behind(p)) pull_from(from);
+  // A sampling observer pulls on its own clock (tick()), not at every summary.
+  if (!pulling_ && opt_.sample_ns == 0 && counts(p) && behind(p)) pull_from(from);
   if (counts(p)) check_digest(from, p, m.digest);
 }
 
@@ -480,11 +481,12 @@ void Replicator::pull_from(const PeerId& target, bool whole_state) {
   ++pull_request_;
   ++stats_.pulls_sent;
   state_ = Reassembly{};
-  queue(target, PullMsg{pull_request_, to_ranges(applied_), to_ranges(g_.context()), whole_state});
+  queue(target, PullMsg{pull_request_, to_ranges(applied_), to_ranges(g_.context()), whole_state,
+                        /*as_state=*/opt_.sample_ns > 0});
 }
 
 void Replicator::handle(const PeerId& from, const PullMsg& m) {
-  if (m.whole_state) return answer_with_state(from, m);
+  if (m.whole_state || m.as_state) return answer_with_state(from, m);
   crdt::CausalContext missing = applied_.minus(to_context(m.applied));
   if (missing.empty()) {
     // Nothing to give: a summary tells the puller so, and it moves on.
@@ -722,7 +724,8 @@ void Replicator::tick(std::int64_t now_ns) {
     }
   }
   if (state_.active && now_ - state_.started_ns > 4 * opt_.pull_timeout_ns) state_ = Reassembly{};
-  if (!pulling_) {
+  const bool may_pull = opt_.sample_ns == 0 || now_ >= next_sample_;
+  if (!pulling_ && may_pull) {
     const PeerId* pick = nullptr;
     for (const auto& [id, p] : peers_) {
       if (!counts(p) || !behind(p)) continue;
@@ -730,6 +733,7 @@ void Replicator::tick(std::int64_t now_ns) {
     }
     if (pick) {
       pull_from(*pick);
+      if (opt_.sample_ns > 0) next_sample_ = now_ + opt_.sample_ns;
     } else if (gap_pending_ && now_ - gap_since_ns_ >= opt_.gap_grace_ns) {
       if (peer_alive(gap_peer_)) pull_from(gap_peer_);
       gap_pending_ = false;

@@ -46,6 +46,9 @@ struct DdsConfig {
   /// or a recorder that falls behind must not hold the agents back). What it misses it pulls, as
   /// after any loss.
   bool best_effort_reader = false;
+  /// Subscribe to deltas. Off for a sampling observer (ReplicatorOptions::sample_ns): no writer
+  /// then sends it a single delta; it pulls context diffs instead.
+  bool read_deltas = true;
 };
 
 /// The largest sample the embedded configuration lets Cyclone accept or send: a delta at the

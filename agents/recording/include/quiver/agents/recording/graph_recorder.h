@@ -17,6 +17,11 @@
 
 namespace quiver::agents::recording {
 
+/// Who made what a merged fragment carries: its origin's name for a delta; for a state (a join, a
+/// sampling observer's pull) the names of the replicas whose dots it adds, in order of first
+/// mention ("writer, person"), or its sender's name if it adds none.
+std::string frame_origin(const graph::GraphDelta& d, const std::function<std::string(const graph::ReplicaId&)>& namer);
+
 class GraphRecorder {
  public:
   using Clock = std::function<std::int64_t()>;

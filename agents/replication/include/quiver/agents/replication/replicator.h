@@ -72,6 +72,10 @@ struct ReplicatorOptions {
   /// A summary carries the state digest this often (0: never). A peer that holds the same
   /// (origin, seq) set with another digest twice in a row is asked for its whole state.
   std::int64_t digest_every_ns = 1'000'000'000;
+  /// A sampling observer (0: off): it reads no deltas (its transport subscribes to none, so no
+  /// writer sends it any) and instead pulls what it lacks as one context diff, at most this often.
+  /// For a viewer: writers pay nothing per change for it.
+  std::int64_t sample_ns = 0;
 };
 
 struct PeerInfo {
@@ -164,6 +168,10 @@ class Replicator {
   const crdt::CausalContext& applied() const { return applied_; }
   const ReplicatorStats& stats() const { return stats_; }
   const ReplicatorOptions& options() const { return opt_; }
+  /// A sampling observer may change its period as it goes (e.g. to stay within a CPU budget).
+  void set_sample_ns(std::int64_t ns) {
+    if (opt_.sample_ns > 0 && ns > 0) opt_.sample_ns = ns;
+  }
   graph::Graph& graph() { return g_; }
 
  private:
@@ -256,6 +264,7 @@ class Replicator {
   PeerId self_;
   std::int64_t now_ = 0;
   std::int64_t next_heartbeat_ = 0;
+  std::int64_t next_sample_ = 0;
   std::int64_t next_digest_ = 0;
   bool started_ = false;
   std::uint64_t state_version_ = 0;  // bumped by every local commit and every join
