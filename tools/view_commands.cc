@@ -316,8 +316,9 @@ void add_view_commands(CLI::App& app) {
   auto* every = view->add_flag("--every-delta", vf->every_delta,
                                "live: read every delta (a timeline frame per change, each with its author); writers "
                                "then send this viewer each change (default: pull what changed, --sample-ms)");
-  view->add_option("--sample-ms", vf->sample_ms, "live: how often to pull what changed (default 50 ms)")
+  view->add_option("--sample-ms", vf->sample_ms, "live: how often to pull what changed, in ms")
       ->check(CLI::Range(5.0, 10000.0))
+      ->capture_default_str()
       ->excludes(every);
   view->add_option("--for", vf->run_for_s, "stop after this many seconds (default: until Ctrl-C)")
       ->check(CLI::Range(0.0, 1e7));
