@@ -17,6 +17,7 @@
 #include "quiver/graph/codec.h"
 #include "quiver/rng.h"
 #include "quiver/sim/workload.h"
+#include "forged_delta.h"
 #include "test_net.h"
 
 namespace quiver::agents {
@@ -26,24 +27,11 @@ using graph::GraphDelta;
 
 const PeerId kRogue{0xbad, 1};
 
-std::shared_ptr<const std::vector<std::uint8_t>> bytes_of(const GraphDelta& d) {
-  return std::make_shared<const std::vector<std::uint8_t>>(graph::encode(d));
-}
+using testing::bytes_of;
 
 GraphDelta one_node_delta(const PeerId& origin, std::uint64_t lo, std::uint64_t hi, graph::Dot dot,
                           const std::string& name) {
-  GraphDelta d;
-  d.origin = origin;
-  d.seq_lo = lo;
-  d.seq_hi = hi;
-  d.context.add_range(dot.replica, dot.counter, dot.counter);
-  GraphDelta::NodeOp op;
-  op.id = graph::NodeId{dot};
-  op.has_header = true;
-  op.type = graph::Symbol("rogue");
-  op.name = name + std::to_string(dot.counter);
-  d.nodes.push_back(op);
-  return d;
+  return testing::forged_node_delta(origin, lo, hi, dot, "rogue", name + std::to_string(dot.counter));
 }
 
 // What the forger has seen of a victim's deltas (it listens like any participant).

@@ -7,6 +7,7 @@
 #include "quiver/agents/replication/replicator.h"
 #include "quiver/graph/codec.h"
 #include "quiver/graph/world_file.h"
+#include "forged_delta.h"
 #include "test_net.h"
 
 namespace quiver::agents {
@@ -35,26 +36,13 @@ void inject(Net& net, int to, const PeerId& from, Message m) {
   net.nodes[to].rep->on_envelope(e, net.now);
 }
 
-std::shared_ptr<const std::vector<std::uint8_t>> bytes_of(const GraphDelta& d) {
-  return std::make_shared<const std::vector<std::uint8_t>>(graph::encode(d));
-}
+using testing::bytes_of;
 
-// A delta of `origin` over sequence numbers [lo, hi] creating one node "thing" named `name`,
-// whose id is the dot (origin, counter): what a forger sends under another replica's name.
+// A delta of `origin` over [lo, hi] creating one node "thing" named `name`, whose id is the dot
+// (origin, counter): what a forger sends under another replica's name.
 GraphDelta one_node_delta(const PeerId& origin, std::uint64_t lo, std::uint64_t hi, std::uint64_t counter,
                           const std::string& name) {
-  GraphDelta d;
-  d.origin = origin;
-  d.seq_lo = lo;
-  d.seq_hi = hi;
-  d.context.add_range(origin, counter, counter);
-  GraphDelta::NodeOp op;
-  op.id = NodeId{graph::Dot{origin, counter}};
-  op.has_header = true;
-  op.type = Symbol("thing");
-  op.name = name;
-  d.nodes.push_back(op);
-  return d;
+  return testing::forged_node_delta(origin, lo, hi, graph::Dot{origin, counter}, "thing", name);
 }
 
 bool has_error(const Node& n, ErrorCode code, const std::string& text) {

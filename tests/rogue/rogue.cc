@@ -23,6 +23,7 @@
 #include "quiver/agents/dds/dds_transport.h"
 #include "quiver/graph/codec.h"
 #include "quiver/rng.h"
+#include "forged_delta.h"
 #include "quiver_wire.h"
 #include "raw_sample.h"
 
@@ -278,21 +279,10 @@ class Rogue {
   // A delta of `origin` over [lo, hi] creating one node whose id is `dot`.
   static graph::GraphDelta node_delta(PeerId origin, std::uint64_t lo, std::uint64_t hi, graph::Dot dot,
                                       const std::string& name) {
-    graph::GraphDelta d;
-    d.origin = origin;
-    d.seq_lo = lo;
-    d.seq_hi = hi;
-    d.context.add_range(dot.replica, dot.counter, dot.counter);
-    graph::GraphDelta::NodeOp op;
-    op.id = graph::NodeId{dot};
-    op.has_header = true;
-    op.type = graph::Symbol("rogue");
-    op.name = name + std::to_string(dot.counter);
-    d.nodes.push_back(op);
-    return d;
+    return testing::forged_node_delta(origin, lo, hi, dot, "rogue", name + std::to_string(dot.counter));
   }
   static std::shared_ptr<const std::vector<std::uint8_t>> bytes_of(const graph::GraphDelta& d) {
-    return std::make_shared<const std::vector<std::uint8_t>>(graph::encode(d));
+    return testing::bytes_of(d);
   }
 
   Rng rng_;
