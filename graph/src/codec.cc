@@ -703,10 +703,6 @@ class Decoder {
       r_.fail(ErrorCode::kMalformed, "edge endpoint", "null edge endpoint");
       return;
     }
-    if (e.key.from == e.key.to) {
-      r_.fail(ErrorCode::kMalformed, "edge endpoint", "self-loop edge " + e.key.to_string());
-      return;
-    }
     if (e.key.type == symbols::rt()) {
       r_.fail(ErrorCode::kMalformed, "edge type", "RT edges travel as claims, not as symbolic edges");
       return;

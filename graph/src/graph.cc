@@ -95,7 +95,14 @@ void Graph::Impl::erase_edge_record(EdgeRec* e) {
   if (t) swap_remove(t->in, e);
   edges.erase(k);
   if (f) erase_node_record_if_empty(f);
-  if (t) erase_node_record_if_empty(t);
+  if (t && t != f) erase_node_record_if_empty(t);
+}
+
+std::vector<EdgeRec*> NodeRec::incident() const {
+  std::vector<EdgeRec*> v = out;
+  for (EdgeRec* e : in)
+    if (!(e->key.from == e->key.to)) v.push_back(e);
+  return v;
 }
 
 void Graph::Impl::erase_node_record_if_empty(NodeRec* r) {
@@ -200,12 +207,10 @@ void Graph::Impl::kill_record(NodeRec* r) {
   r->attrs.clear();
   if (claim_parent_refs.count(id)) rt_dirty = true;
   rt_dirty = true;
-  std::vector<EdgeRec*> incident = r->out;
-  incident.insert(incident.end(), r->in.begin(), r->in.end());
-  for (EdgeRec* e : incident) {
+  for (EdgeRec* e : r->incident()) {
     // The other endpoint may be erased as an empty placeholder; r itself is kept until below.
     NodeId other = e->key.from == id ? e->key.to : e->key.from;
-    NodeRec* o = find_node(other);
+    NodeRec* o = other == id ? nullptr : find_node(other);
     if (o) swap_remove(e->key.from == id ? o->in : o->out, e);
     edges.erase(EdgeKey(e->key));
     if (o) erase_node_record_if_empty(o);
@@ -304,8 +309,7 @@ void Graph::Impl::touch_edge_attr(const EdgeRec& e, Symbol name) {
 
 void Graph::Impl::touch_incident_edges(NodeRec* r) {
   if (!tracker.enabled) return;
-  for (EdgeRec* e : r->out) touch_edge(*e);
-  for (EdgeRec* e : r->in) touch_edge(*e);
+  for (EdgeRec* e : r->incident()) touch_edge(*e);
 }
 
 void Graph::Impl::finish_tracking(bool local, ReplicaId origin,

@@ -41,7 +41,7 @@ struct NodeRec {
   std::string name;
   AttrList attrs;
   std::vector<EdgeRec*> out;  // every edge record (visible or not) from / to this node
-  std::vector<EdgeRec*> in;
+  std::vector<EdgeRec*> in;   // a self-loop (a unary predicate) is in both lists
   crdt::DotFun<RtClaim> claim;    // RT claims of this node as a child
   std::vector<RtSample> history;  // ascending by (stamp, dot), at most kRtHistoryDepth
 
@@ -55,6 +55,8 @@ struct NodeRec {
   bool is_empty_placeholder() const {
     return !alive && attrs.empty() && out.empty() && in.empty() && claim.empty() && history.empty();
   }
+  /// Every edge record touching this node, a self-loop once.
+  std::vector<EdgeRec*> incident() const;
 };
 
 struct EdgeRec {

@@ -196,9 +196,7 @@ void Graph::Impl::local_delete_node(NodeRec* r) {
     for (const auto& e : r->claim) out.removed.push_back(e.dot);
     op.claim_removed.end = u32(out.removed.size());
   }
-  std::vector<EdgeRec*> incident = r->out;
-  incident.insert(incident.end(), r->in.begin(), r->in.end());
-  for (EdgeRec* e : incident) {
+  for (EdgeRec* e : r->incident()) {
     if (e->exists.empty() && e->attrs.empty()) continue;
     record_edge_removal(*e);
   }
@@ -569,9 +567,6 @@ Status Transaction::insert_edge(NodeId from, NodeId to, std::string_view type,
 Status Transaction::insert_edge(NodeId from, NodeId to, Symbol type, std::vector<std::pair<Symbol, Value>> attrs) {
   if (!node_usable(from)) return not_found("insert_edge()", from);
   if (!node_usable(to)) return not_found("insert_edge()", to);
-  if (from == to)
-    return make_error(ErrorCode::kInvalidArgument, "insert_edge(): self-loops are not allowed (node " +
-                                                       from.to_string() + ")");
   if (type.is_null()) return make_error(ErrorCode::kInvalidArgument, "insert_edge(): the edge type is empty");
   if (type == symbols::rt())
     return make_error(ErrorCode::kInvalidArgument, "insert_edge(): type 'RT' is reserved; use set_rt()");

@@ -208,7 +208,6 @@ std::vector<std::string> Graph::check_invariants() const {
   if (alive != g.alive_count) v.push_back("alive node count is out of date");
   for (const auto& [key, e] : g.edges) {
     std::string ename = "edge " + key.to_string();
-    if (key.from == key.to) v.push_back(ename + ": self-loop");
     if (e.exists.empty() && e.attrs.empty()) v.push_back(ename + ": empty edge record kept");
     for (const Dot& x : e.exists) dot_in_ctx(x, ename);
     for (const AttrSlot& s : e.attrs)

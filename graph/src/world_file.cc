@@ -501,7 +501,6 @@ Result<Plan> parse_plan(std::string_view text, const std::string& src, const Gra
           return fail({where + "/" + it.key(), "unknown key"});
       if (!known(e.from)) return fail({where + "/from", "no node named '" + e.from + "'"});
       if (!known(e.to)) return fail({where + "/to", "no node named '" + e.to + "'"});
-      if (e.from == e.to) return fail({where, "self-loops are not allowed"});
       if (e.type == "RT") return fail({where + "/type", "RT edges go in the \"rt\" list"});
       if (auto a = o.find("attrs"); a != o.end() && !parse_attrs(*a, where + "/attrs", e.attrs, f)) return fail(f);
       if (existing.count(e.from) && existing.count(e.to)) continue;

@@ -99,7 +99,7 @@ void bind_transaction(py::module_& m) {
              Transaction& t = p.txn("insert_edge");
              check(t.insert_edge(to_node(p.graph(), a), to_node(p.graph(), b), to_symbol(type), to_attrs(attrs)));
            }, py::arg("source"), py::arg("target"), py::arg("type"), py::arg("attrs") = py::none(),
-           "Inserts (or re-inserts) a symbolic edge. No self-loops; 'RT' is reserved for set_rt().")
+           "Inserts (or re-inserts) a symbolic edge; a self-loop is a unary predicate. 'RT' is reserved for set_rt().")
       .def("delete_edge", [](PyTransaction& p, py::handle a, py::handle b, py::handle type) {
              Transaction& t = p.txn("delete_edge");
              check(t.delete_edge(to_node(p.graph(), a), to_node(p.graph(), b), to_symbol(type)));

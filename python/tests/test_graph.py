@@ -40,14 +40,17 @@ def test_delete_node_removes_its_edges(world):
     assert world.check_invariants() == []
 
 
-def test_names_are_unique_and_self_loops_refused(world):
+def test_names_are_unique_and_self_loops_are_unary_predicates(world):
     t = world.transaction()
     with pytest.raises(ValueError, match="robot"):
         t.create_node("robot", "robot")
     r = world.node("robot")
     with pytest.raises(quiver.Error):
-        t.insert_edge(r, r, "near")
+        t.insert_edge(r, r, "RT")
     assert len(t) == 0
+    with world.transaction() as t:
+        t.insert_edge(r, r, "moving")
+    assert [e[2] for e in world.edges_from(r)].count("moving") == 1
 
 
 def test_edge_attributes(world):

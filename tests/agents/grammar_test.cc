@@ -247,6 +247,42 @@ TEST(GrammarTest, ConcurrentValidMovesMergeIntoAForbiddenStateSeenAlikeEverywher
   EXPECT_EQ(va, a.s.checker.all_violations(a.s.g));
 }
 
+// Unary predicates (self-loops) match with AGM's meaning: required, forbidden, set and cleared.
+TEST(GrammarTest, UnaryPredicatesAreSelfLoopsInRules) {
+  auto parsed = parse_grammar(R"(grammar unary
+types { robot }
+rule startMoving : active { { r:robot  !r->r(moving) } => { r:robot  r->r(moving) } }
+rule stopMoving : active { { r:robot  r->r(moving) } => { r:robot } }
+)");
+  ASSERT_TRUE(parsed.ok()) << parsed.error().to_string();
+  Graph g(ReplicaId{1, 1});
+  NodeId robot;
+  {
+    auto tx = g.begin();
+    robot = *tx.create_node("robot", "robot");
+    ASSERT_TRUE(tx.commit().ok());
+  }
+  GrammarChecker checker(*parsed);
+  RuleMatch m;
+  g.set_commit_validator([&](const Graph& graph, const std::vector<graph::TxnOp>& ops) {
+    return checker.check(graph, ops, &m);
+  });
+  auto change = [&](bool add) {
+    auto tx = g.begin();
+    Status op = add ? tx.insert_edge(robot, robot, Symbol("moving")) : tx.delete_edge(robot, robot, Symbol("moving"));
+    if (!op.ok()) return op;
+    auto r = tx.commit();
+    return r.ok() ? Status{} : Status(r.error());
+  };
+  ASSERT_TRUE(change(true).ok());
+  EXPECT_EQ(m.rule, "startMoving");
+  EXPECT_TRUE(g.has_edge(robot, robot, Symbol("moving")));
+  ASSERT_TRUE(change(false).ok());
+  EXPECT_EQ(m.rule, "stopMoving");
+  EXPECT_FALSE(change(false).ok()) << "clearing a predicate that does not hold";
+  EXPECT_FALSE(g.has_edge(robot, robot, Symbol("moving")));
+}
+
 TEST(GrammarTest, ParseErrorsNameFileLineColumnAndWhatWasExpected) {
   struct Case {
     const char* text;

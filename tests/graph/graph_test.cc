@@ -49,7 +49,7 @@ TEST(GraphTest, InvalidChangesAreRefusedAndRecordNothing) {
   auto tx = a.g.begin();
   EXPECT_EQ(tx.create_node("x", "robot").error().code, ErrorCode::kAlreadyExists);
   EXPECT_EQ(tx.create_node("x", "").error().code, ErrorCode::kInvalidArgument);
-  EXPECT_EQ(tx.insert_edge(r, r, Symbol("in")).error().code, ErrorCode::kInvalidArgument);
+  EXPECT_EQ(tx.insert_edge(r, r, Symbol("RT")).error().code, ErrorCode::kInvalidArgument);
   EXPECT_EQ(tx.set(NodeId{Dot{{9, 9}, 9}}, "x", Value(1.0)).error().code, ErrorCode::kNotFound);
   EXPECT_EQ(tx.insert_edge(r, NodeId{Dot{{9, 9}, 9}}, Symbol("in")).error().code, ErrorCode::kNotFound);
   EXPECT_EQ(tx.set_rt(r, r, Pose{}).error().code, ErrorCode::kInvalidArgument);
@@ -94,6 +94,55 @@ TEST(GraphTest, DeleteNodeRemovesAttributesAndIncidentEdges) {
   EXPECT_TRUE(b.g.edges_from(r).empty());
   EXPECT_EQ(a.g.digest(), b.g.digest());
   EXPECT_TRUE(a.g.check_invariants().empty());
+}
+
+// AGM's and CORTEX's files use symbolic self-loops r->r(label) as unary predicates; they are edges
+// like any other (RT excepted: a frame is not its own parent).
+TEST(GraphTest, UnaryPredicatesAreSelfLoopEdges) {
+  Peer a(1), b(2);
+  NodeId r = a.add("robot", "robot");
+  {
+    auto tx = a.g.begin();
+    ASSERT_TRUE(tx.insert_edge(r, r, Symbol("moving"), {{Symbol("since"), Value(std::int64_t{3})}}).ok());
+    ASSERT_TRUE(tx.commit().ok());
+  }
+  ASSERT_EQ(a.g.edges_from(r).size(), 1u);
+  ASSERT_EQ(a.g.edges_to(r).size(), 1u);
+  EXPECT_EQ(a.g.edges_from(r)[0], (EdgeKey{r, r, Symbol("moving")}));
+  EXPECT_EQ(a.g.edge_count(), 1u);
+  // The loop travels before its node; it shows once both have arrived.
+  b.receive(a.outbox[1]);
+  EXPECT_EQ(b.g.edge_count(), 0u);
+  b.receive(a.outbox[0]);
+  EXPECT_TRUE(b.g.has_edge(r, r, Symbol("moving")));
+  EXPECT_EQ(a.g.digest(), b.g.digest());
+  a.outbox.clear();
+  b.outbox.clear();
+  // Deleting the predicate, and deleting its node while a peer writes on the loop.
+  {
+    auto tx = a.g.begin();
+    ASSERT_TRUE(tx.delete_edge(r, r, Symbol("moving")).ok());
+    ASSERT_TRUE(tx.commit().ok());
+  }
+  EXPECT_FALSE(a.g.has_edge(r, r, Symbol("moving")));
+  {
+    auto tx = a.g.begin();
+    ASSERT_TRUE(tx.insert_edge(r, r, Symbol("moving")).ok());
+    ASSERT_TRUE(tx.delete_node(r).ok());
+    ASSERT_TRUE(tx.commit().ok());
+  }
+  {
+    auto tx = b.g.begin();
+    ASSERT_TRUE(tx.set_edge_attr(EdgeKey{r, r, Symbol("moving")}, Symbol("since"), Value(std::int64_t{4})).ok());
+    ASSERT_TRUE(tx.commit().ok());
+  }
+  b.receive_all(a);
+  a.receive_all(b);
+  EXPECT_FALSE(a.g.has_node(r));
+  EXPECT_EQ(a.g.edge_count(), 0u);
+  EXPECT_EQ(a.g.digest(), b.g.digest());
+  EXPECT_TRUE(a.g.check_invariants().empty());
+  EXPECT_TRUE(b.g.check_invariants().empty());
 }
 
 TEST(GraphTest, ConcurrentAttributeWriteNeverResurrectsADeletedNode) {

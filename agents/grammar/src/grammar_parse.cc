@@ -274,7 +274,6 @@ class Parser {
       expect(")", "to close the edge label");
       for (const std::string& v : {a, b})
         if (!declared.count(v)) fail_at(start, "edge uses undeclared variable '" + v + "'");
-      if (a == b) fail_at(start, "an edge from '" + a + "' to itself (self-loops are not allowed)");
       p.edges.push_back(PatternEdge{a, b, label, neg, start, graph::Symbol(label)});
     }
     take();

@@ -178,8 +178,9 @@ class Transaction {
   Status set(NodeId id, std::string_view attr, Value value);
   Status remove_attr(NodeId id, Symbol attr);
   Status remove_attr(NodeId id, std::string_view attr) { return remove_attr(id, Symbol(attr)); }
-  /// Inserts (or re-inserts, replacing its attributes) a symbolic edge. No self-loops. The type
-  /// "RT" is reserved for set_rt().
+  /// Inserts (or re-inserts, replacing its attributes) a symbolic edge. A self-loop (from == to) is a
+  /// unary predicate, as in AGM and CORTEX files (docs/world-format.md). The type "RT" is reserved
+  /// for set_rt().
   Status insert_edge(NodeId from, NodeId to, Symbol type, std::vector<std::pair<Symbol, Value>> attrs = {});
   Status insert_edge(NodeId from, NodeId to, std::string_view type,
                      std::vector<std::pair<Symbol, Value>> attrs = {});
