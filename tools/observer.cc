@@ -12,6 +12,7 @@ Result<std::unique_ptr<agents::DdsReplica>> open_observer(const DdsFlags& dds,
   o.observer = true;
   o.dds.best_effort_reader = mode.best_effort;
   o.replicator.sample_ns = mode.sample_ns;
+  o.replicator.sample_bytes_per_s = mode.sample_bytes_per_s;
   return dds.create_agent(o);
 }
 

@@ -18,6 +18,9 @@ struct ObserverMode {
   /// > 0: it reads no deltas and pulls what changed at most this often (a viewer;
   /// ReplicatorOptions::sample_ns): writers pay nothing per change for it.
   std::int64_t sample_ns = 0;
+  /// When sampling: the diff bytes per second it may ask of its peers at most
+  /// (ReplicatorOptions::sample_bytes_per_s; 0: no limit).
+  std::size_t sample_bytes_per_s = 0;
 };
 
 /// Opens an observer replica called `name` on the domain `dds` names, without waiting for

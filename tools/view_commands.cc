@@ -48,6 +48,7 @@ struct ViewFlags {
   double history_mb = 64;
   int nice = 10;
   double sample_ms = 50;
+  double sample_kb_per_s = 256;
   bool every_delta = false;
 };
 
@@ -173,9 +174,12 @@ int run_view(const ViewFlags& f) {
   if (f.nice != 0 && ::setpriority(PRIO_PROCESS, 0, f.nice) != 0)
     log->warn("could not lower the viewer's priority to nice {}: {}", f.nice, std::strerror(errno));
   // By default the viewer samples: it reads no deltas (writers pay nothing per change for it) and
-  // pulls what changed 20 times a second. --every-delta reads each delta, best effort.
+  // pulls what changed 20 times a second, or less often when what changed is more than
+  // --sample-kb-per-s (a busy graph: then the writers do not serialise more for it). --every-delta
+  // reads each delta, best effort.
   ObserverMode mode{.best_effort = true,
-                    .sample_ns = f.every_delta ? 0 : static_cast<std::int64_t>(f.sample_ms * 1e6)};
+                    .sample_ns = f.every_delta ? 0 : static_cast<std::int64_t>(f.sample_ms * 1e6),
+                    .sample_bytes_per_s = static_cast<std::size_t>(f.sample_kb_per_s * 1024)};
   auto created = open_observer(f.dds, "quiver-view", mode);
   if (!created.ok()) {
     log->error("{}", created.error().to_string());
@@ -318,6 +322,12 @@ void add_view_commands(CLI::App& app) {
                                "then send this viewer each change (default: pull what changed, --sample-ms)");
   view->add_option("--sample-ms", vf->sample_ms, "live: how often to pull what changed, in ms")
       ->check(CLI::Range(5.0, 10000.0))
+      ->capture_default_str()
+      ->excludes(every);
+  view->add_option("--sample-kb-per-s", vf->sample_kb_per_s,
+                   "live: the most it asks its peers to send per second, in KiB; a busy graph is then sampled less "
+                   "often")
+      ->check(CLI::Range(1.0, 1e6))
       ->capture_default_str()
       ->excludes(every);
   view->add_option("--for", vf->run_for_s, "stop after this many seconds (default: until Ctrl-C)")

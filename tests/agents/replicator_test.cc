@@ -69,6 +69,41 @@ TEST(ReplicatorTest, ASamplingObserverPullsWhatChangedAtItsOwnPace) {
   EXPECT_EQ(net.nodes[a].rep->stats().pulls_answered_with_deltas, 0u) << "answered with diffs, not deltas";
 }
 
+// A sampling observer with a byte budget samples a busy graph less often instead of making the
+// peers that answer it serialise more: over 3 s of writes it pulls at most its budget (plus the
+// one diff that took it over), and still ends equal to the writer.
+TEST(ReplicatorTest, ASamplingObserverKeepsItsPullsWithinItsByteBudget) {
+  Net net;
+  ReplicatorOptions watcher;
+  watcher.observer = true;
+  watcher.sample_ns = 50'000'000;
+  watcher.sample_bytes_per_s = 20'000;
+  int a = net.add(1), v = net.add(2, watcher);
+  net.drop = [&](const Frame& f) {  // as over DDS: an observer that samples subscribes to no delta
+    if (f.to != v) return false;
+    auto e = decode_packet(f.bytes);
+    return e.ok() && std::any_of(e->messages.begin(), e->messages.end(),
+                                 [](const Message& m) { return std::holds_alternative<DeltaMsg>(m); });
+  };
+  net.pump();
+  std::vector<graph::NodeId> ids;
+  for (int i = 0; i < 20; ++i) ids.push_back(add_node(*net.nodes[a].g, "n" + std::to_string(i)));
+  const std::string blob(500, 'x');
+  for (int step = 0; step < 600; ++step) {  // 3 s: every node's 500-byte attribute rewritten each 5 ms
+    auto tx = net.nodes[a].g->begin();
+    for (auto id : ids) ASSERT_TRUE(tx.set(id, "blob", graph::Value(blob + std::to_string(step))).ok());
+    ASSERT_TRUE(tx.commit().ok());
+    net.advance(5'000'000, 1);
+  }
+  const auto& st = net.nodes[v].rep->stats();
+  const std::uint64_t one_diff = 20 * 520;
+  EXPECT_LE(st.state_bytes_received, 3 * watcher.sample_bytes_per_s + 2 * one_diff);
+  EXPECT_LE(st.pulls_sent, 12u) << "a 10 KB diff per pull at 20 KB/s: about two pulls a second, not twenty";
+  EXPECT_GE(st.states_applied, 3u);
+  net.advance(2'000'000'000);
+  EXPECT_EQ(net.nodes[v].g->digest(), net.nodes[a].g->digest());
+}
+
 TEST(ReplicatorTest, DuplicatesAreIgnored) {
   Net net;
   int a = net.add(1), b = net.add(2);

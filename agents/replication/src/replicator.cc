@@ -610,6 +610,10 @@ void Replicator::handle(const PeerId& from, const StateMsg& m) {
   ++stats_.states_applied;
   stats_.state_bytes_received += all.size();
   gap_pending_ = false;
+  if (opt_.sample_ns > 0 && opt_.sample_bytes_per_s > 0) {
+    const double wait_s = static_cast<double>(all.size()) / static_cast<double>(opt_.sample_bytes_per_s);
+    next_sample_ = std::max(next_sample_, now_ + static_cast<std::int64_t>(wait_s * 1e9));
+  }
 }
 
 void Replicator::handle(const PeerId& from, const ByeMsg&) {

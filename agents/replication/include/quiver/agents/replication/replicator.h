@@ -76,6 +76,10 @@ struct ReplicatorOptions {
   /// writer sends it any) and instead pulls what it lacks as one context diff, at most this often.
   /// For a viewer: writers pay nothing per change for it.
   std::int64_t sample_ns = 0;
+  /// A sampling observer's demand on the peers that answer it (0: none): after a diff of B
+  /// bytes it waits at least B / sample_bytes_per_s before its next pull, so that a viewer of a
+  /// busy graph samples less often instead of making the writers serialise more.
+  std::size_t sample_bytes_per_s = 0;
 };
 
 struct PeerInfo {
