@@ -135,7 +135,12 @@ class Encoder {
       add_replica(n.id.dot.replica);
       if (n.has_header) add_symbol(n.type);
     }
-    for (const auto& a : d_.attrs) add_symbol(a.name);
+    // Attribute names in stream order (nodes' then edges'), whatever order a transaction wrote
+    // them in: a decoded delta then re-encodes to the same bytes.
+    for (const auto& n : d_.nodes)
+      for (std::uint32_t i = n.attrs.begin; i < n.attrs.end; ++i) add_symbol(d_.attrs[i].name);
+    for (const auto& e : d_.edges)
+      for (std::uint32_t i = e.attrs.begin; i < e.attrs.end; ++i) add_symbol(d_.attrs[i].name);
     for (const auto& e : d_.edges) {
       add_replica(e.key.from.dot.replica);
       add_replica(e.key.to.dot.replica);
