@@ -48,9 +48,11 @@ def test_names_are_unique_and_self_loops_are_unary_predicates(world):
     with pytest.raises(quiver.Error):
         t.insert_edge(r, r, "RT")
     assert len(t) == 0
+    t.abort()
     with world.transaction() as t:
         t.insert_edge(r, r, "moving")
-    assert [e[2] for e in world.edges_from(r)].count("moving") == 1
+    assert [e.type for e in world.edges_from(r)].count("moving") == 1
+    assert [e.type for e in world.edges_to(r)].count("moving") == 1
 
 
 def test_edge_attributes(world):
