@@ -131,20 +131,18 @@ class Encoder {
   void collect_tables() {
     add_replica(d_.origin);
     d_.context.for_each_range([&](const ReplicaId& r, std::uint64_t, std::uint64_t) { add_replica(r); });
+    // Attribute names by the op that holds them (stream order), whatever order a transaction
+    // wrote them in: a decoded delta then re-encodes to the same bytes.
     for (const auto& n : d_.nodes) {
       add_replica(n.id.dot.replica);
       if (n.has_header) add_symbol(n.type);
-    }
-    // Attribute names in stream order (nodes' then edges'), whatever order a transaction wrote
-    // them in: a decoded delta then re-encodes to the same bytes.
-    for (const auto& n : d_.nodes)
       for (std::uint32_t i = n.attrs.begin; i < n.attrs.end; ++i) add_symbol(d_.attrs[i].name);
-    for (const auto& e : d_.edges)
-      for (std::uint32_t i = e.attrs.begin; i < e.attrs.end; ++i) add_symbol(d_.attrs[i].name);
+    }
     for (const auto& e : d_.edges) {
       add_replica(e.key.from.dot.replica);
       add_replica(e.key.to.dot.replica);
       add_symbol(e.key.type);
+      for (std::uint32_t i = e.attrs.begin; i < e.attrs.end; ++i) add_symbol(d_.attrs[i].name);
     }
     for (const Dot& x : d_.removed) add_replica(x.replica);
     for (const Dot& x : d_.added) add_replica(x.replica);

@@ -309,7 +309,8 @@ void Graph::Impl::touch_edge_attr(const EdgeRec& e, Symbol name) {
 
 void Graph::Impl::touch_incident_edges(NodeRec* r) {
   if (!tracker.enabled) return;
-  for (EdgeRec* e : r->incident()) touch_edge(*e);
+  for (EdgeRec* e : r->out) touch_edge(*e);
+  for (EdgeRec* e : r->in) touch_edge(*e);  // a self-loop again: touching is idempotent
 }
 
 void Graph::Impl::finish_tracking(bool local, ReplicaId origin,
