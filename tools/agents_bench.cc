@@ -45,8 +45,33 @@ std::string synthetic_grammar(int rules) {
   return s;
 }
 
-int run_bench_grammar(int nodes, int rules, int checks) {
-  auto parsed = agents::parse_grammar(synthetic_grammar(rules), "bench");
+// The same rules in AGM's dialect, each with an effect: what v0 carries moves with the rewrite
+// (nothing is carried in the bench's world, so the effect looks and changes nothing).
+std::string synthetic_grammar_agm(int rules) {
+  std::string s = "name=bench\n===\ntypes\n{\n";
+  for (int t = 0; t < 10; ++t) s += "\t(t" + std::to_string(t) + ")\n";
+  s += "}\n===\n";
+  for (int k = 0; k < rules; ++k) {
+    int n = 2 + k % 5;
+    std::string nodes, lhs_edges, rhs_edges;
+    for (int i = 0; i < n; ++i)
+      nodes += "\t\tv" + std::to_string(i) + ":t" + std::to_string((k + i) % 10) + "(" + std::to_string(i * 100) + ",0)\n";
+    for (int i = 1; i < n; ++i) {
+      std::string e = "\t\tv" + std::to_string(i - 1) + "->v" + std::to_string(i) + "(l" + std::to_string(k) + "_" +
+                      std::to_string(i) + ")\n";
+      lhs_edges += e;
+      if (i != 1) rhs_edges += e;
+    }
+    rhs_edges += "\t\tv0->v1(m" + std::to_string(k) + ")\n";
+    s += "r" + std::to_string(k) + " : active(1)\n{\n\t{\n" + nodes + lhs_edges + "\t}\n\t=>\n\t{\n" + nodes + rhs_edges +
+         "\t}\n\teffect\n\t{\n\t\t(forall x:t" + std::to_string(k % 10) +
+         " (when (carries v0 x) (and (not (at x v1)) (at x v0))))\n\t}\n}\n";
+  }
+  return s;
+}
+
+int run_bench_grammar(int nodes, int rules, int checks, bool agm) {
+  auto parsed = agents::parse_grammar(agm ? synthetic_grammar_agm(rules) : synthetic_grammar(rules), "bench");
   if (!parsed.ok()) {
     agents::named_logger("quiver bench grammar")->error("{}", parsed.error().to_string());
     return 2;
@@ -104,6 +129,7 @@ int run_bench_grammar(int nodes, int rules, int checks) {
   }
   json out;
   out["bench"] = "grammar";
+  out["dialect"] = agm ? "agm" : "quiver";
   out["rules"] = rules;
   out["nodes"] = g.node_count();
   out["checks"] = checks;
@@ -230,7 +256,10 @@ void add_agents_bench_commands(CLI::App& app) {
   g->add_option("--nodes", *nodes)->check(CLI::Range(1, 10'000'000))->capture_default_str();
   g->add_option("--rules", *rules)->check(CLI::Range(1, 100'000))->capture_default_str();
   g->add_option("--checks", *checks)->check(CLI::Range(1, 100'000'000))->capture_default_str();
-  g->callback([=] { set_exit_code(run_bench_grammar(*nodes, *rules, *checks)); });
+  auto agm = std::make_shared<bool>(false);
+  g->add_flag("--agm", *agm,
+              "the same rules in AGM's dialect, each with an effect (a forall over what v0 carries, anchored on v0)");
+  g->callback([=] { set_exit_code(run_bench_grammar(*nodes, *rules, *checks, *agm)); });
 
   auto l = bench->add_subcommand("locks", "Lock acquire latency: in the simulator and over DDS (loopback)");
   auto agents = std::make_shared<int>(3), rounds = std::make_shared<int>(300);

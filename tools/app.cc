@@ -46,6 +46,7 @@ void build_app(CLI::App& app) {
   add_sim_command(app);
   add_bench_commands(app);
   add_kinematics_commands(app);  // adds to `bench`: after add_bench_commands
+  add_interop_commands(app);
   add_agent_commands(app);
   add_dds_bench_commands(app);
   add_agents_bench_commands(app);
@@ -53,6 +54,7 @@ void build_app(CLI::App& app) {
   add_render_commands(app);
   add_reaction_bench_command(app);
   add_view_commands(app);
+  add_grammar_commands(app);
   require_known_subcommand(&app, "quiver");
   for (CLI::App* sub : commands_of(&app))
     if (!commands_of(sub).empty()) require_known_subcommand(sub, "quiver " + sub->get_name());

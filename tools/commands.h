@@ -23,6 +23,10 @@ void add_render_commands(CLI::App& app);
 void add_reaction_bench_command(CLI::App& app);
 /// view, record.
 void add_view_commands(CLI::App& app);
+/// import-dsr, import-agm, export-dsr, export-agm.
+void add_interop_commands(CLI::App& app);
+/// grammar check.
+void add_grammar_commands(CLI::App& app);
 /// The process exit status the command that ran has chosen.
 int exit_code();
 void set_exit_code(int code);

@@ -1,6 +1,7 @@
 #include "quiver/graph/world_file.h"
 
 #include "quiver/graph/limits.h"
+#include "quiver/text_position.h"
 
 #include <cmath>
 #include <fstream>
@@ -269,19 +270,6 @@ json value_to_json(const Value& v) {
     case ValueType::kMat4d: return typed("mat4d", v.get_if<Mat4d>()->m);
   }
   return nullptr;
-}
-
-std::string line_col(std::string_view text, std::size_t byte) {
-  std::size_t line = 1, col = 1;
-  for (std::size_t i = 0; i < byte && i < text.size(); ++i) {
-    if (text[i] == '\n') {
-      ++line;
-      col = 1;
-    } else {
-      ++col;
-    }
-  }
-  return std::to_string(line) + ":" + std::to_string(col);
 }
 
 struct PlannedNode {

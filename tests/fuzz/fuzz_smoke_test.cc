@@ -110,7 +110,8 @@ TEST(FuzzSmokeTest, Regressions) {
       [](const std::uint8_t* d, std::size_t n) { return dds_sample(4, d, n); }};
   for (Target t : {Target{"graph_delta", graph_delta}, Target{"replication_packet", replication_packet},
                    Target{"world_file", world_file}, Target{"grammar_file", grammar_file},
-                   Target{"recording_file", recording_file},
+                   Target{"recording_file", recording_file}, Target{"dsr_file", dsr_file},
+                   Target{"agm_file", agm_file},
                    Target{"dds_summary", kDds[0]}, Target{"dds_delta", kDds[1]}, Target{"dds_pull", kDds[2]},
                    Target{"dds_state", kDds[3]}, Target{"dds_bye", kDds[4]}}) {
     int n = 0;
@@ -125,7 +126,7 @@ TEST(FuzzSmokeTest, Regressions) {
 TEST(FuzzSmokeTest, GrammarFiles) {
   const auto base = quiver::testing::base_seed("FuzzSmokeTest.GrammarFiles", 80);
   Rng rng(base);
-  const std::string text = R"(grammar g
+  const std::string quiver_text = R"(grammar g
 types { robot person room object mug : object }
 allow attributes
 rule meet : active {
@@ -138,17 +139,100 @@ rule leave : passive {
 }
 constraint alone { forbid { r:robot p:person q:person  r->p(is_with)  r->q(is_with) } repair by x: delete oldest }
 )";
-  std::vector<std::uint8_t> seed(text.begin(), text.end());
-  maybe_save("grammar", {seed});
-  ASSERT_TRUE(grammar_file(seed.data(), seed.size()));
-  int accepted = 0;
-  const int n = 20000;
-  for (int i = 0; i < n; ++i) {
-    auto m = mutate(seed, rng);
-    accepted += grammar_file(m.data(), m.size());
+  // AGM's dialect (docs/grammar.md): header, types with inheritance, positions, '*' links, a
+  // retype, precondition and effect, success, dormant, activates, hierarchical and combo rules.
+  const std::string agm_text = R"(name=fuzz
+fontName=Arial
+vertexDiameter=40
+===
+types
+{
+	(world)
+	(robot)
+	(person)
+	(patient : person)
+	(object)
+}
+===
+turn : active(2) success(0.9)
+{
+	{
+		r:robot(0,0)
+		p:person(100,0)
+		r->p(is_with)
+		p->r(is_with)*
+	}
+	=>
+	{
+		r:robot(0,0)
+		p:person(100,0)
+		p->r(is_with)
+	}
+	precondition
+	{
+		(and
+			(not (exists o:object (carrying r o)))
+			(or (= r r) (forall q:person (when (is_with r q) (= q p))))
+		)
+	}
+	effect
+	{
+		(forall o:object (when (carrying r o) (and (not (near o r)) (near o p))))
+	}
+}
+
+diagnose : passive(1)
+{
+	{
+		p:person(0,0)
+		r:robot(0,100)
+		r->p(is_with)
+	}
+	=>
+	{
+		p:patient(0,0)
+		r:robot(0,100)
+		r->p(is_with)
+	}
+	effect
+	{
+		(and (create f object) (near f p) (retype r robot) (when (carrying r r) (delete f)))
+	}
+}
+
+dormant back : active(1) activates(turn)
+{
+	{ r:robot(0,0) p:person(1,1) p->r(is_with) } => { r:robot(0,0) p:person(1,1) r->p(is_with) }
+}
+
+hierarchical swap : active(3)
+{
+	{ r:robot(0,0) p:person(1,1) r->p(is_with) } => { r:robot(0,0) p:person(1,1) r->r(busy) }
+}
+
+twice : active(4)
+{
+	turn as a
+	back as b optional
+	where:
+	a.r = b.r
+	a.p = b.p
+}
+)";
+  std::vector<std::vector<std::uint8_t>> seeds;
+  for (const std::string* text : {&quiver_text, &agm_text}) seeds.emplace_back(text->begin(), text->end());
+  maybe_save("grammar", seeds);
+  for (const auto& seed : seeds) {
+    ASSERT_TRUE(grammar_file(seed.data(), seed.size()));
+    int accepted = 0;
+    const int n = 20000;
+    for (int i = 0; i < n; ++i) {
+      auto m = mutate(seed, rng);
+      accepted += grammar_file(m.data(), m.size());
+    }
+    std::printf("[fuzz] %d of %d mutated grammar files parsed\n", accepted, n);
+    EXPECT_GT(accepted, 0);
   }
-  std::printf("[fuzz] %d of %d mutated grammar files parsed\n", accepted, n);
-  EXPECT_GT(accepted, 0);
 }
 
 TEST(FuzzSmokeTest, GraphDeltaDecoder) {
@@ -267,6 +351,35 @@ TEST(FuzzSmokeTest, WorldFiles) {
   }
   std::printf("[fuzz] %d of %d mutated world files loaded\n", accepted, n);
   EXPECT_GT(accepted, 0);
+}
+
+// CORTEX and AGM worlds: the interop fixtures (every layout, type code and construct), mutated.
+TEST(FuzzSmokeTest, ForeignWorldFiles) {
+  const auto base = quiver::testing::base_seed("FuzzSmokeTest.ForeignWorldFiles", 89);
+  Rng rng(base);
+  struct Format {
+    const char* dir;  // fixtures and libFuzzer corpus folder
+    bool (*run)(const std::uint8_t*, std::size_t);
+  };
+  for (Format f : {Format{"dsr", dsr_file}, Format{"agm", agm_file}}) {
+    std::vector<std::vector<std::uint8_t>> seeds;
+    for (const auto& e : std::filesystem::directory_iterator(std::string(QUIVER_INTEROP_FIXTURES) + "/" + f.dir)) {
+      std::ifstream in(e.path(), std::ios::binary);
+      seeds.emplace_back(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+    }
+    ASSERT_GE(seeds.size(), 2u) << f.dir;
+    maybe_save(f.dir, seeds);
+    for (const auto& s : seeds) ASSERT_TRUE(f.run(s.data(), s.size())) << f.dir << ": a fixture is refused";
+    int accepted = 0;
+    const int n = 6000;
+    for (int i = 0; i < n; ++i) {
+      auto m = mutate(seeds[rng.below(seeds.size())], rng);
+      accepted += f.run(m.data(), m.size());
+    }
+    std::printf("[fuzz] %s: %d of %d mutated worlds imported (and round-tripped)\n", f.dir, accepted, n);
+    EXPECT_GT(accepted, 0) << f.dir;
+    EXPECT_LT(accepted, n) << f.dir;
+  }
 }
 
 TEST(FuzzSmokeTest, RecordingFiles) {

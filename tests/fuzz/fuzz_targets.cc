@@ -5,6 +5,7 @@
 #include <string_view>
 
 #include "quiver/agents/grammar/grammar.h"
+#include "quiver/agents/grammar/retype.h"
 #include "quiver/agents/dds/cdr.h"
 #include "quiver/agents/replication/replicator.h"
 #include "quiver/graph/codec.h"
@@ -12,6 +13,9 @@
 #include "quiver/graph/world_file.h"
 #include "quiver/agents/recording/history.h"
 #include "quiver/agents/recording/record_file.h"
+#include "quiver/interop/agm.h"
+#include "quiver/interop/dsr.h"
+#include "../interop/world_compare.h"
 
 namespace quiver::fuzz {
 namespace {
@@ -108,6 +112,9 @@ bool grammar_file(const std::uint8_t* data, std::size_t size) {
   (void)tx.delete_edge(*g.find_node("robot"), *g.find_node("person"), Symbol("is_with"));
   (void)tx.insert_edge(*g.find_node("person"), *g.find_node("robot"), Symbol("is_with"));
   (void)checker.check(g, tx.ops());
+  auto retype = g.begin();  // a retype: the person replaced by a patient of the same name
+  (void)agents::replace_node_type(retype, *g.find_node("person"), "patient");
+  (void)checker.check(g, retype.ops());
   (void)checker.all_violations(g);
   return true;
 }
@@ -143,6 +150,67 @@ bool world_file(const std::uint8_t* data, std::size_t size) {
   }
   check(g, "world_file");
   return r.ok();
+}
+
+namespace {
+
+template <class Import, class Export>
+bool foreign_world(const std::uint8_t* data, std::size_t size, const char* what, Import import, Export export_) {
+  const std::string_view text(reinterpret_cast<const char*>(data), size);
+  Graph g(ReplicaId{1, 1});
+  populate(g);
+  const Digest128 before = g.digest();
+  auto r = import(g, text);
+  if (!r.ok() && !(g.digest() == before)) {
+    std::fprintf(stderr, "%s: a refused file changed the graph: %s\n", what, r.error().to_string().c_str());
+    std::abort();
+  }
+  check(g, what);
+  // The file's world alone (a populated graph refuses the names it already has), exported and
+  // imported again: the same world, and no warning.
+  Graph first(ReplicaId{2, 1});
+  auto a = import(first, text);
+  if (!a.ok()) {
+    if (r.ok()) {
+      std::fprintf(stderr, "%s: imported into a populated graph, refused into an empty one: %s\n", what,
+                   a.error().to_string().c_str());
+      std::abort();
+    }
+    return false;
+  }
+  check(first, what);
+  const std::string out = export_(first).text;
+  Graph second(ReplicaId{3, 1});
+  interop::ImportOptions strict;
+  strict.strict = true;
+  auto b = import(second, out, strict);
+  if (!b.ok()) {
+    std::fprintf(stderr, "%s: an exported world does not import: %s\n%s\n", what, b.error().to_string().c_str(),
+                 out.c_str());
+    std::abort();
+  }
+  auto diff = interop::testing::world_differences(first, second, 1e-12);
+  if (!diff.empty()) {
+    std::fprintf(stderr, "%s: the world changed through export and import: %s\n", what, diff[0].c_str());
+    std::abort();
+  }
+  return true;
+}
+
+}  // namespace
+
+bool dsr_file(const std::uint8_t* data, std::size_t size) {
+  return foreign_world(
+      data, size, "dsr_file",
+      [](Graph& g, std::string_view t, interop::ImportOptions o = {}) { return interop::import_dsr(g, t, "fuzz.json", o); },
+      [](const Graph& g) { return interop::export_dsr(g); });
+}
+
+bool agm_file(const std::uint8_t* data, std::size_t size) {
+  return foreign_world(
+      data, size, "agm_file",
+      [](Graph& g, std::string_view t, interop::ImportOptions o = {}) { return interop::import_agm(g, t, "fuzz.xml", o); },
+      [](const Graph& g) { return interop::export_agm(g); });
 }
 
 }  // namespace quiver::fuzz

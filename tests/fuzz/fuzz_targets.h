@@ -17,6 +17,12 @@ bool replication_packet(const std::uint8_t* data, std::size_t size);
 bool world_file(const std::uint8_t* data, std::size_t size);
 /// Grammar files: parsed, then used to check a transaction and search for violations.
 bool grammar_file(const std::uint8_t* data, std::size_t size);
+/// A CORTEX DSR JSON world imported into a populated replica: refused with the replica unchanged,
+/// or imported with its invariants holding; then into an empty replica, exported, and imported
+/// again to the same world (a difference aborts). Accepted = imported into the empty replica.
+bool dsr_file(const std::uint8_t* data, std::size_t size);
+/// An AGM XML world, the same way.
+bool agm_file(const std::uint8_t* data, std::size_t size);
 /// A .qrec recording: refused with a message, or every frame replays into a graph.
 bool recording_file(const std::uint8_t* data, std::size_t size);
 /// Serialized CDR samples of one DDS topic (0 summary, 1 delta, 2 pull, 3 state, 4 bye), as a rogue

@@ -21,7 +21,7 @@ step() { echo "== $*"; }
 step "cmake --install $build --prefix $prefix"
 cmake --install "$build" --prefix "$prefix" >"$work/install.log"
 test -x "$prefix/bin/quiver"
-for lib in crdt graph kinematics replication grammar locks runtime agents_dds runtime_process images; do
+for lib in crdt graph interop kinematics replication grammar locks runtime agents_dds runtime_process images; do
   find "$prefix" -name "libquiver_$lib.a" | grep -q . || { echo "FAIL: no libquiver_$lib.a" >&2; exit 1; }
   find "$prefix" -name "libquiver_$lib.so" | grep -q . || { echo "FAIL: no libquiver_$lib.so" >&2; exit 1; }
 done
@@ -69,7 +69,7 @@ export PKG_CONFIG_PATH=$(dirname "$(find "$prefix" -name quiver-graph.pc | head 
 c++ -std=c++20 -O1 "$src/examples/graph_basics/graph_basics.cc" -o "$work/graph_basics_pc" \
   $(pkg-config --cflags --libs quiver-graph)
 LD_LIBRARY_PATH=$(pkg-config --variable=libdir quiver-graph) "$work/graph_basics_pc"
-pkg-config --exists --print-errors "quiver-kinematics >= 0.2" "quiver-dds >= 0.2"
+pkg-config --exists --print-errors "quiver-kinematics >= 0.2" "quiver-dds >= 0.2" "quiver-interop >= 0.2"
 
 step "an images consumer: component sim re-finds OpenCV (cv::Mat is in quiver::images' API)"
 mkdir -p "$work/images"

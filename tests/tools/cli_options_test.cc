@@ -26,6 +26,8 @@ std::vector<std::string> required(const std::vector<std::string>& path) {
   if (path == std::vector<std::string>{"agent"}) return {"--name", "a"};
   if (path == std::vector<std::string>{"lookup"}) return {"/dev/null", "a", "b"};
   if (path == std::vector<std::string>{"import-urdf"}) return {"/dev/null", "-o", "/dev/null"};
+  for (const char* c : {"import-dsr", "import-agm", "export-dsr", "export-agm"})
+    if (path == std::vector<std::string>{c}) return {"/dev/null", "-o", "/dev/null"};
   if (path == std::vector<std::string>{"bench-dds-role"}) return {"writer"};
   if (path == std::vector<std::string>{"run"}) return {"planner"};
   if (path == std::vector<std::string>{"record"}) return {"-o", "/dev/null"};

@@ -1,20 +1,33 @@
 // Checking transactions and states against a grammar.
 //
-// A transaction's structural changes (nodes created or deleted, edges added or removed, RT moves)
-// must be ONE rule application. Matching is anchored on the changed elements: every variable of
+// A transaction's structural changes (nodes created, deleted or retyped, edges added or removed,
+// RT moves) must be ONE rule application (with its effect, if it has one). Matching is anchored on the changed elements: every variable of
 // a rule that a changed edge or node touches is bound by that change; the remaining (context)
 // variables are bound by walking context edges from bound nodes. So the cost follows the rule's
 // size (and node degrees), not the graph's size. Candidate rules are found by a signature index
 // (the multiset of removed/added edge labels and the numbers of deleted/created nodes).
 
 #include <algorithm>
+#include <deque>
 #include <map>
 #include <set>
 #include <unordered_map>
 
+#include "grammar_changes.h"
+#include "grammar_combo.h"
+#include "grammar_effect.h"
+#include "grammar_formula.h"
 #include "quiver/agents/grammar/grammar.h"
 
 namespace quiver::agents {
+
+using internal::Binding;
+using internal::Changes;
+using internal::describe;
+using internal::enumerate;
+using internal::eval;
+using internal::Guard;
+using internal::guard_of;
 
 using graph::EdgeKey;
 using graph::Graph;
@@ -24,199 +37,28 @@ using graph::TxnOp;
 
 namespace {
 
-// ------------------------------------------------------------------ the change set
-
-// Edges of a change are graph::EdgeKey, ordered by graph::canonical_less (types by text, not by
-// symbol index, which depends on interning order).
-using EdgeMap = std::map<EdgeKey, bool, decltype(&graph::canonical_less)>;
-
-struct Changes {
-  std::map<NodeId, std::string> created;  // id -> type
-  std::set<NodeId> deleted;
-  std::vector<EdgeKey> added, removed;
-  std::string unruled;  // first change that needs an 'allow' the grammar lacks
-  // Notes `what()` as the unruled change unless `ok` (first: an allowed change builds no message
-  // and looks nothing up) or one is noted already.
-  template <class What>
-  void need(bool ok, const What& what) {
-    if (!ok && unruled.empty()) unruled = what();
-  }
-  bool structural() const { return !created.empty() || !deleted.empty() || !added.empty() || !removed.empty(); }
-};
-
 bool edge_in_pre(const Graph& g, const EdgeKey& e) { return g.has_edge(e.from, e.to, e.type); }
 
-// System attributes ("__lock", ...) belong to the runtime, not to the domain grammar.
-bool system_attr(Symbol a) { return a.str().rfind("__", 0) == 0; }
-
-Changes extract(const Grammar& gr, const Graph& g, const std::vector<TxnOp>& ops) {
-  Changes c;
-  EdgeMap state(graph::canonical_less);               // edge -> present after the ops so far
-  std::map<NodeId, std::optional<NodeId>> rt_parent;  // child -> parent after the ops so far
-  auto present = [&](const EdgeKey& e) {
-    auto it = state.find(e);
-    return it != state.end() ? it->second : edge_in_pre(g, e);
-  };
-  auto parent_of = [&](NodeId child) -> std::optional<NodeId> {
-    auto it = rt_parent.find(child);
-    return it != rt_parent.end() ? it->second : g.rt_parent(child);
-  };
-  const Symbol rt = graph::symbols::rt();
-  for (const TxnOp& op : ops) {
-    switch (op.kind) {
-      case TxnOp::Kind::kCreateNode: c.created[op.node] = op.type.str(); break;
-      case TxnOp::Kind::kDeleteNode:
-        if (c.created.erase(op.node) == 0) c.deleted.insert(op.node);
-        break;
-      case TxnOp::Kind::kSetAttr:
-      case TxnOp::Kind::kRemoveAttr:
-        c.need(gr.allow_attributes || system_attr(op.attr) || c.created.count(op.node), [&] {
-          return "attribute '" + op.attr.str() + "' of " + g.name_of(op.node) +
-                 " changes but the grammar has no 'allow attributes'";
-        });
-        break;
-      case TxnOp::Kind::kInsertEdge: {
-        EdgeKey e{op.node, op.other, op.type};
-        c.need(gr.allow_attributes || op.attrs.empty() || !present(e), [] {
-          return std::string("edge attributes change but the grammar has no 'allow attributes'");
-        });
-        state[e] = true;
-        break;
-      }
-      case TxnOp::Kind::kDeleteEdge:
-        state[EdgeKey{op.node, op.other, op.type}] = false;
-        break;
-      case TxnOp::Kind::kSetEdgeAttr:
-      case TxnOp::Kind::kRemoveEdgeAttr:
-        c.need(gr.allow_attributes || !edge_in_pre(g, EdgeKey{op.node, op.other, op.type}), [&] {
-          return "edge attribute '" + op.attr.str() +
-                 "' changes but the grammar has no 'allow attributes'";
-        });
-        break;
-      case TxnOp::Kind::kSetRt: {
-        auto old = parent_of(op.node);
-        if (old && *old == op.other) {
-          c.need(gr.allow_rt_poses || c.created.count(op.node), [&] {
-            return "the RT pose of " + g.name_of(op.node) +
-                   " changes but the grammar has no 'allow rt-poses'";
-          });
-          break;
-        }
-        rt_parent[op.node] = op.other;
-        if (gr.allow_rt_moves) break;
-        if (old) state[EdgeKey{*old, op.node, rt}] = false;
-        state[EdgeKey{op.other, op.node, rt}] = true;
-        break;
-      }
-      case TxnOp::Kind::kRemoveRt: {
-        auto old = parent_of(op.node);
-        rt_parent[op.node] = std::nullopt;
-        if (old && !gr.allow_rt_moves) state[EdgeKey{*old, op.node, rt}] = false;
-        break;
-      }
-    }
-  }
-  for (const auto& [e, now] : state) {
-    if (c.deleted.count(e.from) || c.deleted.count(e.to)) continue;  // goes with its node
-    bool pre = edge_in_pre(g, e);
-    if (now && !pre) c.added.push_back(e);
-    if (!now && pre) c.removed.push_back(e);
-  }
-  return c;
-}
-
-// The structural changes a delta makes to `g` (the receiver's state before merging it).
-Changes extract_delta(const Grammar& gr, const Graph& g, const graph::GraphDelta& d) {
-  Changes c;
-  const Symbol rt = graph::symbols::rt();
-  for (const auto& n : d.nodes) {
-    if (n.has_header && !g.has_node(n.id) && !g.context().contains(n.id.dot)) c.created[n.id] = n.type.str();
-    if (n.removed && g.has_node(n.id)) c.deleted.insert(n.id);
-  }
-  for (const auto& n : d.nodes) {
-    const bool fresh = c.created.count(n.id) != 0;
-    if (!gr.allow_attributes && !fresh && !n.removed)
-      for (std::uint32_t i = n.attrs.begin; i < n.attrs.end; ++i)
-        c.need(system_attr(d.attrs[i].name), [&] {
-          return "attribute '" + d.attrs[i].name.str() +
-                 "' changes but the grammar has no 'allow attributes'";
-        });
-    const auto old = g.rt_parent(n.id);
-    for (std::uint32_t i = n.claim_added.begin; i < n.claim_added.end; ++i) {
-      const graph::RtClaim& cl = d.claims[i].value;
-      if (old && !cl.parent.is_null() && *old == cl.parent) continue;
-      if (gr.allow_rt_moves) continue;
-      if (old) c.removed.push_back(EdgeKey{*old, n.id, rt});
-      if (!cl.parent.is_null()) c.added.push_back(EdgeKey{cl.parent, n.id, rt});
-    }
-    c.need(gr.allow_rt_poses || n.samples.empty() || fresh, [] {
-      return std::string("an RT pose changes but the grammar has no 'allow rt-poses'");
-    });
-  }
-  for (const auto& e : d.edges) {
-    if (c.deleted.count(e.key.from) || c.deleted.count(e.key.to)) continue;
-    const bool pre = g.has_edge(e.key.from, e.key.to, e.key.type);
-    EdgeKey ref{e.key.from, e.key.to, e.key.type};
-    if (!pre && !e.added.empty()) c.added.push_back(ref);
-    else if (pre && e.added.empty() && !e.removed.empty()) c.removed.push_back(ref);
-    else if (pre && !gr.allow_attributes) {
-      for (std::uint32_t i = e.attrs.begin; i < e.attrs.end; ++i)
-        c.need(d.attrs[i].added.empty(), [] {
-          return std::string("edge attributes change but the grammar has no 'allow attributes'");
-        });
-    }
-  }
-  return c;
-}
-
-std::string describe(const Graph& g, const EdgeKey& e,
-                     const std::map<NodeId, std::string>& created) {
-  auto name = [&](NodeId n) {
-    std::string s = g.name_of(n);
-    if (s.empty()) s = created.count(n) ? "new " + created.at(n) : n.to_string();
-    return s;
-  };
-  return name(e.from) + " -[" + e.type.str() + "]-> " + name(e.to);
-}
-
-std::string describe(const Graph& g, const Changes& c) {
-  std::string s;
-  auto add = [&](const std::string& x) { s += (s.empty() ? "" : ", ") + x; };
-  for (const auto& [id, type] : c.created) add("create a " + type);
-  for (NodeId n : c.deleted) add("delete " + g.name_of(n));
-  for (const auto& e : c.removed) add("remove " + describe(g, e, c.created));
-  for (const auto& e : c.added) add("add " + describe(g, e, c.created));
-  return s;
-}
-
 // ------------------------------------------------------------------ compiled rules
-
-// A pattern's edges as a formula, and the positive ones (in order), which anchor candidates.
-struct Guard {
-  Formula formula;
-  std::vector<const PatternEdge*> edges;
-};
-Guard guard_of(const Pattern& p);
-
-// A forall effect: its guard, and the edges it removes and adds (the same for every match).
-struct CompiledForall {
-  const ForallEffect* effect = nullptr;
-  Guard guard;
-  std::vector<const PatternEdge*> removed, added;
-};
 
 struct Compiled {
   const Rule* rule = nullptr;
   std::vector<std::string> vars;                  // slot -> variable
-  std::vector<std::string> types;                 // slot -> type
+  std::vector<std::string> types;                 // slot -> type (the left-hand side's if both)
   std::unordered_map<std::string, int> slot;      // variable -> slot
   std::vector<int> deleted, created, kept;        // slots
+  std::vector<int> retyped;                       // kept slots whose type changes
+  std::vector<std::string> retype_to;             // ... into this type
   struct E {
     int from, to;
     Symbol label;
   };
   std::vector<E> removed, added, context, neg_pre, neg_post;
-  std::vector<CompiledForall> foralls;
+  /// Applied with the rewrite: AGM's effect, or our dialect's forall effects as one.
+  std::optional<Effect> effect;
+  /// The rule's own changes as index keys ("-label", "+label", "del", "cre", "ret"): a rule with
+  /// an effect is tried on a change that has them all.
+  std::vector<std::string> keys;
   std::string signature;
 };
 
@@ -233,10 +75,10 @@ bool pattern_has_edge(const Pattern& p, const PatternEdge& e) {
 }
 
 std::string signature(std::vector<std::string> removed, std::vector<std::string> added, std::size_t ndel,
-                      std::size_t ncre) {
+                      std::size_t ncre, std::size_t nret) {
   std::sort(removed.begin(), removed.end());
   std::sort(added.begin(), added.end());
-  std::string s = std::to_string(ndel) + "/" + std::to_string(ncre);
+  std::string s = std::to_string(ndel) + "/" + std::to_string(ncre) + "/" + std::to_string(nret);
   for (const auto& r : removed) s += "|-" + r;
   for (const auto& a : added) s += "|+" + a;
   return s;
@@ -280,191 +122,53 @@ Compiled compile(const Rule& r) {
       al.push_back(e.label);
     }
   }
+  for (const auto& n : r.rhs.nodes)
+    if (const PatternNode* l = r.lhs.node(n.var); l && l->type != n.type) {
+      c.retyped.push_back(c.slot[n.var]);
+      c.retype_to.push_back(n.type);
+    }
+  // Our forall effects are AGM effects: (forall V (when LHS (and removals additions))), with
+  // V's nodes distinct from each other and from the rule's.
+  Effect all;
+  all.kind = Effect::Kind::kAll;
   for (const ForallEffect& fe : r.foralls) {
-    CompiledForall cf{&fe, guard_of(fe.lhs), {}, {}};
+    Effect body;
+    body.kind = Effect::Kind::kAll;
     for (const auto& e : fe.lhs.edges)
-      if (!e.negated && !pattern_has_edge(fe.rhs, e)) cf.removed.push_back(&e);
+      if (!e.negated && !pattern_has_edge(fe.rhs, e)) {
+        Effect x;
+        x.kind = Effect::Kind::kRemoveEdge;
+        x.edge = e;
+        body.kids.push_back(std::move(x));
+      }
     for (const auto& e : fe.rhs.edges)
-      if (!e.negated && !pattern_has_edge(fe.lhs, e)) cf.added.push_back(&e);
-    c.foralls.push_back(std::move(cf));
+      if (!e.negated && !pattern_has_edge(fe.lhs, e)) {
+        Effect x;
+        x.kind = Effect::Kind::kAddEdge;
+        x.edge = e;
+        body.kids.push_back(std::move(x));
+      }
+    Effect when;
+    when.kind = Effect::Kind::kWhen;
+    when.condition = internal::guard_of(fe.lhs).formula;
+    when.kids.push_back(std::move(body));
+    Effect forall;
+    forall.kind = Effect::Kind::kForall;
+    forall.vars = fe.vars;
+    forall.distinct = true;
+    forall.loc = fe.loc;
+    forall.kids.push_back(std::move(when));
+    all.kids.push_back(std::move(forall));
   }
-  c.signature = signature(rl, al, c.deleted.size(), c.created.size());
+  if (r.effect) all.kids.push_back(*r.effect);
+  if (!all.kids.empty()) c.effect = std::move(all);
+  for (const auto& l : rl) c.keys.push_back("-" + l);
+  for (const auto& l : al) c.keys.push_back("+" + l);
+  c.keys.insert(c.keys.end(), c.deleted.size(), "del");
+  c.keys.insert(c.keys.end(), c.created.size(), "cre");
+  c.keys.insert(c.keys.end(), c.retyped.size(), "ret");
+  c.signature = signature(rl, al, c.deleted.size(), c.created.size(), c.retyped.size());
   return c;
-}
-
-// ------------------------------------------------------------------ formulas
-
-bool compare(const graph::Value& v, CompareOp op, const graph::Value& lit) {
-  auto as_double = [](const graph::Value& x, double& out) {
-    switch (x.type()) {
-      case graph::ValueType::kInt32: out = *x.get_if<std::int32_t>(); return true;
-      case graph::ValueType::kInt64: out = static_cast<double>(*x.get_if<std::int64_t>()); return true;
-      case graph::ValueType::kUInt32: out = *x.get_if<std::uint32_t>(); return true;
-      case graph::ValueType::kUInt64: out = static_cast<double>(*x.get_if<std::uint64_t>()); return true;
-      case graph::ValueType::kFloat: out = *x.get_if<float>(); return true;
-      case graph::ValueType::kDouble: out = *x.get_if<double>(); return true;
-      default: return false;
-    }
-  };
-  double a, b;
-  int cmp;
-  if (as_double(v, a) && as_double(lit, b)) {
-    cmp = a < b ? -1 : (a > b ? 1 : 0);
-  } else if (v.type() == lit.type()) {
-    if (const auto* s = v.get_if<std::string>()) {
-      const auto& t = *lit.get_if<std::string>();
-      cmp = *s < t ? -1 : (*s > t ? 1 : 0);
-    } else {
-      cmp = v == lit ? 0 : 1;
-      if (op != CompareOp::kEq && op != CompareOp::kNe) return false;
-    }
-  } else {
-    return op == CompareOp::kNe;
-  }
-  switch (op) {
-    case CompareOp::kEq: return cmp == 0;
-    case CompareOp::kNe: return cmp != 0;
-    case CompareOp::kLt: return cmp < 0;
-    case CompareOp::kLe: return cmp <= 0;
-    case CompareOp::kGt: return cmp > 0;
-    case CompareOp::kGe: return cmp >= 0;
-  }
-  return false;
-}
-
-using Binding = std::unordered_map<std::string, NodeId>;
-
-// Candidate nodes for a fresh variable of `type`, anchored when possible: neighbours of bound
-// nodes along edges of `body` that mention the variable; otherwise every node of the type.
-std::vector<NodeId> candidates(const Graph& g, const TypeSystem& types, const std::string& var, const std::string& type,
-                               const std::vector<const PatternEdge*>& edges, const Binding& b) {
-  std::vector<NodeId> out;
-  bool anchored = false;
-  for (const PatternEdge* e : edges) {
-    if (e->negated) continue;
-    if (e->to == var && b.count(e->from)) {
-      for (const EdgeKey& k : g.edges_from(b.at(e->from), e->symbol)) out.push_back(k.to);
-      anchored = true;
-      break;
-    }
-    if (e->from == var && b.count(e->to)) {
-      for (const EdgeKey& k : g.edges_to(b.at(e->to), e->symbol)) out.push_back(k.from);
-      anchored = true;
-      break;
-    }
-  }
-  if (!anchored) out = g.nodes();  // unanchored variable: scan (documented cost)
-  std::vector<NodeId> typed;
-  for (NodeId n : out)
-    if (types.is_a(g.type_of(n).str(), type)) typed.push_back(n);
-  return typed;
-}
-
-void collect_edges(const Formula& f, std::vector<const PatternEdge*>& out) {
-  if (f.kind == Formula::Kind::kEdge) out.push_back(&f.edge);
-  if (f.kind == Formula::Kind::kAnd)
-    for (const auto& k : f.kids) collect_edges(k, out);
-}
-
-bool eval(const Graph& g, const TypeSystem& types, const Formula& f, Binding& b);
-
-// Enumerates bindings of `vars` (injective, distinct from the bound nodes) for which `guard`
-// holds; calls `each` until it returns false. Returns false if stopped early. `edges` are the
-// guard's (collect_edges), which anchor the candidates.
-bool enumerate(const Graph& g, const TypeSystem& types, const std::vector<PatternNode>& vars,
-               std::size_t i, const Formula& guard, const std::vector<const PatternEdge*>& edges,
-               Binding& b, const std::function<bool(Binding&)>& each) {
-  if (i == vars.size()) {
-    if (!eval(g, types, guard, b)) return true;
-    return each(b);
-  }
-  for (NodeId n : candidates(g, types, vars[i].var, vars[i].type, edges, b)) {
-    bool used = false;
-    for (const auto& [v, m] : b) used = used || m == n;
-    if (used) continue;
-    b[vars[i].var] = n;
-    bool go_on = enumerate(g, types, vars, i + 1, guard, edges, b, each);
-    b.erase(vars[i].var);
-    if (!go_on) return false;
-  }
-  return true;
-}
-bool enumerate(const Graph& g, const TypeSystem& types, const std::vector<PatternNode>& vars,
-               const Guard& guard, Binding& b, const std::function<bool(Binding&)>& each) {
-  return enumerate(g, types, vars, 0, guard.formula, guard.edges, b, each);
-}
-bool enumerate(const Graph& g, const TypeSystem& types, const std::vector<PatternNode>& vars,
-               const Formula& guard, Binding& b, const std::function<bool(Binding&)>& each) {
-  std::vector<const PatternEdge*> edges;
-  collect_edges(guard, edges);
-  return enumerate(g, types, vars, 0, guard, edges, b, each);
-}
-
-bool eval(const Graph& g, const TypeSystem& types, const Formula& f, Binding& b) {
-  switch (f.kind) {
-    case Formula::Kind::kTrue: return true;
-    case Formula::Kind::kFalse: return false;
-    case Formula::Kind::kAnd:
-      for (const auto& k : f.kids)
-        if (!eval(g, types, k, b)) return false;
-      return true;
-    case Formula::Kind::kOr:
-      for (const auto& k : f.kids)
-        if (eval(g, types, k, b)) return true;
-      return false;
-    case Formula::Kind::kNot: return !eval(g, types, f.kids[0], b);
-    case Formula::Kind::kEdge:
-      return edge_in_pre(g, EdgeKey{b.at(f.edge.from), b.at(f.edge.to), f.edge.symbol});
-    case Formula::Kind::kHas:
-      return g.attr(b.at(f.var), f.attr_symbol) != nullptr;
-    case Formula::Kind::kCompare: {
-      const graph::Value* v =
-          f.var.empty() ? g.edge_attr(EdgeKey{b.at(f.edge.from), b.at(f.edge.to), f.edge.symbol},
-                                      f.attr_symbol)
-                        : g.attr(b.at(f.var), f.attr_symbol);
-      return v != nullptr && compare(*v, f.op, f.literal);
-    }
-    case Formula::Kind::kExists: {
-      bool found = false;
-      enumerate(g, types, f.vars, f.kids[0], b, [&](Binding&) {
-        found = true;
-        return false;
-      });
-      return found;
-    }
-    case Formula::Kind::kForall: {
-      bool all = true;
-      enumerate(g, types, f.vars, f.kids[0], b, [&](Binding& inner) {
-        all = eval(g, types, f.kids[1], inner);
-        return all;
-      });
-      return all;
-    }
-  }
-  return false;
-}
-
-Guard guard_of(const Pattern& p) {
-  Guard g;
-  Formula& f = g.formula;
-  f.kind = Formula::Kind::kAnd;
-  for (const auto& e : p.edges) {
-    Formula atom;
-    atom.kind = Formula::Kind::kEdge;
-    atom.edge = e;
-    atom.edge.negated = false;
-    if (e.negated) {
-      Formula neg;
-      neg.kind = Formula::Kind::kNot;
-      neg.kids.push_back(atom);
-      f.kids.push_back(neg);
-    } else {
-      f.kids.push_back(atom);
-      g.edges.push_back(
-          &e);  // what collect_edges(f) finds, but pointing into `p` (which stays put)
-    }
-  }
-  return g;
 }
 
 // A constraint with its guard and, per variable of its pattern, the other variables: an anchor
@@ -495,6 +199,11 @@ void intern(Formula& f) {
   f.attr_symbol = Symbol(f.attr);
   for (auto& k : f.kids) intern(k);
 }
+void intern(Effect& e) {
+  e.edge.symbol = Symbol(e.edge.label);
+  intern(e.condition);
+  for (auto& k : e.kids) intern(k);
+}
 void intern(Grammar& g) {
   for (Rule& r : g.rules) {
     intern(r.lhs);
@@ -504,6 +213,7 @@ void intern(Grammar& g) {
       intern(fe.lhs);
       intern(fe.rhs);
     }
+    if (r.effect) intern(*r.effect);
   }
   for (Constraint& c : g.constraints) {
     intern(c.forbid);
@@ -517,10 +227,12 @@ void intern(Grammar& g) {
 
 struct GrammarChecker::Impl {
   Grammar g;
+  std::deque<Rule> composed;  // the rules combo rules stand for (compose_combo)
   std::vector<Compiled> rules;
   std::vector<CompiledConstraint> constraints;
   std::unordered_map<std::string, std::vector<int>> by_signature;
-  std::vector<int> with_foralls;
+  std::vector<int> with_effects;
+  std::vector<std::string> notes;
 
   // The outcome of trying one rule: success, or how far it got and why it stopped.
   struct Attempt {
@@ -542,10 +254,21 @@ struct GrammarChecker::Impl {
 GrammarChecker::GrammarChecker(Grammar g) : impl_(std::make_unique<Impl>()) {
   impl_->g = std::move(g);
   intern(impl_->g);
-  for (const Rule& r : impl_->g.rules) impl_->rules.push_back(compile(r));
+  for (const Rule& r : impl_->g.rules) {
+    switch (r.kind) {
+      case Rule::Kind::kNormal: impl_->rules.push_back(compile(r)); break;
+      case Rule::Kind::kHierarchical: break;  // a planner decomposes it: no change applies it
+      case Rule::Kind::kCombo:
+        for (Rule& step : internal::compose_combo(impl_->g, r, impl_->notes)) {
+          impl_->composed.push_back(std::move(step));
+          impl_->rules.push_back(compile(impl_->composed.back()));
+        }
+        break;
+    }
+  }
   for (const Constraint& c : impl_->g.constraints) impl_->constraints.push_back(compile(c));
   for (int i = 0; i < static_cast<int>(impl_->rules.size()); ++i) {
-    if (!impl_->rules[i].rule->foralls.empty()) impl_->with_foralls.push_back(i);
+    if (impl_->rules[i].effect) impl_->with_effects.push_back(i);
     else impl_->by_signature[impl_->rules[i].signature].push_back(i);
   }
 }
@@ -553,6 +276,7 @@ GrammarChecker::~GrammarChecker() = default;
 GrammarChecker::GrammarChecker(GrammarChecker&&) noexcept = default;
 GrammarChecker& GrammarChecker::operator=(GrammarChecker&&) noexcept = default;
 const Grammar& GrammarChecker::grammar() const { return impl_->g; }
+const std::vector<std::string>& GrammarChecker::notes() const { return impl_->notes; }
 
 GrammarChecker::Impl::Attempt GrammarChecker::Impl::try_rule(const Graph& gr, const Compiled& r, const Changes& c,
                                                              const std::vector<NodeId>* fixed) const {
@@ -599,7 +323,7 @@ GrammarChecker::Impl::Attempt GrammarChecker::Impl::try_rule(const Graph& gr, co
 
   // Obligations: each rule change maps to a distinct change of the transaction.
   struct Ob {
-    enum { kRemoved, kAdded, kDeleted, kCreated } kind;
+    enum { kRemoved, kAdded, kDeleted, kCreated, kRetyped } kind;
     int index;
   };
   std::vector<Ob> obs;
@@ -607,11 +331,13 @@ GrammarChecker::Impl::Attempt GrammarChecker::Impl::try_rule(const Graph& gr, co
   for (int i = 0; i < static_cast<int>(r.added.size()); ++i) obs.push_back({Ob::kAdded, i});
   for (int i = 0; i < static_cast<int>(r.deleted.size()); ++i) obs.push_back({Ob::kDeleted, i});
   for (int i = 0; i < static_cast<int>(r.created.size()); ++i) obs.push_back({Ob::kCreated, i});
+  for (int i = 0; i < static_cast<int>(r.retyped.size()); ++i) obs.push_back({Ob::kRetyped, i});
   std::vector<bool> used_removed(c.removed.size()), used_added(c.added.size());
   std::vector<NodeId> deleted(c.deleted.begin(), c.deleted.end());
-  std::vector<NodeId> created;
+  std::vector<NodeId> created, retyped;
   for (const auto& [id, t] : c.created) created.push_back(id);
-  std::vector<bool> used_deleted(deleted.size()), used_created(created.size());
+  for (const auto& [id, t] : c.retyped) retyped.push_back(id);
+  std::vector<bool> used_deleted(deleted.size()), used_created(created.size()), used_retyped(retyped.size());
 
   std::function<bool(std::size_t)> context;  // binds the remaining variables and checks the rest
   std::function<bool(std::size_t)> oblige = [&](std::size_t k) -> bool {
@@ -644,13 +370,18 @@ GrammarChecker::Impl::Attempt GrammarChecker::Impl::try_rule(const Graph& gr, co
                            r.vars[e.to] + " that this change does not");
       return false;
     }
-    const bool del = ob.kind == Ob::kDeleted;
-    const int s = del ? r.deleted[ob.index] : r.created[ob.index];
-    auto& pool = del ? deleted : created;
-    auto& taken = del ? used_deleted : used_created;
+    const bool del = ob.kind == Ob::kDeleted, ret = ob.kind == Ob::kRetyped;
+    const int s = del ? r.deleted[ob.index] : ret ? r.retyped[ob.index] : r.created[ob.index];
+    auto& pool = del ? deleted : ret ? retyped : created;
+    auto& taken = del ? used_deleted : ret ? used_retyped : used_created;
     bool any = false;
     for (std::size_t i = 0; i < pool.size(); ++i) {
       if (taken[i]) continue;
+      if (ret && !types.is_a(c.retyped.at(pool[i]), r.retype_to[ob.index])) {
+        note(progress, "it retypes '" + r.vars[s] + "' to " + r.retype_to[ob.index] + ", but the change makes " +
+                           gr.name_of(pool[i]) + " a " + c.retyped.at(pool[i]));
+        continue;
+      }
       any = true;
       bool was = bound[s];
       if (!bind(s, pool[i], progress)) continue;
@@ -659,7 +390,12 @@ GrammarChecker::Impl::Attempt GrammarChecker::Impl::try_rule(const Graph& gr, co
       taken[i] = false;
       if (!was) unbind(s);
     }
-    if (!any) note(progress, std::string("it ") + (del ? "deletes" : "creates") + " a " + r.types[s] + " ('" + r.vars[s] + "') that this change does not");
+    if (!any && !ret)
+      note(progress, std::string("it ") + (del ? "deletes" : "creates") + " a " + r.types[s] + " ('" + r.vars[s] +
+                         "') that this change does not");
+    if (!any && ret && pool.empty())
+      note(progress, "it retypes '" + r.vars[s] + "' (a " + r.types[s] + ") to " + r.retype_to[ob.index] +
+                         ", which this change does not");
     return false;
   };
 
@@ -743,34 +479,38 @@ GrammarChecker::Impl::Attempt GrammarChecker::Impl::try_rule(const Graph& gr, co
       note(progress + 3, "its precondition does not hold");
       return false;
     }
-    // Forall effects: every match of each effect's left side must be rewritten too, and the
-    // rule plus its effects must account for exactly the transaction's changes.
-    std::vector<EdgeKey> want_removed, want_added;
-    for (const auto& e : r.removed) want_removed.push_back(ref(e));
-    for (const auto& e : r.added) want_added.push_back(ref(e));
-    for (const CompiledForall& cf : r.foralls) {
-      Binding fb = b;
-      enumerate(gr, types, cf.effect->vars, cf.guard, fb, [&](Binding& m) {
-        for (const PatternEdge* e : cf.removed)
-          want_removed.push_back(EdgeKey{m.at(e->from), m.at(e->to), e->symbol});
-        for (const PatternEdge* e : cf.added)
-          want_added.push_back(EdgeKey{m.at(e->from), m.at(e->to), e->symbol});
-        return true;
-      });
-    }
-    auto same = [](std::vector<EdgeKey> a, std::vector<EdgeKey> b) {
-      std::sort(a.begin(), a.end(), graph::canonical_less);
-      std::sort(b.begin(), b.end(), graph::canonical_less);
-      return a == b;
-    };
-    if (!same(want_removed, c.removed) || !same(want_added, c.added)) {
-      note(progress + 4, r.rule->foralls.empty() ? "the change does more than the rule"
-                                                 : "its forall effects do not match the change exactly");
-      return false;
-    }
-    if (r.deleted.size() != c.deleted.size() || r.created.size() != c.created.size()) {
-      note(progress + 4, "the change creates or deletes other nodes than the rule");
-      return false;
+    if (r.effect) {
+      // The rewrite, then the effect over its outcome: together exactly the change.
+      internal::Outcome out;
+      for (const auto& e : r.removed) out.edges[ref(e)] = false;
+      for (const auto& e : r.added) out.edges[ref(e)] = true;
+      for (int s : r.deleted) out.deleted.insert(slot[s]);
+      for (int s : r.created) out.created[slot[s]] = c.created.at(slot[s]);
+      for (int s : r.retyped) out.retyped[slot[s]] = c.retyped.at(slot[s]);
+      internal::apply_effect(gr, types, *r.effect, b, out);
+      std::string why;
+      if (!internal::outcome_is(gr, types, out, c, why)) {
+        note(progress + 4, (r.rule->foralls.empty() ? "with its effect, " : "with its forall effects, ") + why);
+        return false;
+      }
+    } else {
+      auto same = [&](const std::vector<Compiled::E>& want, std::vector<EdgeKey> have) {
+        if (want.size() != have.size()) return false;
+        std::vector<EdgeKey> w;
+        for (const auto& e : want) w.push_back(ref(e));
+        std::sort(w.begin(), w.end(), graph::canonical_less);
+        std::sort(have.begin(), have.end(), graph::canonical_less);
+        return w == have;
+      };
+      if (!same(r.removed, c.removed) || !same(r.added, c.added)) {
+        note(progress + 4, "the change does more than the rule");
+        return false;
+      }
+      if (r.deleted.size() != c.deleted.size() || r.created.size() != c.created.size() ||
+          r.retyped.size() != c.retyped.size()) {
+        note(progress + 4, "the change creates, deletes or retypes other nodes than the rule");
+        return false;
+      }
     }
     best.ok = true;
     best.slots = slot;
@@ -788,7 +528,7 @@ GrammarChecker::Impl::Attempt GrammarChecker::Impl::try_rule(const Graph& gr, co
 
 Status GrammarChecker::check(const Graph& gr, const std::vector<TxnOp>& ops, RuleMatch* match) const {
   const Grammar& g = impl_->g;
-  Changes c = extract(g, gr, ops);
+  Changes c = internal::extract(g, gr, ops);
   if (!c.unruled.empty())
     return make_error(ErrorCode::kRefused, "grammar '" + g.name + "': " + c.unruled);
   if (!c.structural()) return {};
@@ -796,9 +536,27 @@ Status GrammarChecker::check(const Graph& gr, const std::vector<TxnOp>& ops, Rul
   for (const auto& e : c.removed) rl.push_back(e.type.str());
   for (const auto& e : c.added) al.push_back(e.type.str());
   std::vector<int> candidates;
-  if (auto it = impl_->by_signature.find(signature(rl, al, c.deleted.size(), c.created.size())); it != impl_->by_signature.end())
+  if (auto it = impl_->by_signature.find(signature(rl, al, c.deleted.size(), c.created.size(), c.retyped.size()));
+      it != impl_->by_signature.end())
     candidates = it->second;
-  candidates.insert(candidates.end(), impl_->with_foralls.begin(), impl_->with_foralls.end());
+  if (!impl_->with_effects.empty()) {
+    // A rule with an effect is tried when the change has every change of its own.
+    std::unordered_map<std::string, int> have;
+    for (const auto& l : rl) ++have["-" + l];
+    for (const auto& l : al) ++have["+" + l];
+    have["del"] = static_cast<int>(c.deleted.size());
+    have["cre"] = static_cast<int>(c.created.size());
+    have["ret"] = static_cast<int>(c.retyped.size());
+    for (int i : impl_->with_effects) {
+      std::unordered_map<std::string, int> need;
+      bool fits = true;
+      for (const std::string& k : impl_->rules[i].keys) {
+        auto it = have.find(k);
+        fits = fits && it != have.end() && ++need[k] <= it->second;
+      }
+      if (fits) candidates.push_back(i);
+    }
+  }
   const Compiled* closest = nullptr;
   Impl::Attempt closest_attempt;
   for (int i : candidates) {
@@ -844,6 +602,9 @@ Status GrammarChecker::check(const Graph& gr, const std::vector<TxnOp>& ops, Rul
         what += (what.empty() ? "" : ", ") + std::string("add ") + edge_text(*closest, e);
       for (int s : closest->deleted) what += (what.empty() ? "" : ", ") + std::string("delete ") + closest->vars[s];
       for (int s : closest->created) what += (what.empty() ? "" : ", ") + std::string("create ") + closest->vars[s];
+      for (std::size_t i = 0; i < closest->retyped.size(); ++i)
+        what += (what.empty() ? "" : ", ") + std::string("retype ") + closest->vars[closest->retyped[i]] + " to " +
+                closest->retype_to[i];
       msg += "; closest rule '" + closest->rule->name + "' does: " + what;
     }
   } else {
@@ -854,28 +615,43 @@ Status GrammarChecker::check(const Graph& gr, const std::vector<TxnOp>& ops, Rul
 
 Status GrammarChecker::Impl::verify_claim(const Graph& gr, const Changes& c, const std::string& rule,
                                           const std::vector<std::pair<std::string, NodeId>>& binding) const {
-  const Compiled* r = nullptr;
-  for (const auto& x : rules)
-    if (x.rule->name == rule) r = &x;
-  if (!r) return make_error(ErrorCode::kRefused, "grammar '" + g.name + "' has no rule '" + rule + "'");
-  std::vector<NodeId> fixed(r->vars.size());
-  std::vector<bool> seen(r->vars.size());
-  for (const auto& [var, id] : binding) {
-    auto it = r->slot.find(var);
-    if (it == r->slot.end()) return make_error(ErrorCode::kRefused, "rule '" + rule + "' has no variable '" + var + "'");
-    fixed[it->second] = id;
-    seen[it->second] = true;
+  // A combo rule stands for several compiled rules (one per choice of optional steps): the
+  // claim's variables tell which.
+  std::optional<Status> last;
+  for (const Compiled& r : rules) {
+    if (r.rule->name != rule) continue;
+    std::vector<NodeId> fixed(r.vars.size());
+    std::vector<bool> seen(r.vars.size());
+    std::string wrong;
+    for (const auto& [var, id] : binding) {
+      auto it = r.slot.find(var);
+      if (it == r.slot.end()) {
+        wrong = "rule '" + rule + "' has no variable '" + var + "'";
+        break;
+      }
+      fixed[it->second] = id;
+      seen[it->second] = true;
+    }
+    for (std::size_t s = 0; s < seen.size() && wrong.empty(); ++s)
+      if (!seen[s]) wrong = "the claim leaves variable '" + r.vars[s] + "' of rule '" + rule + "' unbound";
+    if (!wrong.empty()) {
+      if (!last) last = make_error(ErrorCode::kRefused, wrong);
+      continue;
+    }
+    auto a = try_rule(gr, r, c, &fixed);
+    if (a.ok) return {};
+    last = make_error(ErrorCode::kRefused, "the change does not apply rule '" + rule + "': " + a.why);
   }
-  for (std::size_t s = 0; s < seen.size(); ++s)
-    if (!seen[s])
-      return make_error(ErrorCode::kRefused, "the claim leaves variable '" + r->vars[s] + "' of rule '" + rule + "' unbound");
-  auto a = try_rule(gr, *r, c, &fixed);
-  if (!a.ok) return make_error(ErrorCode::kRefused, "the change does not apply rule '" + rule + "': " + a.why);
-  return {};
+  if (last) return *last;
+  if (const Rule* h = g.rule(rule); h && h->kind == Rule::Kind::kHierarchical)
+    return make_error(ErrorCode::kRefused, "rule '" + rule +
+                                               "' is hierarchical: a planner decomposes it into other rules, and no "
+                                               "single change applies it");
+  return make_error(ErrorCode::kRefused, "grammar '" + g.name + "' has no rule '" + rule + "'");
 }
 
 Status GrammarChecker::verify(const Graph& gr, const std::vector<TxnOp>& ops, const RuleMatch& claim) const {
-  Changes c = extract(impl_->g, gr, ops);
+  Changes c = internal::extract(impl_->g, gr, ops);
   if (!c.unruled.empty()) return make_error(ErrorCode::kRefused, "grammar '" + impl_->g.name + "': " + c.unruled);
   if (!c.structural() && claim.rule.empty()) return {};
   return impl_->verify_claim(gr, c, claim.rule, claim.binding);
@@ -883,7 +659,7 @@ Status GrammarChecker::verify(const Graph& gr, const std::vector<TxnOp>& ops, co
 
 Status GrammarChecker::verify_delta(const Graph& before, const graph::GraphDelta& d) const {
   const Grammar& g = impl_->g;
-  Changes c = extract_delta(g, before, d);
+  Changes c = internal::extract_delta(g, before, d);
   if (!c.unruled.empty()) return make_error(ErrorCode::kRefused, "grammar '" + g.name + "': " + c.unruled);
   if (!c.structural()) return {};
   if (d.rule.empty())
@@ -944,7 +720,7 @@ std::vector<Violation> GrammarChecker::Impl::violations_around(const Graph& gr,
         if (!types.is_a(anchor_type, pv.type)) continue;
         Binding b;
         b[pv.var] = anchor;
-        enumerate(gr, types, cc.rest[i], cc.guard, b, [&](Binding& m) {
+        enumerate(gr, types, cc.rest[i], true, cc.guard.formula, cc.guard.edges, b, [&](Binding& m) {
           if (con.where && !eval(gr, types, *con.where, m)) return true;
           Violation v;
           v.constraint = con.name;

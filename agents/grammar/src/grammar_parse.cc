@@ -1,27 +1,53 @@
-// Grammar files: a hand-written lexer and recursive-descent parser. Every error names
-// file:line:column, what was expected and what was found.
+// Grammar files in our dialect (`grammar NAME`, `rule`, `constraint`, `allow`): a
+// recursive-descent parser over grammar_lexer.h's tokens. Every error names file:line:column,
+// what was expected and what was found. AGM's dialect: aggl_agm_parse.cc.
 
-#include <cctype>
-#include <fstream>
+#include <algorithm>
 #include <set>
-#include <sstream>
 
+#include "grammar_lexer.h"
 #include "quiver/agents/grammar/grammar.h"
-#include "quiver/graph/limits.h"
 
 namespace quiver::agents {
 
-void TypeSystem::declare(const std::string& type, const std::string& base) { parent_[type] = base; }
+void TypeSystem::declare(const std::string& type, const std::vector<std::string>& bases) {
+  Entry e;
+  e.bases = bases;
+  e.ancestors.push_back(type);
+  for (const std::string& b : bases) {
+    auto it = ancestors_.find(b);
+    if (it == ancestors_.end()) continue;  // parsers refuse unknown bases
+    for (const std::string& a : it->second.ancestors)
+      if (std::find(e.ancestors.begin(), e.ancestors.end(), a) == e.ancestors.end()) e.ancestors.push_back(a);
+  }
+  if (ancestors_.find(type) == ancestors_.end()) order_.push_back(type);
+  ancestors_[type] = std::move(e);
+}
+
+void TypeSystem::declare(const std::string& type, const std::string& base) {
+  declare(type, base.empty() ? std::vector<std::string>{} : std::vector<std::string>{base});
+}
 
 bool TypeSystem::is_a(std::string_view type, std::string_view base) const {
-  std::string_view t = type;
-  for (int guard = 0; guard < 1000; ++guard) {
-    if (t == base) return true;
-    auto it = parent_.find(t);
-    if (it == parent_.end() || it->second.empty()) return false;
-    t = it->second;
-  }
+  if (type == base) return true;
+  auto it = ancestors_.find(type);
+  if (it == ancestors_.end()) return false;
+  for (const std::string& a : it->second.ancestors)
+    if (a == base) return true;
   return false;
+}
+
+const std::vector<std::string>& TypeSystem::bases(std::string_view type) const {
+  static const std::vector<std::string> none;
+  auto it = ancestors_.find(type);
+  return it == ancestors_.end() ? none : it->second.bases;
+}
+
+std::vector<std::string> TypeSystem::subtypes(std::string_view base) const {
+  std::vector<std::string> out{std::string(base)};
+  for (const std::string& t : order_)
+    if (t != base && is_a(t, base)) out.push_back(t);
+  return out;
 }
 
 const PatternNode* Pattern::node(std::string_view var) const {
@@ -38,163 +64,23 @@ const Rule* Grammar::rule(std::string_view name) const {
 
 namespace {
 
-struct Token {
-  enum Kind { kIdent, kNumber, kString, kSymbol, kEnd } kind = kEnd;
-  std::string text;
-  SourceLoc loc;
-};
+using internal::ParseError;
+using internal::Token;
 
-class Lexer {
+class Parser : public internal::TokenCursor {
  public:
-  explicit Lexer(std::string_view s) : s_(s) {}
-
-  // Returns false and fills `err` on a lexical error.
-  bool run(std::vector<Token>& out, std::string& err, SourceLoc& err_loc) {
-    while (true) {
-      skip_space();
-      Token t;
-      t.loc = {line_, col_};
-      if (i_ >= s_.size()) {
-        t.kind = Token::kEnd;
-        out.push_back(t);
-        return true;
-      }
-      char c = s_[i_];
-      if (std::isalpha(static_cast<unsigned char>(c)) || c == '_') {
-        t.kind = Token::kIdent;
-        while (i_ < s_.size()) {
-          char d = s_[i_];
-          bool inner = std::isalnum(static_cast<unsigned char>(d)) || d == '_';
-          // A '-' continues a word (rt-poses) unless it starts an arrow.
-          bool dash = d == '-' && i_ + 1 < s_.size() && s_[i_ + 1] != '>' &&
-                      (std::isalnum(static_cast<unsigned char>(s_[i_ + 1])) || s_[i_ + 1] == '_');
-          if (!inner && !dash) break;
-          t.text += d;
-          advance();
-        }
-      } else if (std::isdigit(static_cast<unsigned char>(c)) ||
-                 ((c == '-' || c == '.') && i_ + 1 < s_.size() && std::isdigit(static_cast<unsigned char>(s_[i_ + 1])))) {
-        t.kind = Token::kNumber;
-        while (i_ < s_.size() && (std::isdigit(static_cast<unsigned char>(s_[i_])) || s_[i_] == '.' || s_[i_] == 'e' ||
-                                  s_[i_] == 'E' || ((s_[i_] == '-' || s_[i_] == '+') && !t.text.empty() &&
-                                                    (t.text.back() == 'e' || t.text.back() == 'E')) ||
-                                  (t.text.empty() && s_[i_] == '-'))) {
-          t.text += s_[i_];
-          advance();
-        }
-      } else if (c == '"') {
-        t.kind = Token::kString;
-        advance();
-        while (i_ < s_.size() && s_[i_] != '"') {
-          if (s_[i_] == '\n') {
-            err = "unterminated string";
-            err_loc = t.loc;
-            return false;
-          }
-          if (s_[i_] == '\\' && i_ + 1 < s_.size()) advance();
-          t.text += s_[i_];
-          advance();
-        }
-        if (i_ >= s_.size()) {
-          err = "unterminated string";
-          err_loc = t.loc;
-          return false;
-        }
-        advance();
-      } else {
-        t.kind = Token::kSymbol;
-        static const char* two[] = {"->", "=>", "==", "!=", "<=", ">="};
-        for (const char* op : two)
-          if (s_.substr(i_, 2) == op) t.text = op;
-        if (t.text.empty()) {
-          if (std::string("{}():!.,<>;").find(c) == std::string::npos) {
-            err = std::string("unexpected character '") + c + "'";
-            err_loc = t.loc;
-            return false;
-          }
-          t.text = std::string(1, c);
-        }
-        for (std::size_t k = 0; k < t.text.size(); ++k) advance();
-      }
-      out.push_back(std::move(t));
-    }
-  }
-
- private:
-  void advance() {
-    if (s_[i_] == '\n') {
-      ++line_;
-      col_ = 1;
-    } else {
-      ++col_;
-    }
-    ++i_;
-  }
-  void skip_space() {
-    while (i_ < s_.size()) {
-      if (std::isspace(static_cast<unsigned char>(s_[i_]))) {
-        advance();
-      } else if (s_[i_] == '#') {
-        while (i_ < s_.size() && s_[i_] != '\n') advance();
-      } else {
-        break;
-      }
-    }
-  }
-  std::string_view s_;
-  std::size_t i_ = 0;
-  int line_ = 1, col_ = 1;
-};
-
-struct ParseError {
-  SourceLoc loc;
-  std::string message;
-};
-
-class Parser {
- public:
-  Parser(std::vector<Token> toks, std::string source) : t_(std::move(toks)), src_(std::move(source)) {}
+  Parser(std::vector<Token> toks, std::string source) : TokenCursor(std::move(toks)), src_(std::move(source)) {}
 
   Result<Grammar> run() {
     try {
       file();
     } catch (const ParseError& e) {
-      return make_error(ErrorCode::kMalformed,
-                        src_ + ":" + std::to_string(e.loc.line) + ":" + std::to_string(e.loc.column) + ": " + e.message);
+      return make_error(ErrorCode::kMalformed, internal::located(src_, e.loc, e.message));
     }
     return std::move(g_);
   }
 
  private:
-  const Token& peek(std::size_t k = 0) const { return t_[std::min(p_ + k, t_.size() - 1)]; }
-  static std::string describe(const Token& t) {
-    switch (t.kind) {
-      case Token::kEnd: return "the end of the file";
-      case Token::kString: return "string \"" + t.text + "\"";
-      case Token::kNumber: return "number " + t.text;
-      default: return "'" + t.text + "'";
-    }
-  }
-  [[noreturn]] void fail(const std::string& expected, const Token& at) {
-    throw ParseError{at.loc, "expected " + expected + ", found " + describe(at)};
-  }
-  [[noreturn]] void fail_at(SourceLoc loc, const std::string& msg) { throw ParseError{loc, msg}; }
-  bool is(const char* sym) const { return peek().kind == Token::kSymbol && peek().text == sym; }
-  bool is_word(const char* w) const { return peek().kind == Token::kIdent && peek().text == w; }
-  Token take() { return t_[p_ < t_.size() - 1 ? p_++ : p_]; }
-  void expect(const char* sym, const std::string& context) {
-    if (!is(sym)) fail(std::string("'") + sym + "' " + context, peek());
-    take();
-  }
-  std::string ident(const std::string& what) {
-    if (peek().kind != Token::kIdent) fail(what, peek());
-    // Rule, variable, type and label names travel in deltas: the limits table bounds them.
-    if (peek().text.size() > graph::limits::kMaxNameBytes)
-      fail_at(peek().loc, "a name of " + std::to_string(peek().text.size()) + " bytes (the limit is " +
-                              std::to_string(graph::limits::kMaxNameBytes) + ")");
-    return take().text;
-  }
-
   void file() {
     if (is_word("grammar")) {
       take();
@@ -243,7 +129,7 @@ class Parser {
     Token tt = peek();
     std::string type = ident("a node type after ':'");
     if (!g_.types.known(type)) fail_at(tt.loc, "unknown type '" + type + "'");
-    return PatternNode{var, type, loc};
+    return PatternNode{var, type, loc, std::nullopt};
   }
 
   // { element* } where element = var:type | [!]a->b(label)
@@ -423,6 +309,7 @@ class Parser {
     Token kw = take();
     Rule r;
     r.loc = kw.loc;
+    r.file = src_;
     Token name = peek();
     r.name = ident("a rule name");
     if (g_.rule(r.name)) fail_at(name.loc, "rule '" + r.name + "' is defined twice");
@@ -441,10 +328,7 @@ class Parser {
     expect("{", "to open rule '" + r.name + "'");
     r.lhs = pattern("the left-hand side of rule '" + r.name + "'", {});
     expect("=>", "between the two sides of rule '" + r.name + "'");
-    r.rhs = pattern("the right-hand side of rule '" + r.name + "'", {});
-    for (const auto& n : r.rhs.nodes)
-      if (const PatternNode* l = r.lhs.node(n.var); l && l->type != n.type)
-        fail_at(n.loc, "variable '" + n.var + "' changes type between the sides of rule '" + r.name + "'");
+    r.rhs = pattern("the right-hand side of rule '" + r.name + "'", {});  // a type change retypes
     std::set<std::string> all = vars_of(r.lhs);
     all.merge(vars_of(r.rhs));
     while (!is("}")) {
@@ -506,30 +390,22 @@ class Parser {
     g_.constraints.push_back(std::move(c));
   }
 
-  std::vector<Token> t_;
-  std::size_t p_ = 0;
   std::string src_;
   Grammar g_;
 };
 
 }  // namespace
 
-Result<Grammar> parse_grammar(std::string_view text, std::string_view source) {
+namespace internal {
+
+Result<Grammar> parse_quiver_grammar(std::string_view text, std::string_view source) {
   std::vector<Token> toks;
   std::string err;
   SourceLoc loc;
-  if (!Lexer(text).run(toks, err, loc))
-    return make_error(ErrorCode::kMalformed,
-                      std::string(source) + ":" + std::to_string(loc.line) + ":" + std::to_string(loc.column) + ": " + err);
+  if (!lex(text, Dialect::kQuiver, toks, err, loc)) return make_error(ErrorCode::kMalformed, located(source, loc, err));
   return Parser(std::move(toks), std::string(source)).run();
 }
 
-Result<Grammar> load_grammar_file(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) return make_error(ErrorCode::kIo, "load_grammar_file(): cannot open '" + path + "'");
-  std::ostringstream ss;
-  ss << in.rdbuf();
-  return parse_grammar(ss.str(), path);
-}
+}  // namespace internal
 
 }  // namespace quiver::agents

@@ -20,9 +20,15 @@
 ///     }
 ///
 /// LHS-only nodes are deleted, RHS-only nodes created, and likewise for edges; `!a->b(l)` is a
-/// negative edge (must not exist). A transaction is valid when its structural changes are exactly
-/// ONE rule application (typed, injective match, negative edges respected, precondition true,
-/// forall effects applied to every match) and its other changes are allowed by `allow` lines.
+/// negative edge (must not exist); a variable typed differently on the two sides is retyped
+/// (retype.h). A transaction is valid when its structural changes are exactly ONE rule
+/// application (typed, injective match, negative edges respected, precondition true, forall
+/// effects applied to every match) and its other changes are allowed by `allow` lines.
+///
+/// The same types describe `.aggl` files as AGM's editor writes them (`name=...` header,
+/// `types { (mug : object) }`, `v:type(x,y)`, `a->b(l)*`, s-expression preconditions and
+/// effects, hierarchical, dormant and combo rules, include(...)): docs/grammar.md, "AGM's
+/// dialect".
 
 #include <cstdint>
 #include <memory>
@@ -32,24 +38,30 @@
 #include <unordered_map>
 #include <vector>
 
+#include "quiver/agents/grammar/effect.h"
+#include "quiver/agents/grammar/pattern.h"
 #include "quiver/graph/graph.h"
 #include "quiver/result.h"
 
 namespace quiver::agents {
 
-struct SourceLoc {
-  int line = 0;
-  int column = 0;
-};
-
-/// Node types with single inheritance.
+/// Node types with inheritance: single in our dialect (`mug : object`), multiple in AGM's
+/// (`(mug cup : object container)`).
 class TypeSystem {
  public:
+  /// Declares `type` as a subtype of every one of `bases`, which must already exist.
+  void declare(const std::string& type, const std::vector<std::string>& bases);
   /// Declares `type` (optionally as a subtype of `base`, which must already exist).
   void declare(const std::string& type, const std::string& base = {});
-  bool known(std::string_view type) const { return parent_.find(type) != parent_.end(); }
-  /// True if `type` is `base` or inherits from it.
+  bool known(std::string_view type) const { return ancestors_.find(type) != ancestors_.end(); }
+  /// True if `type` is `base` or inherits from it. An undeclared type is only itself.
   bool is_a(std::string_view type, std::string_view base) const;
+  /// `type`'s direct bases, in declaration order (empty for an undeclared type).
+  const std::vector<std::string>& bases(std::string_view type) const;
+  /// Every declared type that is `base` or inherits from it, `base` first.
+  std::vector<std::string> subtypes(std::string_view base) const;
+  /// Declared types, in declaration order.
+  const std::vector<std::string>& names() const { return order_; }
 
  private:
   // Looked up by string_view (no temporary strings on the check path).
@@ -57,43 +69,12 @@ class TypeSystem {
     using is_transparent = void;
     std::size_t operator()(std::string_view s) const { return std::hash<std::string_view>{}(s); }
   };
-  std::unordered_map<std::string, std::string, TextHash, std::equal_to<>> parent_;
-};
-
-struct PatternNode {
-  std::string var;
-  std::string type;
-  SourceLoc loc;
-};
-
-struct PatternEdge {
-  std::string from, to, label;
-  bool negated = false;
-  SourceLoc loc;
-  graph::Symbol symbol;  ///< `label`, interned (by the parser; GrammarChecker re-interns its copy)
-};
-
-struct Pattern {
-  std::vector<PatternNode> nodes;
-  std::vector<PatternEdge> edges;
-  const PatternNode* node(std::string_view var) const;
-};
-
-enum class CompareOp : std::uint8_t { kEq, kNe, kLt, kLe, kGt, kGe };
-
-/// A formula over the graph at a match: and / or / not, edges, attribute comparisons,
-/// exists / forall over extra node variables.
-struct Formula {
-  enum class Kind : std::uint8_t { kTrue, kFalse, kAnd, kOr, kNot, kEdge, kCompare, kHas, kExists, kForall };
-  Kind kind = Kind::kTrue;
-  std::vector<Formula> kids;       ///< kAnd/kOr: operands; kNot: one; kExists: body; kForall: guard, body
-  PatternEdge edge;                ///< kEdge; for kCompare / kHas on an edge attribute, the edge
-  std::string var, attr;           ///< kCompare / kHas (var empty: the attribute is the edge's)
-  graph::Symbol attr_symbol;       ///< `attr`, interned (like PatternEdge::symbol)
-  CompareOp op = CompareOp::kEq;   ///< kCompare
-  graph::Value literal;            ///< kCompare
-  std::vector<PatternNode> vars;   ///< kExists / kForall
-  SourceLoc loc;
+  struct Entry {
+    std::vector<std::string> bases;      // direct
+    std::vector<std::string> ancestors;  // the type itself and every base, transitively
+  };
+  std::unordered_map<std::string, Entry, TextHash, std::equal_to<>> ancestors_;
+  std::vector<std::string> order_;
 };
 
 /// "For every binding of `vars` matching `lhs` (anchored on the rule's match), also rewrite it
@@ -104,13 +85,39 @@ struct ForallEffect {
   SourceLoc loc;
 };
 
+/// One step of a combo rule: rule `rule`, its variables named `alias.var` in the equivalences.
+struct ComboAtom {
+  std::string rule, alias;
+  bool optional = false;  ///< the step may be left out
+  SourceLoc loc;
+};
+
+/// `alias.var` in a combo rule's equivalences.
+struct ComboVar {
+  std::string alias, var;
+  SourceLoc loc;
+};
+
 struct Rule {
+  /// kNormal: one change applies it. kHierarchical: an abstract step a planner decomposes into a
+  /// plan of other rules; no single change applies it. kCombo: a sequence of other rules applied
+  /// as one change, with variables the equivalences identify.
+  enum class Kind : std::uint8_t { kNormal, kHierarchical, kCombo };
   std::string name;
+  Kind kind = Kind::kNormal;
   bool active = true;
   int cost = 1;
-  Pattern lhs, rhs;
+  double success = 1.0;                 ///< AGM's `success(p)`: probability the action succeeds
+  bool dormant = false;                 ///< AGM: a planner uses it only once a rule activates it
+  std::vector<std::string> activates;   ///< AGM: rules this one wakes up
+  Pattern lhs, rhs;                     ///< a variable in both sides with two types is retyped
   std::optional<Formula> precondition;
   std::vector<ForallEffect> foralls;
+  std::optional<Effect> effect;         ///< AGM's `effect { }`, applied with the rewrite
+  std::vector<ComboAtom> atoms;         ///< kCombo: the steps, in order
+  /// kCombo: classes of step variables that are one node.
+  std::vector<std::vector<ComboVar>> equivalences;
+  std::string file;                     ///< the file that defines it (includes bring others)
   SourceLoc loc;
 };
 
@@ -124,7 +131,15 @@ struct Constraint {
 };
 
 struct Grammar {
+  enum class Dialect : std::uint8_t { kQuiver, kAgm };
   std::string name;
+  Dialect dialect = Dialect::kQuiver;
+  /// AGM's editor header (`name=...`, `fontName=...`): kept as written.
+  std::vector<std::pair<std::string, std::string>> properties;
+  /// Files include(...) brought in, resolved, in the order they were read.
+  std::vector<std::string> includes;
+  /// Remarks that do not stop loading, e.g. types a rule uses but no `types` block declares.
+  std::vector<std::string> notes;
   TypeSystem types;
   bool allow_attributes = false;
   bool allow_rt_poses = false;
@@ -134,9 +149,30 @@ struct Grammar {
   const Rule* rule(std::string_view name) const;
 };
 
-/// Parses a grammar; errors read "file:line:column: expected ..., found ...".
+/// How include(...) files are found (AGM's dialect).
+struct GrammarLoadOptions {
+  /// Read include(...) files at all. parse_grammar() text has no directory of its own: without
+  /// this an include(...) is an error (and a fuzzed text never reads files).
+  bool read_includes = false;
+  /// The directory relative include paths start from (a file's own directory).
+  std::string base_dir;
+  /// Searched after base_dir, like AGM's AGGLPATH.
+  std::vector<std::string> include_dirs;
+};
+
+/// Parses a grammar in our dialect or AGM's (told apart by AGM's `key=value` header).
+/// @param source names the text in errors and in Rule::file.
+/// @returns the grammar (remarks that do not stop loading in Grammar::notes), or kMalformed
+///   reading "source:line:column: expected ..., found ..."; an include(...) is kMalformed
+///   unless `options.read_includes` (then a missing file is named too).
 Result<Grammar> parse_grammar(std::string_view text, std::string_view source = "grammar");
-Result<Grammar> load_grammar_file(const std::string& path);
+Result<Grammar> parse_grammar(std::string_view text, std::string_view source, const GrammarLoadOptions& options);
+/// Reads and parses a grammar file; include(...) paths are looked for relative to the including
+/// file, then in `include_dirs` (docs/grammar.md, "AGM's dialect").
+/// @returns the grammar, kIo if `path` cannot be read, or kMalformed naming file:line:column
+///   (of the include, then of the included file's error), an include that cannot be found, or
+///   an include cycle with its chain.
+Result<Grammar> load_grammar_file(const std::string& path, std::vector<std::string> include_dirs = {});
 
 /// Which rule a transaction applies, with the node each variable matched.
 struct RuleMatch {
@@ -153,7 +189,9 @@ struct Violation {
 };
 
 /// Checks transactions and states against a grammar. Cost follows the rule's size, not the
-/// graph's: matches are anchored on the changed elements.
+/// graph's: matches are anchored on the changed elements. A hierarchical rule is never one
+/// change (a planner decomposes it); a combo rule is checked as the composition of its steps,
+/// and claims it by its name with variables `alias.var`.
 class GrammarChecker {
  public:
   explicit GrammarChecker(Grammar g);
@@ -162,6 +200,8 @@ class GrammarChecker {
   GrammarChecker& operator=(GrammarChecker&&) noexcept;
 
   const Grammar& grammar() const;
+  /// What the checker leaves out, and why (e.g. a combo rule whose steps contradict each other).
+  const std::vector<std::string>& notes() const;
 
   /// Validates a pending transaction against `g` (its state before the transaction). On
   /// refusal, kRefused with a message naming the closest rule and what failed.
