@@ -27,6 +27,8 @@ void add_view_commands(CLI::App& app);
 void add_interop_commands(CLI::App& app);
 /// grammar check.
 void add_grammar_commands(CLI::App& app);
+/// mission check, plan, bench planner (needs add_bench_commands first).
+void add_planner_commands(CLI::App& app);
 /// The process exit status the command that ran has chosen.
 int exit_code();
 void set_exit_code(int code);

@@ -111,7 +111,7 @@ TEST(FuzzSmokeTest, Regressions) {
   for (Target t : {Target{"graph_delta", graph_delta}, Target{"replication_packet", replication_packet},
                    Target{"world_file", world_file}, Target{"grammar_file", grammar_file},
                    Target{"recording_file", recording_file}, Target{"dsr_file", dsr_file},
-                   Target{"agm_file", agm_file},
+                   Target{"agm_file", agm_file}, Target{"mission_file", mission_file},
                    Target{"dds_summary", kDds[0]}, Target{"dds_delta", kDds[1]}, Target{"dds_pull", kDds[2]},
                    Target{"dds_state", kDds[3]}, Target{"dds_bye", kDds[4]}}) {
     int n = 0;
@@ -231,6 +231,38 @@ twice : active(4)
       accepted += grammar_file(m.data(), m.size());
     }
     std::printf("[fuzz] %d of %d mutated grammar files parsed\n", accepted, n);
+    EXPECT_GT(accepted, 0);
+  }
+}
+
+TEST(FuzzSmokeTest, MissionFiles) {
+  const auto base = quiver::testing::base_seed("FuzzSmokeTest.MissionFiles", 81);
+  Rng rng(base);
+  const std::string holds = "{\n\trobot_c:robot(0,0)\n\tp:person(1,1)\n\trobot_c->p(is_with)\n}\nprecondition\n{\n}\n";
+  const std::string plan = R"({
+	r:robot(0,0)
+	p:person(10,10)
+	p->r(is_with)
+	r->r(busy)*
+	r->p(is_with)*
+}
+precondition
+{
+	(and (not (exists q:person (is_with r q))) (forall x:person (when (is_with x r) (= x p))))
+}
+)";
+  std::vector<std::vector<std::uint8_t>> seeds;
+  for (const std::string* text : {&holds, &plan}) seeds.emplace_back(text->begin(), text->end());
+  maybe_save("mission", seeds);
+  for (const auto& seed : seeds) {
+    ASSERT_TRUE(mission_file(seed.data(), seed.size()));
+    int accepted = 0;
+    const int n = 20000;
+    for (int i = 0; i < n; ++i) {
+      auto m = mutate(seed, rng);
+      accepted += mission_file(m.data(), m.size());
+    }
+    std::printf("[fuzz] %d of %d mutated missions parsed\n", accepted, n);
     EXPECT_GT(accepted, 0);
   }
 }

@@ -6,6 +6,9 @@
 
 #include "quiver/agents/grammar/grammar.h"
 #include "quiver/agents/grammar/retype.h"
+#include "quiver/agents/mission/mission.h"
+#include "quiver/agents/planner/planner.h"
+#include "quiver/agents/planner/replay.h"
 #include "quiver/agents/dds/cdr.h"
 #include "quiver/agents/replication/replicator.h"
 #include "quiver/graph/codec.h"
@@ -116,6 +119,60 @@ bool grammar_file(const std::uint8_t* data, std::size_t size) {
   (void)agents::replace_node_type(retype, *g.find_node("person"), "patient");
   (void)checker.check(g, retype.ops());
   (void)checker.all_violations(g);
+  return true;
+}
+
+bool mission_file(const std::uint8_t* data, std::size_t size) {
+  auto parsed = agents::parse_mission(std::string_view(reinterpret_cast<const char*>(data), size), "fuzz.aggt");
+  if (!parsed.ok()) {
+    if (parsed.error().message.find("fuzz.aggt:") != 0) {
+      std::fprintf(stderr, "a mission error without a location: %s\n", parsed.error().message.c_str());
+      std::abort();
+    }
+    return false;
+  }
+  // A small domain over populate()'s world: the robot and the person swap who is with whom.
+  static const char* kDomain = R"(name=fuzz
+===
+types
+{
+	(world) (robot) (person)
+}
+===
+turn : active(1)
+{
+	{ r:robot(0,0) p:person(1,1) r->p(is_with) } => { r:robot(0,0) p:person(1,1) p->r(is_with) }
+}
+back : active(2)
+{
+	{ r:robot(0,0) p:person(1,1) p->r(is_with) } => { r:robot(0,0) p:person(1,1) r->p(is_with) r->r(busy) }
+}
+)";
+  auto domain = agents::parse_grammar(kDomain, "fuzz_domain.aggl");
+  if (!domain.ok()) std::abort();
+  Graph g(ReplicaId{1, 1});
+  populate(g);
+  agents::MissionReport report = agents::check_mission(*parsed, g, domain->types, 10'000);
+  if (!report.holds && report.missing.empty()) {
+    std::fprintf(stderr, "a mission that does not hold with nothing missing\n");
+    std::abort();
+  }
+  agents::symbolic::World world = agents::symbolic::read_world(g, domain->types);
+  agents::planner::Domain d(*domain, world.vocabulary);
+  auto compiled = agents::compile_mission(*parsed, world);
+  if (!compiled.ok()) return true;
+  agents::planner::PlannerOptions o;
+  o.max_expansions = 200;
+  o.max_world_increment = 2;
+  auto plan = agents::planner::plan(d, world.state, *compiled, o);
+  if (plan.found()) {
+    agents::GrammarChecker checker(*domain);
+    Status s = agents::planner::verify_plan(g, checker, world, plan, *parsed);
+    if (!s.ok()) {
+      std::fprintf(stderr, "a plan the guard refuses: %s\n", s.error().message.c_str());
+      std::abort();
+    }
+  }
   return true;
 }
 

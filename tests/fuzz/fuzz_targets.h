@@ -17,6 +17,9 @@ bool replication_packet(const std::uint8_t* data, std::size_t size);
 bool world_file(const std::uint8_t* data, std::size_t size);
 /// Grammar files: parsed, then used to check a transaction and search for violations.
 bool grammar_file(const std::uint8_t* data, std::size_t size);
+/// Missions (AGM's .aggt): parsed (errors name the file), checked against a replica (what is
+/// missing), and planned for with a small domain (bounded search, every plan verified).
+bool mission_file(const std::uint8_t* data, std::size_t size);
 /// A CORTEX DSR JSON world imported into a populated replica: refused with the replica unchanged,
 /// or imported with its invariants holding; then into an empty replica, exported, and imported
 /// again to the same world (a difference aborts). Accepted = imported into the empty replica.

@@ -315,8 +315,12 @@ PlanResult plan(const Domain& domain, const State& start, const CompiledMission&
   Search search{domain, options};
   std::vector<bool> excluded(domain.rule_count(), false);
   PlanResult r = search.run(start, mission, excluded, deadline);
+  r.search_cost = r.cost;
   if (!options.decompose) return r;
-  return expand(domain, options, std::move(r), mission, excluded, 0, deadline);
+  const double searched = r.cost;
+  PlanResult out = expand(domain, options, std::move(r), mission, excluded, 0, deadline);
+  out.search_cost = searched;
+  return out;
 }
 
 }  // namespace quiver::agents::planner

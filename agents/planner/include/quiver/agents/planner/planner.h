@@ -55,6 +55,9 @@ struct PlanResult {
   /// states[0] is the start, states[i + 1] the state after steps[i].
   std::vector<symbolic::State> states;
   double cost = 0;              ///< plan_cost(steps)
+  /// The cost of the top-level plan as searched, hierarchical steps at their declared cost
+  /// (what AGM's planner reports); equal to `cost` without hierarchical steps.
+  double search_cost = 0;
   std::size_t expansions = 0;   ///< states expanded (all searches)
   std::size_t generated = 0;    ///< successor states generated
   std::size_t searches = 0;     ///< 1 + decompositions and re-searches
