@@ -100,8 +100,14 @@ with tempfile.TemporaryDirectory() as tmp:
         row = {'id': pid, 'domain': p['domain'], 'target': p['target'], 'agm': agm}
         try:
             tt = target_file(t, tmp)
-            cmd = [a.quiver, 'plan', d, w, tt, '--json', '--runs', str(a.runs), '--max-time', str(a.max_time),
-                   '-I', os.path.join(a.agm, 'aggl-root'), '--log-level', 'off']
+            cmd = [a.quiver, '--log-level', 'off', 'plan', d, w, tt, '--json', '--runs', str(a.runs),
+                   '--max-time', str(a.max_time), '-I', os.path.join(a.agm, 'aggl-root')]
+            if agm['plan']:
+                # AGM's plan, replayed with our reading of the rules: does it reach the mission?
+                pf = os.path.join(tmp, pid + '.plan')
+                with open(pf, 'w') as f:
+                    f.write('\n'.join(agm['plan']) + '\n')
+                cmd += ['--replay', pf]
             res = subprocess.run(cmd, capture_output=True, text=True, cwd=os.path.dirname(w), timeout=a.max_time * a.runs + 60)
             out = res.stdout.strip().splitlines()
             row['ours'] = json.loads(out[-1]) if out and out[-1].startswith('{') else {'outcome': 'error', 'why': (res.stderr or res.stdout).strip()[:200]}
@@ -129,9 +135,17 @@ def short(path):
     return parts[0].split('__')[-1] + ':' + '/'.join(parts[-2:])
 
 
-print('| problem | domain | target | AGM shipped s | AGM first-plan s | ours s | speed-up (first-plan) | cost AGM | cost ours | ours as searched | verified |')
-print('|---|---|---|---|---|---|---|---|---|---|---|')
+print('| problem | domain | target | AGM shipped s | AGM first-plan s | ours s | speed-up (first-plan) | cost AGM | cost ours | ours as searched | verified | AGM plan, our reading |')
+print('|---|---|---|---|---|---|---|---|---|---|---|---|')
 ratios, ratios_shipped = [], []
+worse_invalid = []
+
+
+def c_higher(ours, agm):
+    return (ours.get('outcome') == 'found' and agm['cost'] is not None and
+            ours.get('search_cost', ours.get('cost')) > agm['cost'] + 1e-9)
+
+
 both = better = equal = worse = 0
 for r in rows:
     agm, ours = r['agm'], r['ours']
@@ -153,14 +167,19 @@ for r in rows:
         else:
             equal += 1
     status_ours = ours.get('outcome') if ours.get('outcome') != 'found' else None
-    print('| %s | %s | %s | %s | %s | %s | %s | %s | %s | %s | %s |' % (
+    rp = ours.get('replay')
+    agm_valid = '–' if not rp else ('reaches it' if rp.get('reaches_mission') else
+                                     ('does not reach it' if rp.get('applies') else 'a step does not apply'))
+    if rp and not rp.get('reaches_mission') and c_higher(ours, agm):
+        worse_invalid.append(r['id'])
+    print('| %s | %s | %s | %s | %s | %s | %s | %s | %s | %s | %s | %s |' % (
         r['id'], short(r['domain']), os.path.basename(r['target']),
         fmt(agm['shipped_s']) if agm['status'] == 'planned' else agm['status'],
         fmt(agm['first_s']),
         fmt(t_ours, 4) if t_ours else (status_ours + ': ' + ours.get('why', '')[:60]).replace('|', '/'),
         ('%.0fx' % ratio) if ratio else '–',
         fmt(agm['cost'], 1), fmt(cost_ours, 1), fmt(ours.get('search_cost'), 1) if cost_ours is not None else '–',
-        ('ok' if ours.get('verified') == 'ok' else (ours.get('verified') or '–'))[:40].replace('|', '/')))
+        ('ok' if ours.get('verified') == 'ok' else (ours.get('verified') or '–'))[:40].replace('|', '/'), agm_valid))
 
 print()
 if ratios:
@@ -170,3 +189,6 @@ if ratios_shipped:
     print('Speed-up over AGM as shipped (waits 5 s after its first plan): median %.0fx, min %.0fx'
           % (statistics.median(ratios_shipped), min(ratios_shipped)))
 print('Cost (ours as searched vs AGM final): %d lower, %d equal, %d higher, of %d' % (better, equal, worse, both))
+if worse_invalid:
+    print('Where ours costs more, AGM\'s plan does not reach the mission under Quiver\'s reading of the rules: %s'
+          % ', '.join(worse_invalid))

@@ -8,6 +8,7 @@
 #include <iostream>
 #include <memory>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -103,6 +104,7 @@ struct PlanArgs {
   bool json = false;
   bool no_heuristic = false;
   int runs = 1;
+  std::string replay;
 };
 
 struct Problem {
@@ -130,8 +132,6 @@ void run_plan(const PlanArgs& a) {
     std::cerr << "error: " << msg << "\n";
     set_exit_code(2);
   };
-  auto p = load_problem(a.grammar, a.world, a.mission, a.include_dirs);
-  if (!p.ok()) return fail(p.error().message);
   PlannerOptions o;
   o.max_world_increment = a.max_world_increment;
   o.max_expansions = a.max_expansions;
@@ -142,17 +142,24 @@ void run_plan(const PlanArgs& a) {
   }
   PlanResult best;
   std::vector<double> times;
+  std::optional<Problem> p;
   std::unique_ptr<agents::planner::Domain> domain;
   agents::symbolic::World world;
+  std::optional<agents::CompiledMission> cm;
   for (int run = 0; run < std::max(1, a.runs); ++run) {
-    // Everything a planning request does counts: reading the replica, compiling, searching.
+    // Everything a planning request does counts: reading the files, the world into a replica,
+    // compiling the rules and the mission, searching, decomposing.
     const std::int64_t t0 = steady_ns();
+    auto loaded = load_problem(a.grammar, a.world, a.mission, a.include_dirs);
+    if (!loaded.ok()) return fail(loaded.error().message);
+    p = std::move(*loaded);
     world = agents::symbolic::read_world(*p->graph, p->grammar.types);
     domain = std::make_unique<agents::planner::Domain>(p->grammar, world.vocabulary);
-    auto cm = agents::compile_mission(p->mission, world);
-    if (!cm.ok()) return fail(cm.error().message);
+    auto compiled = agents::compile_mission(p->mission, world);
+    if (!compiled.ok()) return fail(compiled.error().message);
+    cm = std::move(*compiled);
     best = agents::planner::plan(*domain, world.state, *cm, o);
-    times.push_back((steady_ns() - t0) / 1e9);
+    times.push_back(static_cast<double>(steady_ns() - t0) / 1e9);
   }
   std::sort(times.begin(), times.end());
   const double median = times[times.size() / 2];
@@ -161,6 +168,44 @@ void run_plan(const PlanArgs& a) {
     agents::GrammarChecker checker(p->grammar);
     Status s = agents::planner::verify_plan(*p->graph, checker, world, best, p->mission);
     verified = s.ok() ? "ok" : s.error().message;
+  }
+  // Another planner's plan (AGM's `.plan` lines), replayed with our meaning of the rules.
+  nlohmann::json replayed;
+  if (!a.replay.empty()) {
+    auto text = interop::read_file("plan --replay", a.replay);
+    if (!text.ok()) return fail(text.error().message);
+    agents::symbolic::State s = world.state;
+    std::vector<std::string> lines;
+    std::size_t start = 0;
+    while (start < text->size()) {
+      auto end = text->find('\n', start);
+      if (end == std::string::npos) end = text->size();
+      std::string line = text->substr(start, end - start);
+      start = end + 1;
+      while (!line.empty() && (line.back() == '\r' || line.back() == ' ')) line.pop_back();
+      if (line.empty() || (line[0] == '#' && line.rfind("#!", 0) != 0)) continue;
+      if (line.rfind("#!", 0) == 0) continue;  // a decomposed hierarchical step: its steps follow
+      lines.push_back(line);
+    }
+    replayed["steps"] = nlohmann::json::array();
+    bool applies = true;
+    for (const std::string& line : lines) {
+      auto step = agents::planner::parse_step(line, *domain, world);
+      std::string verdict = "applies";
+      if (!step.ok()) {
+        verdict = step.error().message;
+        applies = false;
+      } else if (auto next = domain->apply(s, *step)) {
+        s = std::move(*next);
+      } else {
+        verdict = "does not apply here";
+        applies = false;
+      }
+      replayed["steps"].push_back({{"step", line}, {"verdict", verdict}});
+      if (!applies) break;
+    }
+    replayed["applies"] = applies;
+    replayed["reaches_mission"] = applies && agents::mission_holds(s, world.vocabulary, *cm);
   }
   if (a.json) {
     nlohmann::json j;
@@ -177,17 +222,27 @@ void run_plan(const PlanArgs& a) {
     j["plan"] = nlohmann::json::array();
     for (const auto& s : best.steps) j["plan"].push_back(agents::planner::to_string(s, world));
     if (!best.found()) j["why"] = best.why;
+    if (!replayed.is_null()) j["replay"] = replayed;
     std::cout << j.dump() << std::endl;
   } else {
     if (best.found()) {
       for (const auto& s : best.steps) std::cout << agents::planner::to_string(s, world) << "\n";
-      std::cout << "# cost: " << best.cost << ", " << best.steps.size() << " steps, " << best.expansions
-                << " expansions, " << best.generated << " states generated, " << best.searches << " searches, "
-                << std::fixed << std::setprecision(4) << median << " s\n";
+      std::cout << "# cost: " << best.cost;
+      if (best.search_cost != best.cost) std::cout << " (" << best.search_cost << " as searched, before decomposition)";
+      std::cout << ", " << best.steps.size() << " steps, " << best.expansions << " expansions, " << best.generated
+                << " states generated, " << best.searches << " searches, " << std::fixed << std::setprecision(4)
+                << median << " s\n";
       std::cout << "# verified through the grammar guard: " << verified << "\n";
     } else {
       std::cout << "# no plan (" << agents::planner::to_string(best.outcome) << "): " << best.why << "\n";
       std::cout << "# " << best.expansions << " expansions, " << median << " s\n";
+    }
+    if (!replayed.is_null()) {
+      std::cout << "# replay of " << a.replay << ":\n";
+      for (const auto& st : replayed["steps"])
+        std::cout << "#   " << st["step"].get<std::string>() << ": " << st["verdict"].get<std::string>() << "\n";
+      std::cout << "#   " << (replayed["reaches_mission"].get<bool>() ? "reaches the mission" : "does not reach the mission")
+                << "\n";
     }
     for (const std::string& n : domain->notes()) std::cout << "# note: " << n << "\n";
   }
@@ -286,9 +341,10 @@ void add_planner_commands(CLI::App& app) {
       ->allow_extra_args(false)
       ->check(CLI::ExistingDirectory);
   plan->add_option("--max-time", pa->max_time_s, "give up after this many seconds (0: no limit)")
-      ->check(CLI::NonNegativeNumber)
+      ->check(CLI::Range(0.0, 1e7))
       ->capture_default_str();
   plan->add_option("--max-expansions", pa->max_expansions, "give up after this many expansions (0: no limit)")
+      ->check(CLI::Range(std::size_t{0}, std::size_t{1'000'000'000'000}))
       ->capture_default_str();
   plan->add_option("--max-world-increment", pa->max_world_increment,
                    "a state may hold at most this many nodes more than the world (AGM's maxWorldIncrement)")
@@ -301,6 +357,10 @@ void add_planner_commands(CLI::App& app) {
   plan->add_option("--runs", pa->runs, "plan this many times and report the median time")
       ->check(CLI::Range(1, 1000))
       ->capture_default_str();
+  plan->add_option("--replay", pa->replay,
+                   "also replay another planner's plan (AGM's .plan: one rule@{...} per line) with Quiver's "
+                   "meaning of the rules, and tell whether it reaches the mission")
+      ->check(CLI::ExistingFile);
   plan->add_flag("--json", pa->json, "one JSON line");
   plan->callback([pa] { run_plan(*pa); });
 

@@ -33,6 +33,9 @@ std::vector<std::string> required(const std::vector<std::string>& path) {
   if (path == std::vector<std::string>{"record"}) return {"-o", "/dev/null"};
   if (path == std::vector<std::string>{"render"}) return {"world.json", "-o", "x.png"};
   if (path == std::vector<std::string>{"timeline"}) return {"run.qrec", "-o", "x.mp4"};
+  if (path == std::vector<std::string>{"plan"}) return {"/dev/null", "/dev/null", "/dev/null"};
+  if (path == std::vector<std::string>{"mission", "check"}) return {"/dev/null", "/dev/null"};
+  if (path == std::vector<std::string>{"bench", "planner"}) return {"d.aggl:w.xml:m.aggt"};
   return {};
 }
 
