@@ -10,12 +10,6 @@
 #include "quiver/sim/simulator.h"
 
 namespace quiver::tools {
-namespace {
-int g_exit = 0;
-}
-
-int exit_code() { return g_exit; }
-void set_exit_code(int code) { g_exit = code; }
 
 void add_sim_command(CLI::App& app) {
   auto cfg = std::make_shared<sim::SimConfig>();
