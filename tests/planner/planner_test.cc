@@ -254,6 +254,43 @@ TEST(PlannerTest, HierarchicalStepsAreDecomposedIntoRulesTheGuardAccepts) {
   EXPECT_TRUE(s.ok()) << s.error().to_string();
 }
 
+TEST(PlannerTest, PlansWithGrammarsInQuiversDialectToo) {
+  // tests/agents/grammars/agm.aggl: `forall` rewrites (what the robot carries moves with it), a
+  // `not exists` precondition, negative edges `!a->b(l)`.
+  auto grammar = load_grammar_file(std::string(QUIVER_AGENT_GRAMMARS) + "/agm.aggl");
+  ASSERT_TRUE(grammar.ok()) << grammar.error().to_string();
+  graph::Graph g{graph::ReplicaId{12, 1}};
+  {
+    auto tx = g.begin();
+    auto node = [&](const char* type, const char* name, const char* id) {
+      return *tx.create_node(type, name, {{"agm_id", graph::Value(std::string(id))}});
+    };
+    auto robot = node("robot", "robot", "1"), kitchen = node("room", "kitchen", "10"),
+         hall = node("room", "hall", "11"), office = node("room", "office", "12"), mug = node("mug", "mug", "20");
+    ASSERT_TRUE(tx.insert_edge(robot, kitchen, "in").ok());
+    ASSERT_TRUE(tx.insert_edge(mug, kitchen, "in").ok());
+    ASSERT_TRUE(tx.insert_edge(robot, mug, "reach").ok());
+    ASSERT_TRUE(tx.insert_edge(kitchen, hall, "transitable").ok());
+    ASSERT_TRUE(tx.insert_edge(hall, office, "transitable").ok());
+    ASSERT_TRUE(tx.commit().ok());
+  }
+  auto mission = parse_mission("{ 1:robot 20:mug 12:room 1->12(in) 20->12(in) }", "m.aggt");
+  ASSERT_TRUE(mission.ok());
+  symbolic::World world = symbolic::read_world(g, grammar->types);
+  Domain domain(*grammar, world.vocabulary);
+  auto goal = compile_mission(*mission, world);
+  ASSERT_TRUE(goal.ok());
+  PlanResult r = plan(domain, world.state, *goal);
+  ASSERT_TRUE(r.found()) << r.why;
+  std::vector<std::string> text;
+  for (const Step& s : r.steps) text.push_back(to_string(s, world));
+  EXPECT_EQ(text, (std::vector<std::string>{"grasp@{'o': '20', 'r': '1'}", "changeRoom@{'a': '10', 'b': '11', 'r': '1'}",
+                                            "changeRoom@{'a': '11', 'b': '12', 'r': '1'}"}));
+  EXPECT_EQ(r.cost, 3);
+  Status s = verify_plan(g, GrammarChecker(*grammar), world, r, *mission);
+  EXPECT_TRUE(s.ok()) << s.error().to_string();
+}
+
 // Random warehouses: rooms on a random graph of ways (some locked), a key, boxes, unknown things
 // and parcels at random; a random mission. A* must cost what the brute-force search costs, its
 // heuristic at the start must not exceed that, and its plan must replay through the guard.

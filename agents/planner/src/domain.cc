@@ -221,6 +221,10 @@ State rewrite(const State& s, const symbolic::Vocabulary& voc, const Domain::Com
   for (const CEdge& e : r.add) next.add_edge(b[e.from], b[e.to], e.label);
   for (const CForall& f : r.foralls) {
     symbolic::match(s, voc, f.lhs, b, [&](Binding& m) {
+      // Our dialect's forall variables are nodes other than the rule's.
+      for (int v : f.var_slots)
+        for (int slot : r.lhs.slots)
+          if (m[v] == m[slot]) return true;
       for (const CEdge& e : f.remove) next.remove_edge(m[e.from], m[e.to], e.label);
       for (const CEdge& e : f.add) next.add_edge(m[e.from], m[e.to], e.label);
       return true;
@@ -315,8 +319,9 @@ Domain::Domain(const Grammar& g, symbolic::Vocabulary& voc) : voc_(&voc) {
         forall_ok = false;
         break;
       }
+      // The forall's variables, matched through its left side's edges from the rule's nodes.
       Pattern vars_only;
-      for (const PatternNode& n : fa.lhs.nodes) vars_only.nodes.push_back(n);
+      vars_only.nodes = fa.vars;
       vars_only.edges = fa.lhs.edges;
       f.lhs = symbolic::compile(vars_only, voc, inner);
       std::vector<bool> pre;
