@@ -32,7 +32,13 @@ struct PlannerAgentOptions {
   /// The mission (.aggt text). Empty: read from the plan node's `mission` attribute.
   std::string mission_text, mission_source = "mission.aggt";
   std::string plan_node = "plan";
-  PlannerOptions planner;
+  /// The search; bounded by expansions (deterministic) so that one plan never holds the agent's
+  /// thread for long: 200k expansions are well under a second on the public AGM domains.
+  PlannerOptions planner = [] {
+    PlannerOptions o;
+    o.max_expansions = 200'000;
+    return o;
+  }();
   /// How often it looks at the world again when something changed.
   std::int64_t period_ns = 50'000'000;
 };
