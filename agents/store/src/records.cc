@@ -1,4 +1,4 @@
-#include "records.h"
+#include "quiver/agents/store/records.h"
 
 #include <array>
 
@@ -12,11 +12,7 @@ namespace {
 constexpr std::uint64_t kChecksumSeed = 0x5eed5707e;
 constexpr std::uint64_t kMaxPayload = std::uint64_t{1} << 40;
 
-std::uint64_t checksum(std::span<const std::uint8_t> b) {
-  Hasher h(kChecksumSeed);
-  h.bytes(b.data(), b.size());
-  return h.h64();
-}
+std::uint64_t checksum(std::span<const std::uint8_t> b) { return record_checksum(b); }
 
 void seal(std::vector<std::uint8_t>& out) {
   const std::uint64_t c = checksum(out);
@@ -35,6 +31,12 @@ Result<std::span<const std::uint8_t>> unseal(std::span<const std::uint8_t> bytes
 }
 
 }  // namespace
+
+std::uint64_t record_checksum(std::span<const std::uint8_t> body) {
+  Hasher h(kChecksumSeed);
+  h.bytes(body.data(), body.size());
+  return h.h64();
+}
 
 std::vector<std::uint8_t> encode_delta_record(const graph::ReplicaId& origin, std::uint64_t lo, std::uint64_t hi,
                                               std::span<const std::uint8_t> payload) {

@@ -18,7 +18,7 @@
 #include "quiver/graph/codec.h"
 #include "quiver/hash.h"
 #include "quiver/wire.h"
-#include "records.h"
+#include "quiver/agents/store/records.h"
 
 namespace quiver::agents {
 

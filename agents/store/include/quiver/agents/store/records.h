@@ -41,6 +41,9 @@ std::vector<std::uint8_t> encode_snapshot(std::uint64_t upto, const crdt::Causal
                                           std::span<const std::uint8_t> state);
 Result<Snapshot> decode_snapshot(std::span<const std::uint8_t> bytes, const std::string& what);
 
+/// The checksum that ends every record and snapshot (of the bytes before it).
+std::uint64_t record_checksum(std::span<const std::uint8_t> body);
+
 /// A log key: the record number, big-endian, so that LMDB's byte order is numeric order.
 std::array<std::uint8_t, 8> record_key(std::uint64_t n);
 std::uint64_t record_number(std::span<const std::uint8_t> key);
