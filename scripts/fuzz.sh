@@ -15,17 +15,17 @@ CC=clang CXX=clang++ cmake -S . -B build-fuzz -G Ninja -DCMAKE_BUILD_TYPE=RelWit
   -DQUIVER_BUILD_FUZZERS=ON -DQUIVER_SANITIZE=ON >/dev/null
 dds_targets="dds_summary dds_delta dds_pull dds_state dds_bye"
 cmake --build build-fuzz --target graph_delta_fuzzer replication_packet_fuzzer world_file_fuzzer grammar_file_fuzzer \
-  dsr_file_fuzzer agm_file_fuzzer mission_file_fuzzer \
+  dsr_file_fuzzer agm_file_fuzzer mission_file_fuzzer store_record_fuzzer \
   $(for t in $dds_targets; do printf '%s_fuzzer ' "$t"; done) fuzz_smoke_test
 corpus=build-fuzz/corpus
-mkdir -p "$corpus"/{delta,packet,world,grammar,dsr,agm,mission} build-fuzz/findings
+mkdir -p "$corpus"/{delta,packet,world,grammar,dsr,agm,mission,store} build-fuzz/findings
 for t in $dds_targets; do mkdir -p "$corpus/$t"; done
 # Seed inputs: the smoke test writes the real inputs it mutates (the CORTEX and AGM worlds: the
 # interop test fixtures).
 QUIVER_FUZZ_CORPUS="$corpus" build-fuzz/tests/fuzz_smoke_test --gtest_filter='*' >/dev/null
 status=0
 for t in delta:graph_delta packet:replication_packet world:world_file grammar:grammar_file \
-         dsr:dsr_file agm:agm_file mission:mission_file \
+         dsr:dsr_file agm:agm_file mission:mission_file store:store_record \
          $(for t in $dds_targets; do printf '%s:%s ' "$t" "$t"; done); do
   dir="${t%%:*}"
   bin="build-fuzz/tests/${t#*:}_fuzzer"

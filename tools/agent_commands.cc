@@ -23,10 +23,12 @@ using agents::DdsReplica;
 // writes.
 class ChurnAgent : public agents::Agent {
  public:
-  ChurnAgent(std::string name, double hz, double for_s) : Agent(std::move(name)), hz_(hz), for_s_(for_s) {}
+  ChurnAgent(std::string name, double hz, double for_s, double count_hz)
+      : Agent(std::move(name)), hz_(hz), for_s_(for_s), count_hz_(count_hz) {}
   void setup(agents::AgentContext& ctx) override {
     start_ns_ = ctx.now();
     clock_ = [&ctx] { return ctx.now(); };
+    if (count_hz_ > 0) start_counting(ctx);
     if (hz_ <= 0) return;
     ctx.every(static_cast<std::int64_t>(1e9 / hz_), [this, &ctx] {
       if (churning(ctx.now())) churn_.step(ctx.graph(), ctx.rng(), ctx.now());
@@ -36,10 +38,38 @@ class ChurnAgent : public agents::Agent {
 
  private:
   bool churning(std::int64_t now) const { return hz_ > 0 && (for_s_ <= 0 || now - start_ns_ < for_s_ * 1e9); }
-  double hz_, for_s_;
+  // Crash tests: node "<name>.counter" holds `count`, which goes up by one per commit; the line
+  // "acked N" is printed once the commit that wrote N has returned. A replica reloaded from its
+  // store starts from the count it holds.
+  void start_counting(agents::AgentContext& ctx) {
+    const std::string node = name() + ".counter";
+    if (auto id = ctx.graph().find_node(node)) {
+      counter_ = *id;
+      if (auto n = ctx.graph().get<std::int64_t>(*id, "count"); n.ok()) count_ = *n;
+    } else {
+      auto tx = ctx.graph().begin();
+      auto id2 = tx.create_node("counter", node, {{graph::Symbol("count"), graph::Value(std::int64_t{0})}});
+      if (!id2.ok() || !tx.commit().ok()) return;
+      counter_ = *id2;
+    }
+    std::cout << "loaded " << count_ << std::endl;
+    ctx.every(static_cast<std::int64_t>(1e9 / count_hz_), [this, &ctx] {
+      auto tx = ctx.graph().begin();
+      if (!tx.set(counter_, "count", graph::Value(count_ + 1)).ok() || !tx.commit().ok()) return;
+      ++count_;
+      std::cout << "acked " << count_ << std::endl;
+    });
+  }
+  double hz_, for_s_, count_hz_;
+  graph::NodeId counter_{};
+  std::int64_t count_ = 0;
   std::int64_t start_ns_ = 0;
   std::function<std::int64_t()> clock_;
-  sim::Churn churn_;
+  sim::Churn churn_{[] {
+    sim::ChurnMix mix;
+    mix.spare_type = "counter";  // the crash tests' counter is the count's alone
+    return mix;
+  }()};
 };
 
 struct AgentFlags {
@@ -48,10 +78,11 @@ struct AgentFlags {
   agents::ProcessFlags process;
   double churn_hz = 0;
   double churn_for_s = 0;
+  double count_hz = 0;
 };
 
 int run_agent(const AgentFlags& f) {
-  ChurnAgent agent(f.name, f.churn_hz, f.churn_for_s);
+  ChurnAgent agent(f.name, f.churn_hz, f.churn_for_s, f.count_hz);
   if (!f.grammar.empty()) agent.set_grammar_file(f.grammar);
   return agents::run_process(agent, f.process);
 }
@@ -107,6 +138,10 @@ void add_agent_commands(CLI::App& app) {
       ->check(CLI::Range(0.0, 100000.0));
   agent->add_option("--churn-for", af->churn_for_s, "testing: stop the random changes after this many seconds")
       ->check(CLI::Range(0.0, 1e7));
+  agent->add_option("--count-hz", af->count_hz,
+                    "testing: raise the attribute 'count' of node NAME.counter by one this many times a second, "
+                    "printing 'acked N' once each commit has returned (crash tests)")
+      ->check(CLI::Range(0.0, 100000.0));
   agent->callback([af] { set_exit_code(run_agent(*af)); });
 
   auto df = std::make_shared<DumpFlags>();

@@ -53,6 +53,7 @@ void build_app(CLI::App& app) {
   add_barthel_commands(app);
   add_render_commands(app);
   add_reaction_bench_command(app);
+  add_store_bench_command(app);
   add_view_commands(app);
   add_grammar_commands(app);
   add_planner_commands(app);

@@ -26,6 +26,9 @@ class Percentiles {
   std::vector<double> v_;
 };
 
+/// The median of `v` (nearest rank: the upper middle one when even).
+inline double median(std::vector<double> v) { return Percentiles(std::move(v)).at(0.5); }
+
 /// x rounded to `digits` decimals, for printing.
 inline double round_to(double x, int digits) {
   const double scale = std::pow(10.0, digits);

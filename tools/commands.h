@@ -21,6 +21,8 @@ void add_barthel_commands(CLI::App& app);
 void add_render_commands(CLI::App& app);
 /// bench reaction (needs add_bench_commands first).
 void add_reaction_bench_command(CLI::App& app);
+/// bench store (needs add_bench_commands first).
+void add_store_bench_command(CLI::App& app);
 /// view, record.
 void add_view_commands(CLI::App& app);
 /// import-dsr, import-agm, export-dsr, export-agm.

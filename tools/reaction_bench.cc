@@ -105,7 +105,6 @@ std::vector<double> one_run(const ReactionFlags& f, int run, std::string& dir) {
   return ms;
 }
 
-double median(std::vector<double> v) { return Percentiles(std::move(v)).at(0.5); }
 
 int run_bench_reaction(const ReactionFlags& f) {
   std::vector<double> p50s, p99s;

@@ -29,6 +29,9 @@ void Graph::Impl::merge_register(AttrList& attrs, const GraphDelta& d, const Gra
 }
 
 void Graph::Impl::merge_ops(const GraphDelta& d) {
+  // A large fragment (a state transfer, a reload) grows the tables once, not by rehashing.
+  if (d.nodes.size() > 1024) nodes.reserve(nodes.size() + d.nodes.size());
+  if (d.edges.size() > 1024) edges.reserve(edges.size() + d.edges.size());
   for (const GraphDelta::NodeOp& op : d.nodes) {
     if (is_dead(op.id)) continue;  // nothing can touch a deleted node again
     NodeRec* r = find_node(op.id);
@@ -136,14 +139,18 @@ void Graph::Impl::merge_delta(const GraphDelta& d) {
 void Graph::Impl::merge_state(const GraphDelta& s) {
   ++epoch;
   begin_tracking();
-  std::unordered_set<Dot> held;  // dots of the entries the sender holds
-  held.reserve(s.values.size() + s.added.size() + s.claims.size() + s.nodes.size() + s.keep.size());
-  for (const auto& n : s.nodes)
-    if (n.has_header) held.insert(n.id.dot);
-  for (const auto& e : s.values) held.insert(e.dot);
-  for (const auto& x : s.added) held.insert(x);
-  for (const auto& e : s.claims) held.insert(e.dot);
-  for (const auto& x : s.keep) held.insert(x);
+  // Dots of the entries the sender holds; only our own records are checked against them, so a
+  // replica that holds nothing yet (a joiner, a reload from a store) skips building the set.
+  std::unordered_set<Dot> held;
+  if (!nodes.empty() || !edges.empty()) {
+    held.reserve(s.values.size() + s.added.size() + s.claims.size() + s.nodes.size() + s.keep.size());
+    for (const auto& n : s.nodes)
+      if (n.has_header) held.insert(n.id.dot);
+    for (const auto& e : s.values) held.insert(e.dot);
+    for (const auto& x : s.added) held.insert(x);
+    for (const auto& e : s.claims) held.insert(e.dot);
+    for (const auto& x : s.keep) held.insert(x);
+  }
   auto removed_there = [&](const Dot& x) { return s.context.contains(x) && held.count(x) == 0; };
 
   for (auto& [id, r] : nodes) {

@@ -37,6 +37,10 @@ graph::Pose random_pose(Rng& rng) {
 int Churn::step(graph::Graph& g, Rng& rng, std::int64_t now) {
   auto tx = g.begin();
   std::vector<NodeId> nodes = g.nodes();
+  if (!mix_.spare_type.empty()) {
+    const graph::Symbol spare(mix_.spare_type);
+    std::erase_if(nodes, [&](NodeId n) { return g.type_of(n) == spare; });
+  }
   const int total = mix_.create_node + mix_.delete_node + mix_.set_attr + mix_.remove_attr + mix_.insert_edge +
                     mix_.delete_edge + mix_.set_edge_attr + mix_.rt_move + mix_.rt_pose + mix_.rt_remove;
   const int nops = 1 + static_cast<int>(rng.below(mix_.max_ops_per_txn));

@@ -11,6 +11,7 @@
 #include <iterator>
 
 #include "fuzz_targets.h"
+#include "quiver/agents/store/records.h"
 #include "quiver/agents/recording/record_file.h"
 #include "quiver/graph/graph.h"
 #include "quiver/agents/dds/cdr.h"
@@ -112,6 +113,7 @@ TEST(FuzzSmokeTest, Regressions) {
                    Target{"world_file", world_file}, Target{"grammar_file", grammar_file},
                    Target{"recording_file", recording_file}, Target{"dsr_file", dsr_file},
                    Target{"agm_file", agm_file}, Target{"mission_file", mission_file},
+                   Target{"store_record", store_record},
                    Target{"dds_summary", kDds[0]}, Target{"dds_delta", kDds[1]}, Target{"dds_pull", kDds[2]},
                    Target{"dds_state", kDds[3]}, Target{"dds_bye", kDds[4]}}) {
     int n = 0;
@@ -454,4 +456,46 @@ TEST(FuzzSmokeTest, RecordingFiles) {
 }
 
 }  // namespace
+TEST(FuzzSmokeTest, StoreRecords) {
+  const auto base = quiver::testing::base_seed("FuzzSmokeTest.StoreRecords", 84);
+  Rng rng(base);
+  // Real records of each kind and a snapshot, without their checksums: the target seals its
+  // input, so mutations reach the record parser and the codec behind it.
+  graph::Graph g(graph::ReplicaId{21, 1});
+  std::vector<std::vector<std::uint8_t>> seeds;
+  std::uint64_t seq = 0;
+  g.set_delta_sink([&](const graph::GraphDelta& d) {
+    std::vector<std::uint8_t> bytes;
+    graph::encode(d, bytes, seq + 1, seq + 1);
+    ++seq;
+    seeds.push_back(agents::store::encode_delta_record(g.replica(), seq, seq, bytes));
+  });
+  {
+    auto tx = g.begin();
+    auto w = *tx.create_node("world", "world");
+    auto r = *tx.create_node("robot", "robot", {{graph::Symbol("battery"), graph::Value(0.5)}});
+    (void)tx.set_rt(w, r, graph::Pose{{1, 2, 3}, {1, 0, 0, 0}}, 1);
+    (void)tx.insert_edge(r, r, graph::Symbol("moving"));
+    (void)tx.commit();
+  }
+  const std::vector<std::uint8_t> state = graph::encode(g.state());
+  seeds.push_back(agents::store::encode_state_record(g.context(), state));
+  seeds.push_back(agents::store::encode_skipped_record(g.replica(), 3, 9));
+  seeds.push_back(agents::store::encode_snapshot(7, g.context(), state));
+  for (auto& s : seeds) {
+    ASSERT_TRUE(store_record(s.data(), s.size())) << "a real record is read as it is";
+    s.resize(s.size() - 8);  // the body: sealed by the target
+  }
+  maybe_save("store", seeds);
+  int accepted = 0;
+  const int n = 20000;
+  for (int i = 0; i < n; ++i) {
+    auto m = mutate(rng.pick(seeds), rng);
+    accepted += store_record(m.data(), m.size());
+  }
+  std::printf("[fuzz] %d of %d mutated store records decoded\n", accepted, n);
+  EXPECT_GT(accepted, n / 50) << "the mutations must reach the record parser";
+  EXPECT_LT(accepted, n) << "some mutations must be rejected";
+}
+
 }  // namespace quiver::fuzz

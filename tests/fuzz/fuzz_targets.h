@@ -26,6 +26,8 @@ bool mission_file(const std::uint8_t* data, std::size_t size);
 bool dsr_file(const std::uint8_t* data, std::size_t size);
 /// An AGM XML world, the same way.
 bool agm_file(const std::uint8_t* data, std::size_t size);
+/// A durable store's log record or snapshot (agents/store/records.h), raw and with a valid checksum.
+bool store_record(const std::uint8_t* data, std::size_t size);
 /// A .qrec recording: refused with a message, or every frame replays into a graph.
 bool recording_file(const std::uint8_t* data, std::size_t size);
 /// Serialized CDR samples of one DDS topic (0 summary, 1 delta, 2 pull, 3 state, 4 bye), as a rogue

@@ -25,7 +25,15 @@ Result<std::unique_ptr<DdsReplica>> DdsReplica::create(DdsReplicaOptions options
   std::unique_ptr<DdsReplica> a(new DdsReplica());
   a->opt_ = std::move(options);
   PeerId id{fnv1a64(a->opt_.name), a->opt_.incarnation ? a->opt_.incarnation : fresh_incarnation()};
-  a->graph_ = std::make_unique<graph::Graph>(id);
+  crdt::CausalContext applied;
+  if (a->opt_.store) {
+    auto loaded = a->open_store(id.incarnation);
+    if (!loaded.ok()) return loaded.error();
+    applied = std::move(*loaded);
+    id.incarnation = a->store_->opening().incarnation;
+  } else {
+    a->graph_ = std::make_unique<graph::Graph>(id);
+  }
   // A sampling observer pulls what changed: it subscribes to no delta, so nobody sends it any.
   if (a->opt_.replicator.sample_ns > 0) a->opt_.dds.read_deltas = false;
   auto t = DdsTransport::create(id, a->opt_.dds);
@@ -35,10 +43,39 @@ Result<std::unique_ptr<DdsReplica>> DdsReplica::create(DdsReplicaOptions options
   ro.name = a->opt_.name;
   ro.observer = a->opt_.observer;
   a->replicator_ = std::make_unique<Replicator>(*a->graph_, *a->transport_, ro);
+  if (a->store_) {
+    a->replicator_->restore(applied);
+    a->replicator_->set_journal(a->store_.get());
+  }
   const std::int64_t now = monotonic_ns();
   a->replicator_->start(now);
   a->next_tick_ = now + a->opt_.tick_ns;
   return a;
+}
+
+// Opens the store and loads the replica from it into graph_. A store that cannot be read is
+// set aside, and the replica starts empty from a fresh one.
+Result<crdt::CausalContext> DdsReplica::open_store(std::uint64_t incarnation) {
+  const StoreOptions& so = *opt_.store;
+  auto load = [&]() -> Result<crdt::CausalContext> {
+    auto s = Store::open(so, opt_.name, incarnation);
+    if (!s.ok()) return s.error();
+    store_ = std::move(*s);
+    graph_ = std::make_unique<graph::Graph>(PeerId{fnv1a64(opt_.name), store_->opening().incarnation});
+    return store_->load(*graph_);
+  };
+  auto applied = load();
+  if (applied.ok()) return applied;
+  const ErrorCode c = applied.error().code;
+  // Only damage is recovered from; a store in use, another agent's, or an I/O failure is the
+  // caller's to resolve.
+  if (c != ErrorCode::kMalformed && c != ErrorCode::kTruncated && c != ErrorCode::kUnsupportedVersion)
+    return applied.error();
+  store_recovery_ = applied.error();
+  store_.reset();
+  graph_.reset();
+  if (auto aside = Store::set_aside(so.dir); !aside.ok()) return aside.error();
+  return load();
 }
 
 DdsReplica::~DdsReplica() {

@@ -59,6 +59,11 @@ void Replicator::on_local_delta(const graph::GraphDelta& d) {
       flush();
     ++seq_;
     applied_.add(crdt::Dot{self_, seq_});
+    if (journal_ != nullptr) {
+      std::vector<std::uint8_t> bytes;
+      graph::encode(d, bytes, seq_, seq_);
+      journal_->local(seq_, bytes);
+    }
     if (pending_lo_ == 0) {
       pending_ = d;
       pending_lo_ = seq_;
@@ -73,6 +78,7 @@ void Replicator::on_local_delta(const graph::GraphDelta& d) {
   applied_.add(crdt::Dot{self_, seq_});
   std::vector<std::uint8_t> bytes;
   graph::encode(d, bytes, seq_, seq_);
+  if (journal_ != nullptr) journal_->local(seq_, bytes);
   publish(std::move(bytes), seq_, seq_);
 }
 
@@ -105,6 +111,7 @@ Result<bool> Replicator::seed(const graph::GraphDelta& d) {
   g_.merge(d);
   ++state_version_;
   applied_.add_range(d.origin, d.seq_lo, d.seq_hi);
+  if (journal_ != nullptr) journal_->remote(d.origin, d.seq_lo, d.seq_hi, *bytes);
   record(d.origin, d.seq_lo, d.seq_hi, digest_of(*bytes));
   remember(d.origin, d.seq_lo, d.seq_hi, bytes);
   queue(PeerId{}, DeltaMsg{d.origin, d.seq_lo, d.seq_hi, std::move(bytes)});
@@ -373,6 +380,7 @@ void Replicator::apply_delta(const PeerId& from, const DeltaMsg& m, std::uint64_
   g_.merge(scratch_);
   ++state_version_;
   applied_.add_range(m.origin, m.lo, m.hi);
+  if (journal_ != nullptr) journal_->remote(m.origin, m.lo, m.hi, *m.payload);
   record(m.origin, m.lo, m.hi, digest);
   ++stats_.deltas_applied;
   remember(m.origin, m.lo, m.hi, m.payload);
@@ -416,6 +424,7 @@ void Replicator::equivocate(const PeerId& from, const DeltaMsg& m, std::uint64_t
   g_.merge(scratch_);
   ++state_version_;
   applied_.add_range(m.origin, m.lo, m.hi);
+  if (journal_ != nullptr) journal_->remote(m.origin, m.lo, m.hi, *m.payload);
   // Remembered by its interval's end and digest, so that its echoes are duplicates: relayed
   // versions that were not would bounce between the replicas for ever.
   Seen* seen = recorded(m.origin, m.lo);
@@ -471,6 +480,7 @@ void Replicator::skip_own_numbers_to(std::uint64_t hi) {
   if (hi <= seq_) return;
   flush();
   applied_.add_range(self_, seq_ + 1, hi);
+  if (journal_ != nullptr) journal_->skipped(seq_ + 1, hi);
   seq_ = hi;
 }
 
@@ -605,6 +615,7 @@ void Replicator::handle(const PeerId& from, const StateMsg& m) {
   g_.merge(scratch_);
   ++state_version_;
   applied_.join(applied);
+  if (journal_ != nullptr) journal_->state(all, applied);
   // A state may carry deltas forged under our name: our next numbers go beyond them.
   skip_own_numbers_to(applied_.max_counter(self_));
   ++stats_.states_applied;
@@ -663,6 +674,11 @@ void Replicator::trim_buffer() {
 }
 
 // ------------------------------------------------------------------ timers
+
+void Replicator::restore(const crdt::CausalContext& applied) {
+  applied_.join(applied);
+  seq_ = std::max(seq_, applied_.max_counter(self_));
+}
 
 void Replicator::start(std::int64_t now_ns) {
   now_ = now_ns;

@@ -52,6 +52,13 @@ nlohmann::json status(Agent& agent, DdsReplica& r, const AgentRuntime& rt) {
   j["actions_finished"] = rt.stats().finished;
   j["actions_cancelled"] = rt.stats().cancelled;
   j["t_ms"] = monotonic_ns() / 1'000'000;
+  if (Store* s = r.store()) {
+    const StoreStats ss = s->stats();
+    j["store_records"] = ss.records_appended;
+    j["store_syncs"] = ss.syncs;
+    j["store_compactions"] = ss.compactions;
+    j["store_ok"] = s->health().ok();
+  }
   agent.status(j);
   return j;
 }
@@ -89,6 +96,19 @@ void ProcessFlags::add_all(CLI::App* cmd) {
   cmd->add_option("--join-wait", join_wait_s, "before starting, wait this long to join the peers")
       ->check(CLI::Range(0.0, 60.0))
       ->capture_default_str();
+  cmd->add_option("--store", store,
+                  "keep the replica in this directory (LMDB): reloaded on start, so the agent rejoins and "
+                  "pulls only what it missed (docs/persistence.md)");
+  cmd->add_option("--durability", durability,
+                  "with --store: when the log reaches the disk: none (never flushed by us), batch (flushed "
+                  "every 20 ms, after publishing), always (flushed before a commit returns and is published)")
+      ->check(CLI::IsMember({"none", "batch", "always"}))
+      ->capture_default_str();
+  cmd->add_option("--store-compact-mb", store_compact_mb,
+                  "with --store: fold the log into a new snapshot once it holds this many MiB (and more than "
+                  "the snapshot); 0: never")
+      ->check(CLI::Range(0.0, 1e6))
+      ->capture_default_str();
 }
 
 Status ProcessFlags::apply_to(DdsConfig& c) const {
@@ -118,12 +138,31 @@ int run_process(Agent& agent, const ProcessFlags& f) {
     log->error("{}", s.error().to_string());
     return 2;
   }
+  if (!f.store.empty()) {
+    StoreOptions so;
+    so.dir = f.store;
+    auto d = parse_durability(f.durability);
+    if (!d.ok()) {
+      log->error("--durability: {}", d.error().to_string());
+      return 2;
+    }
+    so.durability = *d;
+    so.compact_log_bytes = static_cast<std::size_t>(f.store_compact_mb * (1 << 20));
+    o.store = so;
+  }
   auto created = DdsReplica::create(o);
   if (!created.ok()) {
     log->error("{}", created.error().to_string());
     return 2;
   }
   DdsReplica& r = **created;
+  if (r.store_recovery())
+    log->error("{}: the store was set aside and the replica starts empty, to be filled by its peers",
+               r.store_recovery()->to_string());
+  if (Store* s = r.store())
+    log->info("store {} ({}): {} records replayed, snapshot {} bytes, {} incarnation", f.store, f.durability,
+              s->opening().records, s->opening().snapshot_bytes,
+              s->opening().created ? "new store, new" : s->opening().incarnation_kept ? "kept its" : "a new");
   install_signal_handlers();
   // A hostile peer can cause thousands of bad packets (and invented peers) a second: one line
   // per kind, then a count every few seconds. Cyclone's own warnings come from its threads.

@@ -26,6 +26,7 @@ struct ChurnMix {
   int max_ops_per_txn = 4;
   int max_nodes = 40;        ///< creation stops above this many visible nodes
   int shared_names = 4;      ///< a small pool of names that replicas race to create
+  std::string spare_type;    ///< nodes of this type are never touched (empty: none)
 };
 
 /// Generates random transactions against a replica.

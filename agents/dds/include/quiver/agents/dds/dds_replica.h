@@ -12,6 +12,7 @@
 #include <map>
 #include <memory>
 #include <mutex>
+#include <optional>
 #include <queue>
 #include <string>
 #include <type_traits>
@@ -20,6 +21,7 @@
 #include "quiver/posted_call.h"
 #include "quiver/agents/dds/dds_transport.h"
 #include "quiver/agents/replication/replicator.h"
+#include "quiver/agents/store/store.h"
 #include "quiver/graph/graph.h"
 
 namespace quiver::agents {
@@ -31,6 +33,10 @@ struct DdsReplicaOptions {
   DdsConfig dds;
   ReplicatorOptions replicator;    ///< name and observer are taken from above
   std::int64_t tick_ns = 10'000'000;
+  /// A durable store (docs/persistence.md): the replica is loaded from it on start and every
+  /// change it joins is logged. A store that cannot be read is set aside (DIR.corrupt-N) and
+  /// the replica starts empty under a new incarnation, to be filled by its peers.
+  std::optional<StoreOptions> store;
 };
 
 /// A new incarnation number for a process start: microseconds of the wall clock shifted left
@@ -53,6 +59,10 @@ class DdsReplica {
   Replicator& replicator() { return *replicator_; }
   DdsTransport& transport() { return *transport_; }
   const DdsReplicaOptions& options() const { return opt_; }
+  /// The replica's store (null without one).
+  Store* store() { return store_.get(); }
+  /// Why the store could not be read on start, if it was set aside (the caller reports it).
+  const std::optional<Error>& store_recovery() const { return store_recovery_; }
   const PeerId& id() const { return graph_->replica(); }
 
   /// One round of the loop: waits up to `max_wait_ns` for traffic (less if a timer is due),
@@ -92,7 +102,10 @@ class DdsReplica {
 
  private:
   DdsReplica() = default;
+  Result<crdt::CausalContext> open_store(std::uint64_t incarnation);
   DdsReplicaOptions opt_;
+  std::unique_ptr<Store> store_;  // outlives the replicator, which logs into it
+  std::optional<Error> store_recovery_;
   std::unique_ptr<graph::Graph> graph_;
   std::unique_ptr<DdsTransport> transport_;
   std::unique_ptr<Replicator> replicator_;

@@ -37,6 +37,7 @@
 #include <unordered_map>
 #include <vector>
 
+#include "quiver/agents/replication/journal.h"
 #include "quiver/agents/replication/messages.h"
 #include "quiver/agents/replication/transport.h"
 #include "quiver/agents/replication/validate.h"
@@ -118,6 +119,12 @@ class Replicator {
 
   /// Announces this replica (a summary) and starts the heartbeat clock.
   void start(std::int64_t now_ns);
+  /// Before start(): the (origin, seq) set of a replica rebuilt from a store (its graph already
+  /// holds those changes). Numbers of this replica in it are not published again: a replica that
+  /// kept its incarnation goes on after the greatest.
+  void restore(const crdt::CausalContext& applied);
+  /// Tells `journal` (owned by the caller, outliving this) every change joined from now on.
+  void set_journal(Journal* journal) { journal_ = journal; }
   /// Handles one received envelope, from any transport: checked whole first (validate.h); then
   /// messages that do not hold (e.g. a delta whose payload does not decode) are counted,
   /// reported and dropped; the replica is unchanged by them.
@@ -275,6 +282,7 @@ class Replicator {
   std::uint64_t digest_version_ = ~0ull, digest_ = 0;
 
   std::uint64_t seq_ = 0;  // last local sequence number
+  Journal* journal_ = nullptr;
   crdt::CausalContext applied_;
   graph::GraphDelta pending_;  // coalesced local deltas
   std::uint64_t pending_lo_ = 0;
