@@ -60,6 +60,7 @@ class Grasping final : public Agent {
   bool platform_still(AgentContext& ctx) const;
   void note(const GraspEvent& e);
   const GraspingOptions& options() const { return opt_; }
+  const LatencyProbe& probe() const { return probe_; }
 
  private:
   void measure(AgentContext& ctx);

@@ -37,6 +37,7 @@ class Rooms final : public Agent {
   void setup(AgentContext& ctx) override;
   void status(nlohmann::json& out) const override;
   const std::vector<RoomChange>& changes() const { return changes_; }
+  const LatencyProbe& probe() const { return probe_; }
 
  private:
   void check(AgentContext& ctx);
