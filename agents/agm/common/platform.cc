@@ -18,7 +18,8 @@ std::vector<Leg> default_route() {
       {K::kDrive, 8.25, 2.0, 0.25, 0},  // the approach: the mug comes within reach
       {K::kStand, 0, 0, 0, 1.6},        // the grasp starts once movedInLastSeconds clears
       {K::kDrive, 8.15, 2.0, 0.25, 0},  // a nudge back mid-grasp: the grasp pauses; the mug
-                                        // stays in reach (hysteresis)
+      {K::kStand, 0, 0, 0, 0.4},        // stays in reach (hysteresis)
+      {K::kDrive, 8.25, 2.0, 0.25, 0},  // and forward again, well within reach
       {K::kWait, 0, 0, 0, 40.0},        // until the mug is carried
       {K::kStand, 0, 0, 0, 1.0},
       {K::kDrive, 2.0, 2.0, 0.5, 0},    // back: living room -> corridor -> kitchen, mug in hand

@@ -27,8 +27,8 @@ struct Leg {
 };
 
 /// The route of the AGM scenario: from the kitchen through the corridor to the table in the
-/// living room, a stop short of it, the approach into reach, a nudge back in the middle of the
-/// grasp, a wait until the mug is carried, and the way back to the kitchen.
+/// living room, a stop short of it, the approach into reach, a nudge back and forth in the middle
+/// of the grasp, a wait until the mug is carried, and the way back to the kitchen.
 std::vector<Leg> default_route();
 /// The robot's start: the robot's pose in the scenario's world.
 Pose2 default_start();
