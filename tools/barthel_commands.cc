@@ -87,7 +87,9 @@ int run_role(RunFlags f) {
   }
   auto agent = barthel::make_role(f.role, ro);
   if (!agent.ok()) {
-    agents::named_logger("quiver run")->error("{}", agent.error().to_string());
+    std::string agm_roles;
+    for (const auto& r : agents::agm::role_names()) agm_roles += (agm_roles.empty() ? "" : ", ") + r;
+    agents::named_logger("quiver run")->error("{}; AGM roles: {}", agent.error().to_string(), agm_roles);
     return 2;
   }
   if (f.process.world.empty()) f.process.world_text = std::string(barthel::world_json());

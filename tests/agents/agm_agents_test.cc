@@ -25,7 +25,8 @@ constexpr std::int64_t kSec = 1'000'000'000;
 
 // One agent under test on its own replica, and a second replica whose commits are merged into it.
 struct Rig {
-  explicit Rig(Agent& a) : g(graph::ReplicaId{fnv1a64(a.name()), 1}), others(graph::ReplicaId{fnv1a64("others"), 1}) {
+  explicit Rig(Agent& a)
+      : g(graph::ReplicaId{fnv1a64(a.name()), 1}), others(graph::ReplicaId{fnv1a64("others"), 1}) {
     auto seed = graph::world_seed(world_json(), "agm.json");
     EXPECT_TRUE(seed.ok());
     g.merge(seed->delta);
@@ -34,7 +35,9 @@ struct Rig {
     g.set_delta_sink([this](const graph::GraphDelta& d) { others.merge(d); });
     RuntimeOptions o;
     o.clock = [this] { return now; };
-    o.log = [](std::string_view line) { std::printf("  agent: %.*s\n", static_cast<int>(line.size()), line.data()); };
+    o.log = [](std::string_view line) {
+      std::printf("  agent: %.*s\n", static_cast<int>(line.size()), line.data());
+    };
     rt = std::make_unique<AgentRuntime>(a, g, nullptr, o);
     Status s = rt->start();
     EXPECT_TRUE(s.ok()) << s.error().to_string();
@@ -52,7 +55,8 @@ struct Rig {
   void edge(const char* from, const char* to, const char* type, bool insert) {
     auto tx = others.begin();
     NodeId a = node_id(others, from), b = node_id(others, to);
-    ASSERT_TRUE((insert ? tx.insert_edge(a, b, Symbol(type)) : tx.delete_edge(a, b, Symbol(type))).ok());
+    ASSERT_TRUE(
+        (insert ? tx.insert_edge(a, b, Symbol(type)) : tx.delete_edge(a, b, Symbol(type))).ok());
     ASSERT_TRUE(tx.commit().ok());
     rt->pump();
   }
@@ -65,7 +69,9 @@ struct Rig {
       rt->tick();
     }
   }
-  bool has(const char* from, const char* to, const char* type) const { return g.has_edge(id(from), id(to), type); }
+  bool has(const char* from, const char* to, const char* type) const {
+    return g.has_edge(id(from), id(to), type);
+  }
   std::string room() const {
     auto r = room_of(g, id("robot"));
     return r ? g.name_of(*r) : "";
@@ -173,14 +179,18 @@ TEST(AgmGrasping, ReachFollowsFclDistanceWithHysteresis) {
     at(8.25);  // 0.02 m
     ASSERT_TRUE(rig.has("robot", "mug", "reach"));
     EXPECT_FALSE(rig.has("robot", "mug", "noReach"));
-    const double d = *rig.g.edge_attr({rig.id("robot"), rig.id("mug"), Symbol("reach")}, "distance")->get_if<double>();
+    const double d =
+        *rig.g.edge_attr({rig.id("robot"), rig.id("mug"), Symbol("reach")}, "distance")
+             ->get_if<double>();
     EXPECT_NEAR(d, 0.02, 1e-3) << "FCL's sphere-cylinder distance";
     at(8.15);  // 0.12 m: between the thresholds
-    EXPECT_EQ(rig.has("robot", "mug", "reach"), hysteresis) << (hysteresis ? "kept by hysteresis" : "one threshold flips");
+    EXPECT_EQ(rig.has("robot", "mug", "reach"), hysteresis)
+        << (hysteresis ? "kept by hysteresis" : "one threshold flips");
     at(8.25);
     at(8.05);  // 0.22 m
     EXPECT_TRUE(rig.has("robot", "mug", "noReach"));
-    EXPECT_EQ(events.size(), hysteresis ? 2u : 4u) << "reach, noReach; without hysteresis the nudge flips it twice more";
+    EXPECT_EQ(events.size(), hysteresis ? 2u : 4u)
+        << "reach, noReach; without hysteresis the nudge flips it twice more";
   }
 }
 
@@ -235,9 +245,11 @@ TEST(AgmGrasping, GraspPausesWhileThePlatformMovesOrItsPoseIsStaleThenCompletes)
 
 TEST(AgmNavigation, PublishesPosesAndMovedInLastSecondsFromOdometryAndWaitsForTheGrasp) {
   using K = Leg::Kind;
-  auto platform = std::make_shared<Platform>(
-      std::vector<Leg>{{K::kStand, 0, 0, 0, 0.5}, {K::kDrive, 2.0, 2.0, 1.0, 0}, {K::kWait, 0, 0, 0, 10}, {K::kDrive, 1.0, 2.0, 1.0, 0}},
-      default_start());
+  auto platform = std::make_shared<Platform>(std::vector<Leg>{{K::kStand, 0, 0, 0, 0.5},
+                                                              {K::kDrive, 2.0, 2.0, 1.0, 0},
+                                                              {K::kWait, 0, 0, 0, 10},
+                                                              {K::kDrive, 1.0, 2.0, 1.0, 0}},
+                                             default_start());
   NavigationOptions o;
   o.quiet_when_done = true;
   Navigation nav(platform, o);
@@ -251,9 +263,11 @@ TEST(AgmNavigation, PublishesPosesAndMovedInLastSecondsFromOdometryAndWaitsForTh
   EXPECT_TRUE(rig.has("robot", "robot", "movedInLastSeconds")) << "driving since t0 + 0.5 s";
   rig.run_for(1400 * kMs);  // the drive ended at t0 + 1.5 s; now t0 + 2.0 s
   EXPECT_TRUE(rig.has("robot", "robot", "movedInLastSeconds")) << "moved within the last second";
-  EXPECT_NEAR(rig.g.rt_edge(rig.id("robot"))->pose.translation[0], 2.0, 0.005) << "localization: jitter of 3 mm";
+  EXPECT_NEAR(rig.g.rt_edge(rig.id("robot"))->pose.translation[0], 2.0, 0.005)
+      << "localization: jitter of 3 mm";
   rig.run_for(600 * kMs);
-  EXPECT_FALSE(rig.has("robot", "robot", "movedInLastSeconds")) << "cleared a second after the drive";
+  EXPECT_FALSE(rig.has("robot", "robot", "movedInLastSeconds"))
+      << "cleared a second after the drive";
   rig.run_for(3 * kSec);
   EXPECT_TRUE(platform->waiting(rig.now));
   rig.edge("robot", "mug", "carrying", true);

@@ -3,11 +3,12 @@
 // replicas); a control without hysteresis fails the reach check (the checks can fail); seeded
 // fault schedules (partitions, loss, kill -9 and restart of any agent) keep the facts that must
 // survive them; a seed replays exactly.
+#include "quiver/sim/agm_scenario.h"
+
 #include <gtest/gtest.h>
 
 #include <nlohmann/json.hpp>
 
-#include "quiver/sim/agm_scenario.h"
 #include "test_seed.h"
 
 namespace quiver::sim {
@@ -58,7 +59,8 @@ TEST(AgmScenario, FaultSchedulesKeepTheFacts) {
   for (int k = 0; k < n; ++k) {
     const std::uint64_t seed = base + static_cast<std::uint64_t>(k);
     AgmResult r = run(AgmScenario::random_faults(seed), seed);
-    EXPECT_TRUE(r.passed) << "replay: quiver sim --agm --schedules 1 --seed " << seed << "\n" << r.to_json().dump();
+    EXPECT_TRUE(r.passed) << "replay: quiver sim --agm --schedules 1 --seed " << seed << "\n"
+                          << r.to_json().dump();
   }
 }
 

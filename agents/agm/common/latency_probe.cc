@@ -39,7 +39,9 @@ double LatencyProbe::percentile_us(double p) const {
   std::uint64_t seen = 0;
   for (const auto& [bucket, n] : hist_) {
     seen += n;
-    if (seen >= rank) return std::min(static_cast<double>((bucket + 1) * kBucketNs), static_cast<double>(max_ns_)) / 1e3;
+    if (seen >= rank)
+      return std::min(static_cast<double>((bucket + 1) * kBucketNs), static_cast<double>(max_ns_)) /
+             1e3;
   }
   return max_us();
 }
@@ -63,7 +65,8 @@ void LatencyProbe::merge_json(const nlohmann::json& in) {
     hist_[std::stoll(it.key())] += n;
     count_ += n;
   }
-  max_ns_ = std::max<std::int64_t>(max_ns_, static_cast<std::int64_t>(in.value("max_us", 0.0) * 1e3));
+  max_ns_ =
+      std::max<std::int64_t>(max_ns_, static_cast<std::int64_t>(in.value("max_us", 0.0) * 1e3));
 }
 
 }  // namespace quiver::agents::agm

@@ -22,7 +22,7 @@ std::vector<Leg> default_route() {
       {K::kDrive, 8.25, 2.0, 0.25, 0},  // and forward again, well within reach
       {K::kWait, 0, 0, 0, 40.0},        // until the mug is carried
       {K::kStand, 0, 0, 0, 1.0},
-      {K::kDrive, 2.0, 2.0, 0.5, 0},    // back: living room -> corridor -> kitchen, mug in hand
+      {K::kDrive, 2.0, 2.0, 0.5, 0},  // back: living room -> corridor -> kitchen, mug in hand
   };
 }
 

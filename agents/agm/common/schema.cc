@@ -37,11 +37,14 @@ bool Polygon::contains(double x, double y) const {
 
 Result<Polygon> room_limits(const graph::Graph& g, NodeId room) {
   const graph::Value* v = g.attr(room, attr::kLimits);
-  if (!v) return make_error(ErrorCode::kNotFound, "room_limits(): room '" + g.name_of(room) + "' has no limits");
+  if (!v)
+    return make_error(ErrorCode::kNotFound,
+                      "room_limits(): room '" + g.name_of(room) + "' has no limits");
   const auto* xy = v->get_if<graph::DoubleVec>();
   if (!xy || xy->size() < 6 || xy->size() % 2 != 0)
     return make_error(ErrorCode::kInvalidArgument,
-                      "room_limits(): room '" + g.name_of(room) + "': limits must be a double_vec of 3 or more x, y pairs");
+                      "room_limits(): room '" + g.name_of(room) +
+                          "': limits must be a double_vec of 3 or more x, y pairs");
   Polygon p;
   for (std::size_t i = 0; i < xy->size(); i += 2) p.points.push_back({(*xy)[i], (*xy)[i + 1]});
   return p;

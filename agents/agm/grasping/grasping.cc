@@ -14,11 +14,16 @@ using graph::Value;
 
 const char* GraspEvent::name() const {
   switch (kind) {
-    case Kind::kReach: return "reach";
-    case Kind::kNoReach: return "noReach";
-    case Kind::kStarted: return "started";
-    case Kind::kPaused: return "paused";
-    case Kind::kGrasped: return "grasped";
+    case Kind::kReach:
+      return "reach";
+    case Kind::kNoReach:
+      return "noReach";
+    case Kind::kStarted:
+      return "started";
+    case Kind::kPaused:
+      return "paused";
+    case Kind::kGrasped:
+      return "grasped";
   }
   return "?";
 }
@@ -36,20 +41,22 @@ class GraspAction final : public Action {
     const NodeId robot = node_id(g, node::kRobot);
     if (robot.is_null() || !agent_.platform_still(ctx)) return out;
     for (const graph::EdgeKey& e : g.edges_from(robot, edge::kFetch))
-      if (ready(g, robot, e.to)) out.push_back(Match{g.name_of(e.to), {{"robot", robot}, {"object", e.to}}});
+      if (ready(g, robot, e.to))
+        out.push_back(Match{g.name_of(e.to), {{"robot", robot}, {"object", e.to}}});
     return out;
   }
 
   bool holds(AgentContext& ctx, const Match& m) override {
     const graph::Graph& g = ctx.graph();
-    return g.has_edge(m.at("robot"), m.at("object"), edge::kFetch) && g.has_edge(m.at("robot"), m.at("object"), edge::kReach) &&
-           agent_.platform_still(ctx);
+    return g.has_edge(m.at("robot"), m.at("object"), edge::kFetch) &&
+           g.has_edge(m.at("robot"), m.at("object"), edge::kReach) && agent_.platform_still(ctx);
   }
 
   Status start(AgentContext& ctx, const Match& m) override {
     graph::Transaction tx = ctx.graph().begin();
     const std::int64_t now = ctx.now();
-    Status s = tx.insert_edge(m.at("robot"), m.at("object"), Symbol(edge::kGrasping), {{Symbol("started_ns"), Value(now)}});
+    Status s = tx.insert_edge(m.at("robot"), m.at("object"), Symbol(edge::kGrasping),
+                              {{Symbol("started_ns"), Value(now)}});
     if (s.ok()) {
       if (auto c = tx.commit(); !c.ok()) s = c.error();
     }
@@ -62,19 +69,22 @@ class GraspAction final : public Action {
   Progress process(AgentContext& ctx, const Match& m) override {
     // Checked again right before the grasp closes: nothing may have moved since the last look.
     if (!holds(ctx, m)) return Progress::kFailed;
-    return ctx.now() - started_[m.key] >= agent_.options().grasp_ns ? Progress::kDone : Progress::kRunning;
+    return ctx.now() - started_[m.key] >= agent_.options().grasp_ns ? Progress::kDone
+                                                                    : Progress::kRunning;
   }
 
   Status finish(AgentContext& ctx, const Match& m) override {
     graph::Graph& g = ctx.graph();
-    const NodeId robot = m.at("robot"), object = m.at("object"), gripper = node_id(g, node::kGripper);
+    const NodeId robot = m.at("robot"), object = m.at("object"),
+                 gripper = node_id(g, node::kGripper);
     const std::int64_t now = ctx.now();
     graph::Transaction tx = g.begin();
     Status s = tx.delete_edge(robot, object, Symbol(edge::kGrasping));
     if (s.ok()) s = tx.delete_edge(robot, object, Symbol(edge::kFetch));
     if (s.ok())
-      s = tx.insert_edge(robot, object, Symbol(edge::kCarrying),
-                         {{Symbol("started_ns"), Value(started_[m.key])}, {Symbol("finished_ns"), Value(now)}});
+      s = tx.insert_edge(
+          robot, object, Symbol(edge::kCarrying),
+          {{Symbol("started_ns"), Value(started_[m.key])}, {Symbol("finished_ns"), Value(now)}});
     // The object now hangs from the gripper (held at its centre).
     if (s.ok() && !gripper.is_null()) s = tx.set_rt(gripper, object, graph::Pose{}, now);
     if (s.ok()) {
@@ -89,7 +99,8 @@ class GraspAction final : public Action {
     graph::Graph& g = ctx.graph();
     if (g.has_edge(m.at("robot"), m.at("object"), edge::kGrasping)) {
       graph::Transaction tx = g.begin();
-      if (tx.delete_edge(m.at("robot"), m.at("object"), Symbol(edge::kGrasping)).ok()) (void)tx.commit();
+      if (tx.delete_edge(m.at("robot"), m.at("object"), Symbol(edge::kGrasping)).ok())
+        (void)tx.commit();
     }
     ctx.log(std::string("grasp of ") + m.key + " paused: " + to_string(why));
     agent_.note({GraspEvent::Kind::kPaused, m.key, ctx.now()});
@@ -105,7 +116,8 @@ class GraspAction final : public Action {
 
 }  // namespace
 
-Grasping::Grasping(GraspingOptions o, std::string name) : Agent(std::move(name)), opt_(std::move(o)) {
+Grasping::Grasping(GraspingOptions o, std::string name)
+    : Agent(std::move(name)), opt_(std::move(o)) {
   set_grammar_text(std::string(role_grammar("grasping")), "grasping.aggl");
   add_action(std::make_unique<GraspAction>(*this));
 }
@@ -140,7 +152,8 @@ void Grasping::measure(AgentContext& ctx) {
   const auto X_WR = g.rt_edge(robot);
   const std::int64_t stamp = X_WR ? X_WR->stamp : 0;
   std::vector<std::pair<NodeId, bool>> tracked;  // object, reach now
-  for (const graph::EdgeKey& e : g.edges_from(robot, edge::kReach)) tracked.emplace_back(e.to, true);
+  for (const graph::EdgeKey& e : g.edges_from(robot, edge::kReach))
+    tracked.emplace_back(e.to, true);
   for (const graph::EdgeKey& e : g.edges_from(robot, edge::kNoReach))
     if (!g.has_edge(robot, e.to, edge::kReach)) tracked.emplace_back(e.to, false);
   for (auto [object, reach] : tracked) {
@@ -152,10 +165,13 @@ void Grasping::measure(AgentContext& ctx) {
     graph::Transaction tx = g.begin();
     const char* gone = now_reach ? edge::kNoReach : edge::kReach;
     const char* made = now_reach ? edge::kReach : edge::kNoReach;
-    Status s = g.has_edge(robot, object, gone) ? tx.delete_edge(robot, object, Symbol(gone)) : Status{};
+    Status s =
+        g.has_edge(robot, object, gone) ? tx.delete_edge(robot, object, Symbol(gone)) : Status{};
     if (s.ok() && !g.has_edge(robot, object, made))
       s = tx.insert_edge(robot, object, Symbol(made),
-                         {{Symbol("distance"), Value(dist)}, {Symbol("stamp_ns"), Value(stamp)}, {Symbol("committed_ns"), Value(ctx.now())}});
+                         {{Symbol("distance"), Value(dist)},
+                          {Symbol("stamp_ns"), Value(stamp)},
+                          {Symbol("committed_ns"), Value(ctx.now())}});
     if (s.ok()) {
       if (auto c = tx.commit(); !c.ok()) s = c.error();
     }
@@ -165,7 +181,8 @@ void Grasping::measure(AgentContext& ctx) {
       continue;
     }
     ++reach_changes_;
-    note({now_reach ? GraspEvent::Kind::kReach : GraspEvent::Kind::kNoReach, g.name_of(object), ctx.now(), dist, stamp});
+    note({now_reach ? GraspEvent::Kind::kReach : GraspEvent::Kind::kNoReach, g.name_of(object),
+          ctx.now(), dist, stamp});
   }
 }
 

@@ -13,17 +13,18 @@ using graph::NodeId;
 namespace {
 
 // A standing body in the person's frame (metres): x to the person's left, z up.
-constexpr double kRest[15][3] = {
-    {0.0, 0.0, 1.65},  {0.0, 0.0, 1.50},  {0.0, 0.0, 1.20},  {0.20, 0.0, 1.45}, {0.28, 0.0, 1.18},
-    {0.30, 0.05, 0.92}, {-0.20, 0.0, 1.45}, {-0.28, 0.0, 1.18}, {-0.30, 0.05, 0.92}, {0.10, 0.0, 0.95},
-    {0.11, 0.02, 0.52}, {0.11, 0.0, 0.08}, {-0.10, 0.0, 0.95}, {-0.11, 0.02, 0.52}, {-0.11, 0.0, 0.08}};
+constexpr double kRest[15][3] = {{0.0, 0.0, 1.65},   {0.0, 0.0, 1.50},    {0.0, 0.0, 1.20},
+                                 {0.20, 0.0, 1.45},  {0.28, 0.0, 1.18},   {0.30, 0.05, 0.92},
+                                 {-0.20, 0.0, 1.45}, {-0.28, 0.0, 1.18},  {-0.30, 0.05, 0.92},
+                                 {0.10, 0.0, 0.95},  {0.11, 0.02, 0.52},  {0.11, 0.0, 0.08},
+                                 {-0.10, 0.0, 0.95}, {-0.11, 0.02, 0.52}, {-0.11, 0.0, 0.08}};
 
 }  // namespace
 
 const std::vector<std::string>& joint_names() {
-  static const std::vector<std::string> kNames = {"head",     "neck",    "torso",   "l_shoulder", "l_elbow",
-                                                  "l_hand",   "r_shoulder", "r_elbow", "r_hand", "l_hip",
-                                                  "l_knee",   "l_foot",  "r_hip",   "r_knee",     "r_foot"};
+  static const std::vector<std::string> kNames = {
+      "head",   "neck",  "torso",  "l_shoulder", "l_elbow", "l_hand", "r_shoulder", "r_elbow",
+      "r_hand", "l_hip", "l_knee", "l_foot",     "r_hip",   "r_knee", "r_foot"};
   return kNames;
 }
 
@@ -53,7 +54,8 @@ void Humans::frame(AgentContext& ctx) {
       const double phase = 1.1 * t + 0.7 * p + 0.3 * static_cast<double>(j);
       const double arm = (j >= 3 && j <= 8) ? 0.04 : 0.01;  // arms swing more than the rest
       graph::Pose X_PJ;
-      X_PJ.translation = {kRest[j][0] + 0.01 * std::sin(phase), kRest[j][1] + arm * std::sin(0.8 * phase),
+      X_PJ.translation = {kRest[j][0] + 0.01 * std::sin(phase),
+                          kRest[j][1] + arm * std::sin(0.8 * phase),
                           kRest[j][2] + 0.005 * std::sin(2 * phase)};
       s = tx.set_rt(person, joint, X_PJ, now);
     }

@@ -42,7 +42,8 @@ void Navigation::frame(AgentContext& ctx) {
   Status s;
   if (!g.attr(robot, attr::kRouteT0)) s = tx.set(robot, attr::kRouteT0, Value(platform_->t0()));
   // The grasp is done: the platform may go on (the robot carries something it was to fetch).
-  if (s.ok() && platform_->waiting(now) && !g.edges_from(robot, edge::kCarrying).empty() && platform_->release(now))
+  if (s.ok() && platform_->waiting(now) && !g.edges_from(robot, edge::kCarrying).empty() &&
+      platform_->release(now))
     s = tx.set(robot, attr::kRouteRelease, Value(now));
   const Pose2 p = platform_->pose(now);
   graph::Pose X_WR;
@@ -52,7 +53,8 @@ void Navigation::frame(AgentContext& ctx) {
   X_WR.rotation = {std::cos(p.yaw / 2), 0.0, 0.0, std::sin(p.yaw / 2)};
   if (s.ok()) s = tx.set_rt(world, robot, X_WR, now);
   // One rule at most per transaction: the predicate follows the odometry.
-  if (s.ok() && moved && !flagged) s = tx.insert_edge(robot, robot, Symbol(edge::kMoved), {{Symbol("since_ns"), Value(now)}});
+  if (s.ok() && moved && !flagged)
+    s = tx.insert_edge(robot, robot, Symbol(edge::kMoved), {{Symbol("since_ns"), Value(now)}});
   if (s.ok() && !moved && flagged) s = tx.delete_edge(robot, robot, Symbol(edge::kMoved));
   if (!s.ok() || !tx.commit().ok()) {
     ++refused_;

@@ -56,7 +56,9 @@ void Rooms::check(AgentContext& ctx) {
     Status s = tx.delete_edge(robot, a, Symbol(edge::kIn));
     if (s.ok())
       s = tx.insert_edge(robot, b, Symbol(edge::kIn),
-                         {{Symbol("x"), Value(x)}, {Symbol("y"), Value(y)}, {Symbol("stamp_ns"), Value(X_WR->stamp)},
+                         {{Symbol("x"), Value(x)},
+                          {Symbol("y"), Value(y)},
+                          {Symbol("stamp_ns"), Value(X_WR->stamp)},
                           {Symbol("committed_ns"), Value(now)}});
     // What the robot carries changes room with it (the rule's forall).
     for (const graph::EdgeKey& c : g.edges_from(robot, edge::kCarrying))
@@ -69,7 +71,8 @@ void Rooms::check(AgentContext& ctx) {
     }
     if (!s.ok()) {
       ++refused_;
-      ctx.log("changeRoom " + g.name_of(a) + " -> " + g.name_of(b) + " refused: " + s.error().to_string());
+      ctx.log("changeRoom " + g.name_of(a) + " -> " + g.name_of(b) +
+              " refused: " + s.error().to_string());
       return;
     }
     RoomChange rc{g.name_of(a), g.name_of(b), x, y, X_WR->stamp, now};

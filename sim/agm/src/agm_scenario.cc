@@ -71,7 +71,8 @@ AgmScenario AgmScenario::random_faults(std::uint64_t seed) {
   // they cannot do is see a crossing or a start of motion they are cut off from.
   s.checks.exact_crossings = false;
   s.checks.expect_pause = false;
-  s.checks.motion_allowance_ms = 500;  // the grasping agent's freshness bound (300 ms), ticks, retries
+  s.checks.motion_allowance_ms =
+      500;  // the grasping agent's freshness bound (300 ms), ticks, retries
   const std::vector<std::string> roles = agm::role_names();
   auto at = [&](double lo, double hi) { return lo + rng.uniform() * (hi - lo); };
   if (rng.chance(0.5)) {
@@ -111,7 +112,8 @@ AgmScenario AgmScenario::random_faults(std::uint64_t seed) {
   return s;
 }
 
-AgmResult run_agm_scenario(const AgmScenario& s, std::uint64_t seed, std::function<void(std::int64_t, const std::string&)> log) {
+AgmResult run_agm_scenario(const AgmScenario& s, std::uint64_t seed,
+                           std::function<void(std::int64_t, const std::string&)> log) {
   AgmResult r;
   r.name = s.name;
   r.seed = seed;
@@ -158,8 +160,13 @@ AgmResult run_agm_scenario(const AgmScenario& s, std::uint64_t seed, std::functi
     host.at(static_cast<std::int64_t>(f.at_s * 1e9), [&host, &r, f, log] {
       if (log) log(host.now(), "fault: " + f.describe());
       switch (f.kind) {
-        case FaultEvent::Kind::kPartition: host.partition(f.groups); ++r.partitions; break;
-        case FaultEvent::Kind::kHeal: host.heal(); break;
+        case FaultEvent::Kind::kPartition:
+          host.partition(f.groups);
+          ++r.partitions;
+          break;
+        case FaultEvent::Kind::kHeal:
+          host.heal();
+          break;
         case FaultEvent::Kind::kKill:
           if (int i = host.index(f.agent); i >= 0 && host.up(i)) {
             host.kill(i);
@@ -169,7 +176,9 @@ AgmResult run_agm_scenario(const AgmScenario& s, std::uint64_t seed, std::functi
         case FaultEvent::Kind::kRestart:
           if (int i = host.index(f.agent); i >= 0 && !host.up(i)) host.restart(i);
           break;
-        case FaultEvent::Kind::kLoss: host.set_loss(f.loss); break;
+        case FaultEvent::Kind::kLoss:
+          host.set_loss(f.loss);
+          break;
       }
     });
   }
@@ -187,21 +196,23 @@ AgmResult run_agm_scenario(const AgmScenario& s, std::uint64_t seed, std::functi
   int moved_flag_failures = 0, moving_grasp_failures = 0;
   host.every(10 * kMs, [&] {
     const std::int64_t t = host.now();
-    if (nav >= 0 && host.up(nav) && host.runtime(nav) && started_at.count(nav) && t - started_at[nav] > 200 * kMs) {
+    if (nav >= 0 && host.up(nav) && host.runtime(nav) && started_at.count(nav) &&
+        t - started_at[nav] > 200 * kMs) {
       const graph::Graph& g = *host.graph(nav);
       const NodeId robot = agm::node_id(g, agm::node::kRobot);
       const bool truth = platform->moved_between(t - window, t);
       const bool settled = truth == platform->moved_between(t - 40 * kMs - window, t - 40 * kMs);
-      if (!robot.is_null() && settled && g.has_edge(robot, robot, agm::edge::kMoved) != truth && moved_flag_failures++ < 3)
-        fail("at " + fmt_s(t) + " movedInLastSeconds is " + (truth ? "absent" : "present") + " on navigation's replica, odometry says " +
-             (truth ? "moved" : "still"));
+      if (!robot.is_null() && settled && g.has_edge(robot, robot, agm::edge::kMoved) != truth &&
+          moved_flag_failures++ < 3)
+        fail("at " + fmt_s(t) + " movedInLastSeconds is " + (truth ? "absent" : "present") +
+             " on navigation's replica, odometry says " + (truth ? "moved" : "still"));
     }
     if (grasping >= 0 && host.up(grasping) && host.graph(grasping)) {
       const graph::Graph& g = *host.graph(grasping);
       const NodeId robot = agm::node_id(g, agm::node::kRobot);
       const std::int64_t began = drive_began(t);
-      if (!robot.is_null() && began >= 0 && t - began > allowance && !g.edges_from(robot, agm::edge::kGrasping).empty() &&
-          moving_grasp_failures++ < 3)
+      if (!robot.is_null() && began >= 0 && t - began > allowance &&
+          !g.edges_from(robot, agm::edge::kGrasping).empty() && moving_grasp_failures++ < 3)
         fail("at " + fmt_s(t) + " still grasping, the platform drives since " + fmt_s(began));
     }
   });
@@ -210,10 +221,15 @@ AgmResult run_agm_scenario(const AgmScenario& s, std::uint64_t seed, std::functi
   const auto limit = static_cast<std::int64_t>(s.limit_s * kSec);
   while (host.now() < limit) {
     host.run_until(host.now() + 100 * kMs);
-    if (platform->started() && platform->finished(host.now()) && host.now() > *platform->end_time() + 3 * kSec) break;
+    if (platform->started() && platform->finished(host.now()) &&
+        host.now() > *platform->end_time() + 3 * kSec)
+      break;
   }
-  if (platform->finished(host.now())) r.finished_s = static_cast<double>(*platform->end_time()) / 1e9;
-  else fail("the route did not end within " + std::to_string(s.limit_s) + " s (the platform waits for the grasp)");
+  if (platform->finished(host.now()))
+    r.finished_s = static_cast<double>(*platform->end_time()) / 1e9;
+  else
+    fail("the route did not end within " + std::to_string(s.limit_s) +
+         " s (the platform waits for the grasp)");
 
   // Heal everything, bring every agent back, quiet the trackers, let the replicas settle.
   host.heal();
@@ -258,12 +274,16 @@ AgmResult run_agm_scenario(const AgmScenario& s, std::uint64_t seed, std::functi
   const NodeId robot = agm::node_id(g, agm::node::kRobot), mug = agm::node_id(g, "mug");
   auto room = agm::room_of(g, robot);
   r.final_room = room ? g.name_of(*room) : "";
-  if (r.final_room != "kitchen") fail("the robot ends in '" + r.final_room + "', not in the kitchen");
+  if (r.final_room != "kitchen")
+    fail("the robot ends in '" + r.final_room + "', not in the kitchen");
   if (!g.has_edge(robot, mug, agm::edge::kCarrying)) fail("the robot does not carry the mug");
   if (auto mr = agm::room_of(g, mug); !mr || g.name_of(*mr) != "kitchen")
-    fail("the mug is in '" + (mr ? g.name_of(*mr) : std::string()) + "', not in the kitchen with the robot");
-  if (g.has_edge(robot, robot, agm::edge::kMoved)) fail("movedInLastSeconds still set on a parked robot");
-  if (!g.edges_from(robot, agm::edge::kGrasping).empty()) fail("a grasp still announced at the end");
+    fail("the mug is in '" + (mr ? g.name_of(*mr) : std::string()) +
+         "', not in the kitchen with the robot");
+  if (g.has_edge(robot, robot, agm::edge::kMoved))
+    fail("movedInLastSeconds still set on a parked robot");
+  if (!g.edges_from(robot, agm::edge::kGrasping).empty())
+    fail("a grasp still announced at the end");
   if (!g.has_edge(robot, mug, agm::edge::kReach) || g.has_edge(robot, mug, agm::edge::kNoReach))
     fail("the mug in the gripper is not (only) in reach");
 
@@ -290,29 +310,33 @@ AgmResult run_agm_scenario(const AgmScenario& s, std::uint64_t seed, std::functi
   for (const agm::RoomChange& c : changes) {
     const agm::Pose2 truth = platform->pose(c.stamp_ns);
     auto to = g.find_node(c.to);
-    auto limits = to ? agm::room_limits(g, *to) : Result<agm::Polygon>(make_error(ErrorCode::kNotFound, c.to));
+    auto limits = to ? agm::room_limits(g, *to)
+                     : Result<agm::Polygon>(make_error(ErrorCode::kNotFound, c.to));
     if (!limits.ok() || !limits->contains(c.x, c.y))
-      fail("changeRoom " + c.from + " -> " + c.to + " at " + fmt_s(c.committed_ns) + " on a pose outside " + c.to);
+      fail("changeRoom " + c.from + " -> " + c.to + " at " + fmt_s(c.committed_ns) +
+           " on a pose outside " + c.to);
     if (std::hypot(truth.x - c.x, truth.y - c.y) > 0.01)
       fail("changeRoom " + c.from + " -> " + c.to + " on a pose the platform never had");
     if (s.checks.exact_crossings) {
       const agm::Pose2 before = platform->pose(c.stamp_ns - 2 * frame);
       auto was = agm::room_at(g, before.x, before.y);
       if (!was || g.name_of(*was) != c.from)
-        fail("changeRoom " + c.from + " -> " + c.to + " late: two frames before its pose the robot was already out of " + c.from);
+        fail("changeRoom " + c.from + " -> " + c.to +
+             " late: two frames before its pose the robot was already out of " + c.from);
       if (static_cast<double>(c.committed_ns - c.stamp_ns) > s.checks.crossing_lag_ms * 1e6)
-        fail("changeRoom " + c.from + " -> " + c.to + " committed " + std::to_string((c.committed_ns - c.stamp_ns) / kMs) +
-             " ms after its pose");
+        fail("changeRoom " + c.from + " -> " + c.to + " committed " +
+             std::to_string((c.committed_ns - c.stamp_ns) / kMs) + " ms after its pose");
     }
   }
   if (s.checks.exact_crossings) {
     std::vector<std::pair<std::string, std::string>> got;
     for (const auto& c : changes) got.emplace_back(c.from, c.to);
     if (got != expected)
-      fail("changeRoom issued " + std::to_string(got.size()) + " times, the platform crossed " + std::to_string(expected.size()) +
-           " room limits (or in another order)");
+      fail("changeRoom issued " + std::to_string(got.size()) + " times, the platform crossed " +
+           std::to_string(expected.size()) + " room limits (or in another order)");
   } else if (changes.size() < expected.size()) {
-    fail("fewer changeRoom (" + std::to_string(changes.size()) + ") than crossings (" + std::to_string(expected.size()) + ")");
+    fail("fewer changeRoom (" + std::to_string(changes.size()) + ") than crossings (" +
+         std::to_string(expected.size()) + ")");
   }
 
   // reach / noReach and the grasp.
@@ -323,31 +347,38 @@ AgmResult run_agm_scenario(const AgmScenario& s, std::uint64_t seed, std::functi
         ++r.reach_changes;
         const double truth = gripper_mug_distance(platform->pose(e.stamp_ns));
         if (e.distance >= ro.grasping.reach_on_m || truth >= ro.grasping.reach_on_m + 0.01)
-          fail("reach set at " + fmt_s(e.t_ns) + " with FCL distance " + std::to_string(e.distance) + " m (true " +
-               std::to_string(truth) + " m), threshold " + std::to_string(ro.grasping.reach_on_m) + " m");
+          fail("reach set at " + fmt_s(e.t_ns) + " with FCL distance " +
+               std::to_string(e.distance) + " m (true " + std::to_string(truth) +
+               " m), threshold " + std::to_string(ro.grasping.reach_on_m) + " m");
         break;
       }
       case agm::GraspEvent::Kind::kNoReach:
         ++r.reach_changes;
-        fail("noReach set again at " + fmt_s(e.t_ns) + " (distance " + std::to_string(e.distance) + " m): reach flickered");
+        fail("noReach set again at " + fmt_s(e.t_ns) + " (distance " + std::to_string(e.distance) +
+             " m): reach flickered");
         break;
-      case agm::GraspEvent::Kind::kStarted: run_started[e.object] = e.t_ns; break;
-      case agm::GraspEvent::Kind::kPaused: ++r.pauses; break;
+      case agm::GraspEvent::Kind::kStarted:
+        run_started[e.object] = e.t_ns;
+        break;
+      case agm::GraspEvent::Kind::kPaused:
+        ++r.pauses;
+        break;
       case agm::GraspEvent::Kind::kGrasped: {
         ++r.grasps;
         r.grasped_s = static_cast<double>(e.t_ns) / 1e9;
         const std::int64_t began = run_started.count(e.object) ? run_started[e.object] : e.t_ns;
         for (auto [b, en] : platform->drives())
           if (en > began && b < e.t_ns - allowance)
-            fail("grasped at " + fmt_s(e.t_ns) + " though the platform drove from " + fmt_s(b) + " to " + fmt_s(en) +
-                 " during the grasp (from " + fmt_s(began) + ")");
+            fail("grasped at " + fmt_s(e.t_ns) + " though the platform drove from " + fmt_s(b) +
+                 " to " + fmt_s(en) + " during the grasp (from " + fmt_s(began) + ")");
         break;
       }
     }
   }
   if (r.reach_changes == 0) fail("reach never set");
   if (r.grasps == 0) fail("the mug was never grasped");
-  if (s.checks.exact_crossings && r.grasps != 1) fail("grasped " + std::to_string(r.grasps) + " times");
+  if (s.checks.exact_crossings && r.grasps != 1)
+    fail("grasped " + std::to_string(r.grasps) + " times");
   if (s.checks.expect_pause && r.pauses == 0) fail("the nudge mid-grasp did not pause the grasp");
   if (s.humans && r.human_deliveries == 0) fail("no human joint pose reached the other agents");
   r.passed = r.failures.empty();

@@ -56,8 +56,8 @@ struct AgmResult {
   std::string final_room;
   int room_changes = 0, expected_room_changes = 0;
   int reach_changes = 0, pauses = 0, grasps = 0;
-  double grasped_s = -1;      ///< virtual time the mug was carried
-  double finished_s = -1;     ///< virtual time the route ended
+  double grasped_s = -1;   ///< virtual time the mug was carried
+  double finished_s = -1;  ///< virtual time the route ended
   int kills = 0, partitions = 0;
   std::uint64_t rejected = 0;
   std::uint64_t human_deliveries = 0;  ///< joint poses the surviving probes saw

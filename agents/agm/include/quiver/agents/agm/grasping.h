@@ -31,7 +31,13 @@ namespace quiver::agents::agm {
 
 /// What the grasping agent did, for checks and traces.
 struct GraspEvent {
-  enum class Kind : std::uint8_t { kReach, kNoReach, kStarted, kPaused, kGrasped } kind = Kind::kReach;
+  enum class Kind : std::uint8_t {
+    kReach,
+    kNoReach,
+    kStarted,
+    kPaused,
+    kGrasped
+  } kind = Kind::kReach;
   std::string object;
   std::int64_t t_ns = 0;
   double distance = 0;        ///< kReach, kNoReach: the FCL distance gripper-object

@@ -29,7 +29,8 @@ struct NavigationOptions {
 class Navigation final : public Agent {
  public:
   /// `platform` may be shared with whoever checks it (the simulator keeps it across restarts).
-  Navigation(std::shared_ptr<Platform> platform, NavigationOptions o = {}, std::string name = "navigation");
+  Navigation(std::shared_ptr<Platform> platform, NavigationOptions o = {},
+             std::string name = "navigation");
   void setup(AgentContext& ctx) override;
   void status(nlohmann::json& out) const override;
 

@@ -20,8 +20,8 @@ namespace quiver::agents::agm {
 /// One changeRoom this agent committed.
 struct RoomChange {
   std::string from, to;
-  double x = 0, y = 0;          ///< the robot's position it reacted to
-  std::int64_t stamp_ns = 0;    ///< that pose's stamp
+  double x = 0, y = 0;        ///< the robot's position it reacted to
+  std::int64_t stamp_ns = 0;  ///< that pose's stamp
   std::int64_t committed_ns = 0;
 };
 
