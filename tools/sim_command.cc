@@ -38,7 +38,8 @@ void add_sim_command(CLI::App& app) {
   cmd->add_flag("-v,--verbose", *verbose, "narrate faults and phases on stderr");
   auto scenario = std::make_shared<std::string>();
   auto schedules = std::make_shared<int>(0);
-  cmd->add_option("--scenario", *scenario, "run a Barthel scenario file (agents, patient, faults, checks) instead")
+  cmd->add_option("--scenario", *scenario,
+                  "run a Barthel scenario file (agents, patient, faults, checks) instead; with --agm, an AGM one")
       ->check(CLI::ExistingFile);
   cmd->add_option("--schedules", *schedules,
                   "run N random fault schedules of the Barthel scenario (seeds --seed .. --seed+N-1)")
@@ -51,12 +52,21 @@ void add_sim_command(CLI::App& app) {
     auto log = agents::named_logger("quiver sim");
     auto narrate = [log](std::int64_t t, const std::string& line) { log->info("[{:8.3f} s] {}", static_cast<double>(t) / 1e9, line); };
     if (*agm) {
-      const int n = std::max(1, *schedules);
+      const int n = scenario->empty() ? std::max(1, *schedules) : 1;
       int failed = 0;
       ProgressLine progress("schedules", n);
       for (int k = 0; k < n; ++k) {
         const std::uint64_t seed = cfg->seed + static_cast<std::uint64_t>(k);
         sim::AgmScenario s = *schedules > 0 ? sim::AgmScenario::random_faults(seed) : sim::AgmScenario{};
+        if (!scenario->empty()) {
+          auto loaded = sim::AgmScenario::load(*scenario);
+          if (!loaded.ok()) {
+            log->error("{}", loaded.error().to_string());
+            set_exit_code(2);
+            return;
+          }
+          s = *loaded;
+        }
         if (*verbose) log->info("AGM scenario {}, seed {}", s.name, seed);
         sim::AgmResult r = sim::run_agm_scenario(s, seed, *verbose ? narrate : std::function<void(std::int64_t, const std::string&)>{});
         if (!r.passed) ++failed;
@@ -65,7 +75,8 @@ void add_sim_command(CLI::App& app) {
           progress.clear();
           nlohmann::json j = r.to_json();
           if (!r.passed)
-            j["replay"] = std::string("quiver sim --agm ") + (*schedules > 0 ? "--schedules 1 " : "") + "--seed " + std::to_string(seed);
+            j["replay"] = std::string("quiver sim --agm ") + (scenario->empty() ? "" : "--scenario " + *scenario + " ") +
+                          (*schedules > 0 ? "--schedules 1 " : "") + "--seed " + std::to_string(seed);
           std::cout << j.dump() << std::endl;
         }
       }

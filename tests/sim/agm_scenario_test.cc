@@ -46,6 +46,28 @@ TEST(AgmScenario, WithoutHysteresisTheReachCheckFails) {
   EXPECT_TRUE(flicker) << r.to_json().dump();
 }
 
+TEST(AgmScenario, TheExampleFileRunsAndBadFilesNameTheValue) {
+  auto s = AgmScenario::load(QUIVER_EXAMPLES "/agm/partition-mid-grasp.json");
+  ASSERT_TRUE(s.ok()) << s.error().to_string();
+  EXPECT_EQ(s->faults.size(), 5u);
+  AgmResult r = run(*s, 1);
+  EXPECT_TRUE(r.passed) << r.to_json().dump();
+  EXPECT_EQ(r.kills, 1);
+  EXPECT_GE(r.pauses, 1) << "cut off from localization mid-grasp";
+  for (auto [text, pointer] :
+       {std::pair{R"({"faults": [{"at_s": 1, "kill": "planner"}]})", "/faults/0/kill"},
+        std::pair{R"({"faults": [{"at_s": 1, "partition": [["rooms"], [3]]}]})",
+                  "/faults/0/partition/1/0"},
+        std::pair{R"({"checks": {"crossing_lag_ms": -1}})", "/checks/crossing_lag_ms"},
+        std::pair{R"({"humans_hz": 0})", "/humans_hz"},
+        std::pair{R"({"patient": {}})", "/patient"}}) {
+    auto bad = AgmScenario::parse(nlohmann::json::parse(text), "s.json");
+    ASSERT_FALSE(bad.ok()) << text;
+    EXPECT_NE(bad.error().message.find(std::string("s.json:") + pointer), std::string::npos)
+        << bad.error().message;
+  }
+}
+
 TEST(AgmScenario, ASeedReplaysExactly) {
   AgmScenario s = AgmScenario::random_faults(5);
   s.humans_hz = 10;  // faster; the same code paths

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <fstream>
 #include <map>
 #include <nlohmann/json.hpp>
 #include <sstream>
@@ -61,6 +62,124 @@ json AgmResult::to_json() const {
           {"rejected", rejected},
           {"human_deliveries", human_deliveries},
           {"human_latency_p99_ms", human_latency_p99_ms}};
+}
+
+namespace {
+
+Error bad(const std::string& source, const std::string& pointer, const std::string& what) {
+  return Error{ErrorCode::kInvalidArgument, source + ":" + pointer + ": " + what};
+}
+
+}  // namespace
+
+Result<AgmScenario> AgmScenario::parse(const json& j, const std::string& source) {
+  AgmScenario s;
+  if (!j.is_object()) return bad(source, "/", "a scenario is a JSON object");
+  static const char* kKeys[] = {"name",      "faults",      "checks", "humans",
+                                "humans_hz", "reach_off_m", "limit_s"};
+  for (auto it = j.begin(); it != j.end(); ++it)
+    if (std::none_of(std::begin(kKeys), std::end(kKeys),
+                     [&](const char* k) { return it.key() == k; }))
+      return bad(source, "/" + it.key(), "unknown key");
+  if (j.contains("name")) {
+    if (!j["name"].is_string()) return bad(source, "/name", "expected a string");
+    s.name = j["name"].get<std::string>();
+  }
+  auto agent = [&](const json& v, const std::string& where) -> Result<std::string> {
+    if (!v.is_string() || !agm::is_role(v.get<std::string>()))
+      return bad(source, where, "not an agent (navigation, rooms, grasping, humans)");
+    return v.get<std::string>();
+  };
+  if (j.contains("faults")) {
+    if (!j["faults"].is_array()) return bad(source, "/faults", "expected an array");
+    for (std::size_t i = 0; i < j["faults"].size(); ++i) {
+      const json& f = j["faults"][i];
+      const std::string where = "/faults/" + std::to_string(i);
+      if (!f.is_object() || !f.contains("at_s") || !f["at_s"].is_number() ||
+          f["at_s"].get<double>() < 0)
+        return bad(source, where,
+                   "expected {\"at_s\": T >= 0, and one of partition, heal, kill, restart, loss}");
+      FaultEvent e;
+      e.at_s = f["at_s"].get<double>();
+      if (f.contains("partition")) {
+        e.kind = FaultEvent::Kind::kPartition;
+        const json& gs = f["partition"];
+        if (!gs.is_array() || gs.empty())
+          return bad(source, where + "/partition", "expected groups of agent names");
+        for (std::size_t g = 0; g < gs.size(); ++g) {
+          if (!gs[g].is_array())
+            return bad(source, where + "/partition/" + std::to_string(g),
+                       "expected an array of names");
+          std::vector<std::string> group;
+          for (std::size_t k = 0; k < gs[g].size(); ++k) {
+            auto a = agent(gs[g][k],
+                           where + "/partition/" + std::to_string(g) + "/" + std::to_string(k));
+            if (!a.ok()) return a.error();
+            group.push_back(*a);
+          }
+          e.groups.push_back(group);
+        }
+      } else if (f.contains("heal")) {
+        e.kind = FaultEvent::Kind::kHeal;
+      } else if (f.contains("kill") || f.contains("restart")) {
+        const bool kill = f.contains("kill");
+        e.kind = kill ? FaultEvent::Kind::kKill : FaultEvent::Kind::kRestart;
+        auto a = agent(f[kill ? "kill" : "restart"], where + (kill ? "/kill" : "/restart"));
+        if (!a.ok()) return a.error();
+        e.agent = *a;
+      } else if (f.contains("loss")) {
+        e.kind = FaultEvent::Kind::kLoss;
+        if (!f["loss"].is_number() || f["loss"].get<double>() < 0 || f["loss"].get<double>() > 0.9)
+          return bad(source, where + "/loss", "expected a probability in [0, 0.9]");
+        e.loss = f["loss"].get<double>();
+      } else {
+        return bad(source, where, "no fault (partition, heal, kill, restart or loss)");
+      }
+      s.faults.push_back(e);
+    }
+  }
+  if (j.contains("checks")) {
+    const json& c = j["checks"];
+    if (!c.is_object()) return bad(source, "/checks", "expected an object");
+    for (auto [k, out] : {std::pair{"exact_crossings", &s.checks.exact_crossings},
+                          std::pair{"expect_pause", &s.checks.expect_pause}}) {
+      if (!c.contains(k)) continue;
+      if (!c[k].is_boolean())
+        return bad(source, std::string("/checks/") + k, "expected true or false");
+      *out = c[k].get<bool>();
+    }
+    for (auto [k, out] : {std::pair{"crossing_lag_ms", &s.checks.crossing_lag_ms},
+                          std::pair{"motion_allowance_ms", &s.checks.motion_allowance_ms}}) {
+      if (!c.contains(k)) continue;
+      if (!c[k].is_number() || c[k].get<double>() <= 0 || c[k].get<double>() > 60'000)
+        return bad(source, std::string("/checks/") + k, "expected milliseconds in (0, 60000]");
+      *out = c[k].get<double>();
+    }
+  }
+  if (j.contains("humans")) {
+    if (!j["humans"].is_boolean()) return bad(source, "/humans", "expected true or false");
+    s.humans = j["humans"].get<bool>();
+  }
+  for (auto [k, out, lo, hi] : {std::tuple{"humans_hz", &s.humans_hz, 1.0, 200.0},
+                                std::tuple{"reach_off_m", &s.reach_off_m, 0.10, 1.0},
+                                std::tuple{"limit_s", &s.limit_s, 45.0, 86'400.0}}) {
+    if (!j.contains(k)) continue;
+    if (!j[k].is_number() || j[k].get<double>() < lo || j[k].get<double>() > hi)
+      return bad(source, std::string("/") + k,
+                 "expected a number in [" + std::to_string(lo) + ", " + std::to_string(hi) + "]");
+    *out = j[k].get<double>();
+  }
+  return s;
+}
+
+Result<AgmScenario> AgmScenario::load(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) return Error{ErrorCode::kIo, path + ": cannot open the scenario file"};
+  try {
+    return parse(json::parse(in), path);
+  } catch (const json::parse_error& e) {
+    return Error{ErrorCode::kInvalidArgument, path + ": not JSON: " + e.what()};
+  }
 }
 
 AgmScenario AgmScenario::random_faults(std::uint64_t seed) {

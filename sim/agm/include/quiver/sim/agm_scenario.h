@@ -21,6 +21,7 @@
 #include <string>
 #include <vector>
 
+#include "quiver/result.h"
 #include "quiver/sim/scenario.h"
 
 namespace quiver::sim {
@@ -42,6 +43,12 @@ struct AgmScenario {
   /// The grasping agent's threshold back to noReach (its reach threshold is 0.10 m); equal to
   /// that, there is no hysteresis (a control: the nudge then makes reach flicker).
   double reach_off_m = 0.15;
+  /// From a scenario file (docs/scenarios.md): {"name", "faults": [...] as in Barthel scenario
+  /// files with the AGM agents' names, "checks": {"exact_crossings", "crossing_lag_ms",
+  /// "expect_pause", "motion_allowance_ms"}, "humans", "humans_hz", "reach_off_m", "limit_s"}.
+  /// @returns kInvalidArgument naming `source` and the JSON pointer of a bad value.
+  static Result<AgmScenario> parse(const nlohmann::json& j, const std::string& source);
+  static Result<AgmScenario> load(const std::string& path);
   /// Random faults drawn from `seed` (loss up to 20%, up to two partitions and two kill -9 and
   /// restarts of any agent, all in the first 35 s), with the checks that still hold under them.
   static AgmScenario random_faults(std::uint64_t seed);
