@@ -48,11 +48,25 @@ class AgmProcesses {
         exe_,           "run",           role,          "--domain", std::to_string(dds_.domain),
         "--dds-config", dds_.dds_config, "--join-wait", "1"};
     argv.insert(argv.end(), extra.begin(), extra.end());
-    auto p = Subprocess::spawn(argv, out_ + "/logs/" + role + ".log");
+    const int n = ++starts_[role];
+    auto p = Subprocess::spawn(
+        argv, out_ + "/logs/" + role + (n > 1 ? "-" + std::to_string(n) : "") + ".log");
     if (!p) return false;
+    args_[role] = extra;
+    procs_.erase(role);
     procs_.emplace(role, std::move(*p));
     return true;
   }
+  /// kill -9 (and reap). @returns its pid, or -1.
+  int kill(const std::string& role) {
+    auto it = procs_.find(role);
+    if (it == procs_.end()) return -1;
+    it->second.kill(SIGKILL);
+    it->second.wait(2000);
+    return it->second.pid();
+  }
+  /// Starts `role` again, with the arguments it had (a new incarnation, an empty replica).
+  bool restart(const std::string& role) { return start(role, args_[role]); }
   /// SIGTERM, wait, and the last JSON line it printed (its final status).
   std::optional<json> stop(const std::string& role) {
     auto it = procs_.find(role);
@@ -75,6 +89,8 @@ class AgmProcesses {
   DdsFlags dds_;
   std::string out_, exe_;
   std::map<std::string, Subprocess> procs_;
+  std::map<std::string, std::vector<std::string>> args_;
+  std::map<std::string, int> starts_;
 };
 
 std::string make_out(const std::string& out, const char* prefix) {
@@ -99,6 +115,9 @@ struct AgmScenarioFlags {
   double timeout_s = 150;
   double crossing_lag_ms = 100;
   double motion_allowance_ms = 150;
+  std::string kill;  ///< kill -9 this agent at kill_at_s and restart it restart_after_s later
+  double kill_at_s = 12;
+  double restart_after_s = 1;
 };
 
 int run_agm_scenario(const AgmScenarioFlags& f) {
@@ -197,8 +216,20 @@ int run_agm_scenario(const AgmScenarioFlags& f) {
   agm::Platform truth(agm::default_route(), agm::default_start());
   const std::int64_t deadline = t_start + static_cast<std::int64_t>(f.timeout_s * 1e9);
   bool done = false;
+  bool killed = false, restarted = false;
   while (agents::monotonic_ns() < deadline && !done) {
     obs.spin_once(20 * kMs);
+    if (!f.kill.empty() && !killed && elapsed() >= f.kill_at_s) {
+      const int pid = procs.kill(f.kill);
+      say("*** kill -9 " + f.kill + " (pid " + std::to_string(pid) + ")");
+      killed = true;
+    }
+    if (killed && !restarted && elapsed() >= f.kill_at_s + f.restart_after_s) {
+      if (!procs.restart(f.kill)) failures.push_back("cannot restart " + f.kill);
+      say("*** " + f.kill +
+          " restarted (an empty replica: it continues from what the graph holds)");
+      restarted = true;
+    }
     const NodeId robot = robot_id();
     if (robot.is_null()) continue;
     if (auto t0 = g.get<std::int64_t>(robot, agm::attr::kRouteT0); t0.ok()) truth.start(*t0);
@@ -459,6 +490,16 @@ void add_agm_commands(CLI::App& app) {
   a->add_option("--motion-allowance-ms", sf->motion_allowance_ms,
                 "check: a grasp ends within this of the platform moving")
       ->check(CLI::Range(1.0, 10000.0))
+      ->capture_default_str();
+  a->add_option("--kill", sf->kill,
+                "kill -9 this agent (navigation, rooms, grasping, humans) mid-run and restart it")
+      ->check(CLI::IsMember(agm::role_names()));
+  a->add_option("--kill-at", sf->kill_at_s, "... this many seconds after the start")
+      ->check(CLI::Range(0.0, 3600.0))
+      ->capture_default_str();
+  a->add_option("--restart-after", sf->restart_after_s,
+                "... and restart it this many seconds later")
+      ->check(CLI::Range(0.0, 600.0))
       ->capture_default_str();
   a->callback([sf] { set_exit_code(run_agm_scenario(*sf)); });
 

@@ -24,6 +24,9 @@ void Navigation::setup(AgentContext& ctx) {
   if (!platform_->started()) {
     const Value* t0 = robot.is_null() ? nullptr : g.attr(robot, attr::kRouteT0);
     platform_->start(t0 && t0->get_if<std::int64_t>() ? *t0->get_if<std::int64_t>() : ctx.now());
+    // ... and whether its wait for the grasp had already been released.
+    const Value* rel = robot.is_null() ? nullptr : g.attr(robot, attr::kRouteRelease);
+    if (rel && rel->get_if<std::int64_t>()) (void)platform_->release(*rel->get_if<std::int64_t>());
   }
   if (opt_.measure_humans) probe_.attach(*this, ctx);
   ctx.every(static_cast<std::int64_t>(1e9 / opt_.rate_hz), [this, &ctx] { frame(ctx); });
