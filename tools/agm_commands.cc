@@ -67,7 +67,8 @@ class AgmProcesses {
   }
   /// Starts `role` again, with the arguments it had (a new incarnation, an empty replica).
   bool restart(const std::string& role) { return start(role, args_[role]); }
-  /// SIGTERM, wait, and the last JSON line it printed (its final status).
+  /// SIGTERM, wait, and the last JSON line it printed (its final status), with its exit status
+  /// as "exit_status" (-1: it did not end).
   std::optional<json> stop(const std::string& role) {
     auto it = procs_.find(role);
     if (it == procs_.end()) return std::nullopt;
@@ -80,7 +81,8 @@ class AgmProcesses {
       }
       if (last) break;
     }
-    it->second.wait(5000);
+    const int status = it->second.wait(5000);
+    if (last) (*last)["exit_status"] = status;
     procs_.erase(it);
     return last;
   }
@@ -349,6 +351,11 @@ int run_agm_scenario(const AgmScenarioFlags& f) {
       equal = false;
     }
   if (finals.size() != 3) failures.push_back("not every agent reported its final state");
+  if (humans) finals["humans"] = *humans;
+  for (const auto& [role, st] : finals)
+    if (st.value("exit_status", -1) != 0)
+      failures.push_back(role + " exited with status " +
+                         std::to_string(st.value("exit_status", -1)));
 
   // Human tracking, as the other agents saw it.
   agm::LatencyProbe pooled;
@@ -418,12 +425,14 @@ int run_humans_bench(const HumansBenchFlags& f) {
   json per_agent = json::object();
   std::uint64_t deliveries = 0;
   double delivery_secs = 0;
+  std::map<std::string, int> exit_statuses;
   for (const auto& r : others) {
     auto st = procs.stop(r);
     if (!st || !st->contains("humans_latency")) {
       log->error("no status from {}", r);
       return 1;
     }
+    exit_statuses[r] = st->value("exit_status", -1);
     const json& h = (*st)["humans_latency"];
     pooled.merge_json(h);
     deliveries += h["count"].get<std::uint64_t>();
@@ -463,7 +472,10 @@ int run_humans_bench(const HumansBenchFlags& f) {
   res["latency_us_max"] = pooled.max_us();
   res["per_agent"] = per_agent;
   res["p99_limit_ms"] = f.max_p99_ms;
-  const bool ok = deliveries > 0 && pooled.percentile_us(0.99) <= f.max_p99_ms * 1e3;
+  bool clean = humans && humans->value("exit_status", -1) == 0;
+  for (const auto& r : others) clean = clean && exit_statuses[r] == 0;
+  res["agents_exited_cleanly"] = clean;
+  const bool ok = clean && deliveries > 0 && pooled.percentile_us(0.99) <= f.max_p99_ms * 1e3;
   res["ok"] = ok;
   std::cout << res.dump() << std::endl;
   return ok ? 0 : 1;

@@ -131,6 +131,11 @@ void Grasping::setup(AgentContext& ctx) {
   ctx.every(static_cast<std::int64_t>(1e9 / opt_.rate_hz), [this, &ctx] { measure(ctx); });
 }
 
+void Grasping::teardown(AgentContext&) {
+  scene_.reset();
+  frames_.reset();
+}
+
 bool Grasping::platform_still(AgentContext& ctx) const {
   const graph::Graph& g = ctx.graph();
   const NodeId robot = node_id(g, node::kRobot);
@@ -148,7 +153,7 @@ void Grasping::note(const GraspEvent& e) {
 void Grasping::measure(AgentContext& ctx) {
   graph::Graph& g = ctx.graph();
   const NodeId robot = node_id(g, node::kRobot), gripper = node_id(g, node::kGripper);
-  if (robot.is_null() || gripper.is_null()) return;
+  if (robot.is_null() || gripper.is_null() || !scene_) return;
   const auto X_WR = g.rt_edge(robot);
   const std::int64_t stamp = X_WR ? X_WR->stamp : 0;
   std::vector<std::pair<NodeId, bool>> tracked;  // object, reach now

@@ -60,6 +60,9 @@ class Grasping final : public Agent {
   explicit Grasping(GraspingOptions o = {}, std::string name = "grasping");
   ~Grasping() override;
   void setup(AgentContext& ctx) override;
+  /// Drops the FCL scene and the frame tree (they follow the replica, which the host destroys
+  /// after the agent stops).
+  void teardown(AgentContext& ctx) override;
   void status(nlohmann::json& out) const override;
 
   /// Whether the robot may grasp now, from this replica: it is not moving and its pose is fresh.
