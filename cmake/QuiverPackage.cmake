@@ -48,6 +48,9 @@ set(QUIVER_PC_sim_LIBS "-lquiver_sim -lquiver_render -lquiver_render_rules -lqui
 set(QUIVER_PC_viewer_REQUIRES "quiver-sim = ${PROJECT_VERSION}, quiver-kinematics = ${PROJECT_VERSION}, nlohmann_json")
 set(QUIVER_PC_viewer_PRIVATE "cpp-httplib")
 set(QUIVER_PC_viewer_LIBS "-lquiver_viewer")
+set(QUIVER_PC_agm_REQUIRES "quiver-sim = ${PROJECT_VERSION}, quiver-kinematics = ${PROJECT_VERSION}, nlohmann_json")
+set(QUIVER_PC_agm_PRIVATE "")
+set(QUIVER_PC_agm_LIBS "-lquiver_agm_sim -lquiver_agm")
 # Relocatable: the prefix is found from the .pc file's own place, so `cmake --install --prefix`
 # anywhere gives working files.
 file(RELATIVE_PATH QUIVER_PC_PREFIX_FROM_PCDIR

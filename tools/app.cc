@@ -51,6 +51,7 @@ void build_app(CLI::App& app) {
   add_dds_bench_commands(app);
   add_agents_bench_commands(app);
   add_barthel_commands(app);
+  add_agm_commands(app);  // adds to `scenario` and `bench`
   add_render_commands(app);
   add_reaction_bench_command(app);
   add_store_bench_command(app);

@@ -14,6 +14,8 @@
 #include "commands.h"
 #include "quiver/agents/runtime/logging.h"
 #include "dds_options.h"
+#include "quiver/agents/agm/roles.h"
+#include "quiver/agents/agm/schema.h"
 #include "quiver/agents/barthel/checks.h"
 #include "quiver/agents/barthel/grammars.h"
 #include "quiver/agents/barthel/roles.h"
@@ -34,6 +36,8 @@ struct RunFlags {
   bool simulated_speech = false;
   double answer_timeout_s = 8;
   double words_ms = 250;
+  bool measure_humans = false;
+  bool quiet_when_done = false;
 };
 
 Result<barthel::PatientScript> load_script(const std::string& path) {
@@ -48,7 +52,23 @@ Result<barthel::PatientScript> load_script(const std::string& path) {
   }
 }
 
+// One agent of the AGM scenarios (agents/agm), on the AGM world unless told otherwise.
+int run_agm_role(RunFlags f) {
+  agents::agm::AgmRoleOptions ro;
+  ro.name = f.name;
+  ro.measure_humans = f.measure_humans;
+  ro.navigation.quiet_when_done = f.quiet_when_done;
+  auto agent = agents::agm::make_role(f.role, ro);
+  if (!agent.ok()) {
+    agents::named_logger("quiver run")->error("{}", agent.error().to_string());
+    return 2;
+  }
+  if (f.process.world.empty()) f.process.world_text = std::string(agents::agm::world_json());
+  return agents::run_process(**agent, f.process);
+}
+
 int run_role(RunFlags f) {
+  if (agents::agm::is_role(f.role)) return run_agm_role(std::move(f));
   barthel::RoleOptions ro;
   ro.out_dir = f.out;
   ro.name = f.name;
@@ -67,7 +87,9 @@ int run_role(RunFlags f) {
   }
   auto agent = barthel::make_role(f.role, ro);
   if (!agent.ok()) {
-    agents::named_logger("quiver run")->error("{}", agent.error().to_string());
+    std::string agm_roles;
+    for (const auto& r : agents::agm::role_names()) agm_roles += (agm_roles.empty() ? "" : ", ") + r;
+    agents::named_logger("quiver run")->error("{}; AGM roles: {}", agent.error().to_string(), agm_roles);
     return 2;
   }
   if (f.process.world.empty()) f.process.world_text = std::string(barthel::world_json());
@@ -223,8 +245,10 @@ int run_barthel(const ScenarioFlags& f) {
 
 void add_barthel_commands(CLI::App& app) {
   auto rf = std::make_shared<RunFlags>();
-  auto* run = app.add_subcommand("run", "Run one agent of the Barthel test as this process (over DDS)");
-  run->add_option("role", rf->role, "planner | speech | panel | person | patient")->required();
+  auto* run = app.add_subcommand("run", "Run one agent of the Barthel test or of the AGM scenarios as this process (over DDS)");
+  run->add_option("role", rf->role,
+                  "Barthel: planner | speech | panel | person | patient; AGM: navigation | rooms | grasping | humans")
+      ->required();
   rf->process.add_all(run);
   run->add_option("--out", rf->out, "real devices write here (WAVs, screen PNGs, result.json); none: simulated devices");
   run->add_option("--name", rf->name, "the agent's name (default: the role; a second planner needs another)");
@@ -235,6 +259,9 @@ void add_barthel_commands(CLI::App& app) {
   run->add_option("--words-ms", rf->words_ms, "simulated speech: milliseconds per word")->check(CLI::Range(1.0, 5000.0));
   run->add_option("--answer-timeout", rf->answer_timeout_s, "planner: seconds to wait for an answer")
       ->check(CLI::Range(0.1, 600.0));
+  run->add_flag("--measure-humans", rf->measure_humans,
+                "AGM navigation, rooms, grasping: measure how fresh the human joints are when they arrive (status line)");
+  run->add_flag("--quiet-when-done", rf->quiet_when_done, "AGM navigation: stop publishing once the route is done");
   run->callback([rf] { set_exit_code(run_role(*rf)); });
 
   auto sf = std::make_shared<ScenarioFlags>();

@@ -16,6 +16,8 @@ void add_dds_bench_commands(CLI::App& app);
 void add_agents_bench_commands(CLI::App& app);
 /// run ROLE, scenario barthel.
 void add_barthel_commands(CLI::App& app);
+/// scenario agm, bench humans (needs add_bench_commands and add_barthel_commands first).
+void add_agm_commands(CLI::App& app);
 /// render (a picture of a world, a recording's state or a live domain), timeline (a recording's
 /// evolution as PNG frames or an MP4).
 void add_render_commands(CLI::App& app);

@@ -1,3 +1,4 @@
+#include <algorithm>
 #include <cstdio>
 #include <iostream>
 
@@ -6,6 +7,7 @@
 #include "quiver/agents/runtime/logging.h"
 #include <nlohmann/json.hpp>
 
+#include "quiver/sim/agm_scenario.h"
 #include "quiver/sim/scenario.h"
 #include "quiver/sim/simulator.h"
 
@@ -30,14 +32,55 @@ void add_sim_command(CLI::App& app) {
   cmd->add_flag("-v,--verbose", *verbose, "narrate faults and phases on stderr");
   auto scenario = std::make_shared<std::string>();
   auto schedules = std::make_shared<int>(0);
-  cmd->add_option("--scenario", *scenario, "run a Barthel scenario file (agents, patient, faults, checks) instead")
+  cmd->add_option("--scenario", *scenario,
+                  "run a Barthel scenario file (agents, patient, faults, checks) instead; with --agm, an AGM one")
       ->check(CLI::ExistingFile);
   cmd->add_option("--schedules", *schedules,
                   "run N random fault schedules of the Barthel scenario (seeds --seed .. --seed+N-1)")
       ->check(CLI::Range(1, 1'000'000));
-  cmd->callback([cfg, verbose, scenario, schedules] {
+  auto agm = std::make_shared<bool>(false);
+  cmd->add_flag("--agm", *agm,
+                "the AGM scenarios (navigation, rooms, grasping, humans): one run without faults, or with --schedules N "
+                "random fault schedules");
+  cmd->callback([cfg, verbose, scenario, schedules, agm] {
     auto log = agents::named_logger("quiver sim");
     auto narrate = [log](std::int64_t t, const std::string& line) { log->info("[{:8.3f} s] {}", static_cast<double>(t) / 1e9, line); };
+    if (*agm) {
+      const int n = scenario->empty() ? std::max(1, *schedules) : 1;
+      int failed = 0;
+      ProgressLine progress("schedules", n);
+      for (int k = 0; k < n; ++k) {
+        const std::uint64_t seed = cfg->seed + static_cast<std::uint64_t>(k);
+        sim::AgmScenario s = *schedules > 0 ? sim::AgmScenario::random_faults(seed) : sim::AgmScenario{};
+        if (!scenario->empty()) {
+          auto loaded = sim::AgmScenario::load(*scenario);
+          if (!loaded.ok()) {
+            log->error("{}", loaded.error().to_string());
+            set_exit_code(2);
+            return;
+          }
+          s = *loaded;
+        }
+        if (*verbose) log->info("AGM scenario {}, seed {}", s.name, seed);
+        sim::AgmResult r = sim::run_agm_scenario(s, seed, *verbose ? narrate : std::function<void(std::int64_t, const std::string&)>{});
+        if (!r.passed) ++failed;
+        progress.update(k + 1, std::to_string(failed) + " failed");
+        if (!r.passed || n == 1) {
+          progress.clear();
+          nlohmann::json j = r.to_json();
+          if (!r.passed)
+            j["replay"] = std::string("quiver sim --agm ") + (scenario->empty() ? "" : "--scenario " + *scenario + " ") +
+                          (*schedules > 0 ? "--schedules 1 " : "") + "--seed " + std::to_string(seed);
+          std::cout << j.dump() << std::endl;
+        }
+      }
+      progress.finish();
+      if (n > 1)
+        std::cout << nlohmann::json{{"agm_schedules", n}, {"passed", n - failed}, {"failed", failed}, {"first_seed", cfg->seed}}.dump()
+                  << std::endl;
+      set_exit_code(failed ? 1 : 0);
+      return;
+    }
     if (!scenario->empty() || *schedules > 0) {
       std::vector<std::pair<sim::Scenario, std::uint64_t>> runs;
       if (!scenario->empty()) {

@@ -1,0 +1,60 @@
+#include "quiver/agents/agm/roles.h"
+
+#include "quiver/agents/agm/schema.h"
+
+namespace quiver::agents::agm {
+
+const std::vector<std::string>& role_names() {
+  static const std::vector<std::string> kRoles = {"navigation", "rooms", "grasping", "humans"};
+  return kRoles;
+}
+
+bool is_role(std::string_view role) {
+  for (const auto& r : role_names())
+    if (r == role) return true;
+  return false;
+}
+
+namespace {
+
+Result<std::unique_ptr<Agent>> make_agent(std::string_view role, const AgmRoleOptions& o) {
+  auto name = [&](std::string_view fallback) {
+    return o.name.empty() ? std::string(fallback) : o.name;
+  };
+  if (role == "navigation") {
+    auto platform =
+        o.platform ? o.platform : std::make_shared<Platform>(default_route(), default_start());
+    NavigationOptions n = o.navigation;
+    n.measure_humans = n.measure_humans || o.measure_humans;
+    return std::unique_ptr<Agent>(std::make_unique<Navigation>(platform, n, name(role)));
+  }
+  if (role == "rooms") {
+    RoomsOptions r = o.rooms;
+    r.measure_humans = r.measure_humans || o.measure_humans;
+    return std::unique_ptr<Agent>(std::make_unique<Rooms>(r, name(role)));
+  }
+  if (role == "grasping") {
+    GraspingOptions gr = o.grasping;
+    gr.measure_humans = gr.measure_humans || o.measure_humans;
+    return std::unique_ptr<Agent>(std::make_unique<Grasping>(gr, name(role)));
+  }
+  if (role == "humans")
+    return std::unique_ptr<Agent>(std::make_unique<Humans>(o.humans, name(role)));
+  std::string known;
+  for (const auto& r : role_names()) known += (known.empty() ? "" : ", ") + r;
+  return make_error(ErrorCode::kInvalidArgument,
+                    "unknown AGM role '" + std::string(role) + "' (roles: " + known + ")");
+}
+
+}  // namespace
+
+Result<std::unique_ptr<Agent>> make_role(std::string_view role, const AgmRoleOptions& o) {
+  auto a = make_agent(role, o);
+  if (!a.ok()) return a;
+  for (const auto& other : role_names())
+    if (other != role)
+      (*a)->add_peer_grammar(other, std::string(role_grammar(other)), other + ".aggl");
+  return a;
+}
+
+}  // namespace quiver::agents::agm

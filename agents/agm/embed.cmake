@@ -1,0 +1,15 @@
+# Writes OUT: a C++ file whose embedded_file(name) returns the contents of each of FILES by file
+# name (the AGM scenario's world and grammars, shipped as files and compiled in).
+set(body "#include <string_view>\n#include \"quiver/agents/agm/schema.h\"\nnamespace quiver::agents::agm {\nnamespace {\nstruct File { std::string_view name, text; };\nconstexpr File kFiles[] = {\n")
+string(REPLACE "," ";" FILES "${FILES}")
+foreach(f ${FILES})
+  file(READ ${f} text)
+  get_filename_component(name ${f} NAME)
+  string(FIND "${text}" ")QUIVER_EMBED\"" bad)
+  if(NOT bad EQUAL -1)
+    message(FATAL_ERROR "${f} contains the embedding delimiter")
+  endif()
+  string(APPEND body "  {\"${name}\", R\"QUIVER_EMBED(${text})QUIVER_EMBED\"},\n")
+endforeach()
+string(APPEND body "};\n}  // namespace\nstd::string_view embedded_file(std::string_view name) {\n  for (const File& f : kFiles) if (f.name == name) return f.text;\n  return {};\n}\n}  // namespace quiver::agents::agm\n")
+file(WRITE ${OUT} "${body}")

@@ -1,0 +1,79 @@
+#include "quiver/agents/agm/navigation.h"
+
+#include <cmath>
+#include <nlohmann/json.hpp>
+
+#include "quiver/agents/agm/schema.h"
+
+namespace quiver::agents::agm {
+
+using graph::NodeId;
+using graph::Symbol;
+using graph::Value;
+
+Navigation::Navigation(std::shared_ptr<Platform> platform, NavigationOptions o, std::string name)
+    : Agent(std::move(name)), platform_(std::move(platform)), opt_(o) {
+  set_grammar_text(std::string(role_grammar("navigation")), "navigation.aggl");
+}
+
+void Navigation::setup(AgentContext& ctx) {
+  // The route starts once: a restarted agent finds the start in the graph (the platform device
+  // itself may have outlived the agent, as in the simulator).
+  graph::Graph& g = ctx.graph();
+  const NodeId robot = node_id(g, node::kRobot);
+  if (!platform_->started()) {
+    const Value* t0 = robot.is_null() ? nullptr : g.attr(robot, attr::kRouteT0);
+    platform_->start(t0 && t0->get_if<std::int64_t>() ? *t0->get_if<std::int64_t>() : ctx.now());
+    // ... and whether its wait for the grasp had already been released.
+    const Value* rel = robot.is_null() ? nullptr : g.attr(robot, attr::kRouteRelease);
+    if (rel && rel->get_if<std::int64_t>()) (void)platform_->release(*rel->get_if<std::int64_t>());
+  }
+  if (opt_.measure_humans) probe_.attach(*this, ctx);
+  ctx.every(static_cast<std::int64_t>(1e9 / opt_.rate_hz), [this, &ctx] { frame(ctx); });
+}
+
+void Navigation::frame(AgentContext& ctx) {
+  graph::Graph& g = ctx.graph();
+  const NodeId robot = node_id(g, node::kRobot), world = node_id(g, node::kWorld);
+  if (robot.is_null() || world.is_null()) return;
+  const std::int64_t now = ctx.now();
+  const bool moved = platform_->moved_between(now - opt_.moved_window_ns, now);
+  const bool flagged = g.has_edge(robot, robot, edge::kMoved);
+  if (opt_.quiet_when_done && platform_->finished(now) && !moved && !flagged) return;
+
+  graph::Transaction tx = g.begin();
+  Status s;
+  if (!g.attr(robot, attr::kRouteT0)) s = tx.set(robot, attr::kRouteT0, Value(platform_->t0()));
+  // The grasp is done: the platform may go on (the robot carries something it was to fetch).
+  if (s.ok() && platform_->waiting(now) && !g.edges_from(robot, edge::kCarrying).empty() &&
+      platform_->release(now))
+    s = tx.set(robot, attr::kRouteRelease, Value(now));
+  const Pose2 p = platform_->pose(now);
+  graph::Pose X_WR;
+  Rng& rng = ctx.rng();
+  auto noise = [&] { return opt_.jitter_m * (2 * rng.uniform() - 1); };
+  X_WR.translation = {p.x + noise(), p.y + noise(), 0.0};
+  X_WR.rotation = {std::cos(p.yaw / 2), 0.0, 0.0, std::sin(p.yaw / 2)};
+  if (s.ok()) s = tx.set_rt(world, robot, X_WR, now);
+  // One rule at most per transaction: the predicate follows the odometry.
+  if (s.ok() && moved && !flagged)
+    s = tx.insert_edge(robot, robot, Symbol(edge::kMoved), {{Symbol("since_ns"), Value(now)}});
+  if (s.ok() && !moved && flagged) s = tx.delete_edge(robot, robot, Symbol(edge::kMoved));
+  if (!s.ok() || !tx.commit().ok()) {
+    ++refused_;
+    return;
+  }
+  ++frames_;
+  if (moved && !flagged) ++moved_set_;
+  if (!moved && flagged) ++moved_cleared_;
+}
+
+void Navigation::status(nlohmann::json& out) const {
+  out["frames"] = frames_;
+  out["refused"] = refused_;
+  out["moved_set"] = moved_set_;
+  out["moved_cleared"] = moved_cleared_;
+  if (opt_.measure_humans) probe_.to_json(out["humans_latency"]);
+}
+
+}  // namespace quiver::agents::agm
