@@ -14,6 +14,7 @@
 #include "bench_stats.h"
 #include "commands.h"
 #include "dds_options.h"
+#include "quiver/agents/agm/clean_table.h"
 #include "quiver/agents/agm/roles.h"
 #include "quiver/agents/agm/schema.h"
 #include "quiver/agents/runtime/logging.h"
@@ -120,9 +121,182 @@ struct AgmScenarioFlags {
   std::string kill;  ///< kill -9 this agent at kill_at_s and restart it restart_after_s later
   double kill_at_s = 12;
   double restart_after_s = 1;
+  std::string mission;  ///< "" or clean-table
 };
 
+// quiver scenario agm --mission clean-table: the planner agent as a fifth process; navigation
+// and grasping follow its plan. Checked on the observer's final replica: the mission holds, the
+// plan is achieved, the first plan replays through the grammar guard, each mug grasped and
+// released once, replicas equal.
+int run_agm_clean_table(const AgmScenarioFlags& f) {
+  auto log = agents::named_logger("quiver scenario");
+  const std::string out = make_out(f.out, "quiver-agm-clean-table");
+  agents::DdsReplicaOptions o;
+  o.name = "agm-observer";
+  o.observer = true;
+  auto created = f.dds.create_agent(o);
+  if (!created.ok()) {
+    log->error("{}", created.error().to_string());
+    return 2;
+  }
+  agents::DdsReplica& obs = **created;
+  graph::Graph& g = obs.graph();
+  const std::int64_t t_start = agents::monotonic_ns();
+  auto elapsed = [&] { return static_cast<double>(agents::monotonic_ns() - t_start) / 1e9; };
+  auto say = [&](const std::string& line) {
+    std::printf("[%6.2f s] %s\n", elapsed(), line.c_str());
+    std::fflush(stdout);
+  };
+  std::map<std::int64_t, std::string> plans;
+  std::map<std::string, int> grasped, released;
+  int room_changes = 0, carrying_now = 0, max_carrying = 0;
+  std::string last_next;
+  std::vector<std::string> failures;
+  g.subscribe([&](const graph::ChangeBatch& b) {
+    const NodeId robot = agm::node_id(g, agm::node::kRobot);
+    if (robot.is_null()) return;
+    for (const graph::EdgeChange& e : b.edges) {
+      if (e.key.from != robot) continue;
+      const std::string type(e.key.type.str()), to = g.name_of(e.key.to);
+      const bool made = e.kind == graph::ChangeKind::kCreated,
+                 gone = e.kind == graph::ChangeKind::kDeleted;
+      if (type == agm::edge::kIn && made && g.edge_attr(e.key, "committed_ns")) {
+        ++room_changes;
+        say("changeRoom -> " + to);
+      } else if (type == agm::edge::kReach && made && g.edge_attr(e.key, "distance")) {
+        say("reach " + to);
+      } else if (type == agm::edge::kCarrying && made) {
+        ++grasped[to];
+        max_carrying = std::max(max_carrying, ++carrying_now);
+        say("grasped " + to + " (off the table)");
+      } else if (type == agm::edge::kCarrying && gone) {
+        ++released[to];
+        --carrying_now;
+        say("released " + to);
+      }
+    }
+    const NodeId plan = agm::node_id(g, "plan");
+    if (plan.is_null()) return;
+    auto v = g.get<std::int64_t>(plan, "version");
+    auto steps = g.get<std::string>(plan, "steps");
+    if (v.ok() && steps.ok() && !steps->empty() && !plans.count(*v)) {
+      plans[*v] = *steps;
+      say("plan " + std::to_string(*v) + " written by the planner agent:\n" + *steps);
+    }
+    auto status = g.get<std::string>(plan, "status");
+    auto next = g.get<std::int64_t>(plan, "next");
+    const std::string now_next = (status.ok() ? *status : "") + " " +
+                                 (next.ok() ? std::to_string(*next + 1) : "");
+    if (now_next != last_next) {
+      last_next = now_next;
+      if (auto st = agm::next_plan_step(g))
+        say("plan: next step " + std::to_string(st->index + 1) + " (" + st->rule + ")");
+      else if (status.ok())
+        say("plan: " + *status);
+    }
+  });
+
+  std::printf(
+      "Clean the table over Cyclone DDS (domain %u, loopback): the planner agent, navigation, "
+      "rooms, grasping and humans, one process each, no executive.\nLogs: %s/logs/\n\n",
+      f.dds.domain, out.c_str());
+  AgmProcesses procs(f.dds, out);
+  const std::vector<std::string> mission = {"--mission", agm::kCleanTable};
+  auto with = [&](std::vector<std::string> a) {
+    a.insert(a.end(), mission.begin(), mission.end());
+    return a;
+  };
+  if (!procs.start("navigation", with({"--measure-humans", "--quiet-when-done"})) ||
+      !procs.start("rooms", with({"--measure-humans"})) ||
+      !procs.start("grasping", with({"--measure-humans"})) ||
+      !procs.start(agm::kPlannerRole, with({})) || !procs.start("humans", with({}))) {
+    log->error("cannot start {} run ROLE", self_executable());
+    return 2;
+  }
+  const std::int64_t deadline = t_start + static_cast<std::int64_t>(f.timeout_s * 1e9);
+  std::int64_t achieved_at = -1;
+  while (agents::monotonic_ns() < deadline) {
+    obs.spin_once(20 * kMs);
+    const NodeId plan = agm::node_id(g, "plan"), robot = agm::node_id(g, agm::node::kRobot);
+    auto status = plan.is_null() ? Result<std::string>(make_error(ErrorCode::kNotFound, "plan"))
+                                 : g.get<std::string>(plan, "status");
+    const bool achieved = status.ok() && *status == "achieved";
+    if (!achieved) {
+      achieved_at = -1;
+      continue;
+    }
+    if (achieved_at < 0) achieved_at = agents::monotonic_ns();
+    if (!robot.is_null() && !g.has_edge(robot, robot, agm::edge::kMoved) &&
+        agents::monotonic_ns() > achieved_at + 2 * kSec)
+      break;
+  }
+  if (achieved_at < 0)
+    failures.push_back("the plan was not achieved within " + std::to_string(f.timeout_s) + " s");
+
+  auto humans = procs.stop("humans");
+  obs.spin_for(500 * kMs);
+  std::map<std::string, json> finals;
+  for (const char* role : {"navigation", "rooms", "grasping", agm::kPlannerRole})
+    if (auto st = procs.stop(role)) finals[role] = *st;
+  obs.spin_for(500 * kMs);
+
+  agm::CleanTableReport rep = agm::check_clean_table(g);
+  if (!rep.mission_holds) {
+    std::string why;
+    for (const auto& m : rep.missing) why += (why.empty() ? "" : "; ") + m;
+    failures.push_back("the mission does not hold on the final replica: " + why);
+  }
+  if (rep.plan_status != "achieved")
+    failures.push_back("the plan node says '" + rep.plan_status + "'");
+  std::string verified = "no plan";
+  if (plans.empty()) {
+    failures.push_back("the observer saw no plan");
+  } else {
+    Status v = agm::verify_clean_table_plan(plans.begin()->second);
+    verified = v.ok() ? "ok" : v.error().to_string();
+    if (!v.ok()) failures.push_back("the first plan does not replay through the guard: " + verified);
+  }
+  for (const char* mug : {"mug", "mug2"})
+    if (grasped[mug] != 1 || released[mug] != 1)
+      failures.push_back(std::string(mug) + " grasped " + std::to_string(grasped[mug]) +
+                         " and released " + std::to_string(released[mug]) + " times");
+  if (max_carrying > 1) failures.push_back("two objects carried at once");
+  const std::string digest = g.digest().hex();
+  bool equal = finals.size() == 4;
+  for (const auto& [role, st] : finals)
+    if (st.value("digest", "") != digest) {
+      failures.push_back(role + "'s replica differs from the observer's at the end");
+      equal = false;
+    }
+  if (finals.size() != 4) failures.push_back("not every agent reported its final state");
+  if (humans) finals["humans"] = *humans;
+  for (const auto& [role, st] : finals)
+    if (st.value("exit_status", -1) != 0)
+      failures.push_back(role + " exited with status " +
+                         std::to_string(st.value("exit_status", -1)));
+  agm::LatencyProbe pooled;
+  for (const auto& [role, st] : finals)
+    if (st.contains("humans_latency")) pooled.merge_json(st["humans_latency"]);
+  std::printf(
+      "\nChecks: mission %s on the final replica; plan '%s' (version %lld, %lld replans), its "
+      "first version through the grammar guard: %s; %d changeRoom; mugs grasped/released "
+      "%d/%d and %d/%d; human joints reached the others: p50 %.0f us, p99 %.0f us (%llu poses); "
+      "replicas %s.\n",
+      rep.mission_holds ? "holds" : "does NOT hold", rep.plan_status.c_str(),
+      static_cast<long long>(rep.version), static_cast<long long>(rep.replans), verified.c_str(),
+      room_changes, grasped["mug"], released["mug"], grasped["mug2"], released["mug2"],
+      pooled.percentile_us(0.5), pooled.percentile_us(0.99),
+      static_cast<unsigned long long>(pooled.count()),
+      (equal ? "all equal (digest " + digest.substr(0, 12) + ")" : std::string("NOT equal"))
+          .c_str());
+  for (const auto& d : failures) std::printf("  FAILED: %s\n", d.c_str());
+  std::printf(failures.empty() ? "The mission holds; the run passed its checks.\n"
+                               : "The run FAILED its checks.\n");
+  return failures.empty() ? 0 : 1;
+}
+
 int run_agm_scenario(const AgmScenarioFlags& f) {
+  if (f.mission == agm::kCleanTable) return run_agm_clean_table(f);
   auto log = agents::named_logger("quiver scenario");
   const std::string out = make_out(f.out, "quiver-agm");
   agents::DdsReplicaOptions o;
@@ -403,6 +577,7 @@ struct HumansBenchFlags {
   std::string out;
   double seconds = 10;
   double max_p99_ms = 10;
+  bool no_planner = false;
 };
 
 int run_humans_bench(const HumansBenchFlags& f) {
@@ -410,14 +585,23 @@ int run_humans_bench(const HumansBenchFlags& f) {
   const std::string out = make_out(f.out, "quiver-bench-humans");
   AgmProcesses procs(f.dds, out);
   const std::vector<std::string> others = {"navigation", "rooms", "grasping"};
+  // With the planner (the default): the clean-the-table mission, the planner agent planning
+  // and tracking the plan, navigation and grasping following it.
+  std::vector<std::string> mission;
+  if (!f.no_planner) mission = {"--mission", agm::kCleanTable};
+  auto with = [&](std::vector<std::string> a) {
+    a.insert(a.end(), mission.begin(), mission.end());
+    return a;
+  };
   for (const auto& r : others)
-    if (!procs.start(r, {"--measure-humans"})) {
+    if (!procs.start(r, with({"--measure-humans"}))) {
       log->error("cannot start {} run {}", self_executable(), r);
       return 2;
     }
+  if (!f.no_planner && !procs.start(agm::kPlannerRole, with({}))) return 2;
   // The others join and warm up (their probes start 0.5 s after their setup) before tracking.
   ::usleep(3'000'000);
-  if (!procs.start("humans", {})) return 2;
+  if (!procs.start("humans", with({}))) return 2;
   ::usleep(static_cast<useconds_t>((1.0 + f.seconds) * 1e6));  // 1 s: the tracker's own join wait
   auto humans = procs.stop("humans");
   ::usleep(300'000);
@@ -426,6 +610,15 @@ int run_humans_bench(const HumansBenchFlags& f) {
   std::uint64_t deliveries = 0;
   double delivery_secs = 0;
   std::map<std::string, int> exit_statuses;
+  json planner_status;
+  if (!f.no_planner) {
+    auto st = procs.stop(agm::kPlannerRole);
+    exit_statuses[agm::kPlannerRole] = st ? st->value("exit_status", -1) : -1;
+    planner_status = {{"running", st.has_value()}};
+    if (st)
+      for (const char* k : {"planner", "plans", "replans", "exit_status"})
+        if (st->contains(k)) planner_status[k] = (*st)[k];
+  }
   for (const auto& r : others) {
     auto st = procs.stop(r);
     if (!st || !st->contains("humans_latency")) {
@@ -474,6 +667,11 @@ int run_humans_bench(const HumansBenchFlags& f) {
   res["p99_limit_ms"] = f.max_p99_ms;
   bool clean = humans && humans->value("exit_status", -1) == 0;
   for (const auto& r : others) clean = clean && exit_statuses[r] == 0;
+  if (!f.no_planner) {
+    clean = clean && exit_statuses[agm::kPlannerRole] == 0;
+    res["planner"] = planner_status;
+    res["mission"] = agm::kCleanTable;
+  }
   res["agents_exited_cleanly"] = clean;
   const bool ok = clean && deliveries > 0 && pooled.percentile_us(0.99) <= f.max_p99_ms * 1e3;
   res["ok"] = ok;
@@ -506,6 +704,10 @@ void add_agm_commands(CLI::App& app) {
   a->add_option("--kill", sf->kill,
                 "kill -9 this agent (navigation, rooms, grasping, humans) mid-run and restart it")
       ->check(CLI::IsMember(agm::role_names()));
+  a->add_option("--mission", sf->mission,
+                "clean-table: the planner agent runs too (a fifth process) and navigation and "
+                "grasping follow its plan: both mugs from the table to the kitchen")
+      ->check(CLI::IsMember({"", "clean-table"}));
   a->add_option("--kill-at", sf->kill_at_s, "... this many seconds after the start")
       ->check(CLI::Range(0.0, 3600.0))
       ->capture_default_str();
@@ -529,6 +731,9 @@ void add_agm_commands(CLI::App& app) {
   h->add_option("--max-p99-ms", bf->max_p99_ms, "exit 1 when the p99 latency exceeds this")
       ->check(CLI::Range(0.01, 10000.0))
       ->capture_default_str();
+  h->add_flag("--no-planner", bf->no_planner,
+              "without the planner agent: the fixed route (default: the clean-the-table mission, "
+              "the planner agent planning and tracking, navigation and grasping following it)");
   h->add_option("--out", bf->out,
                 "logs go to OUT/logs (default: a new /tmp/quiver-bench-humans-*)");
   h->callback([bf] { set_exit_code(run_humans_bench(*bf)); });

@@ -38,6 +38,7 @@ struct RunFlags {
   double words_ms = 250;
   bool measure_humans = false;
   bool quiet_when_done = false;
+  std::string mission;
 };
 
 Result<barthel::PatientScript> load_script(const std::string& path) {
@@ -58,17 +59,21 @@ int run_agm_role(RunFlags f) {
   ro.name = f.name;
   ro.measure_humans = f.measure_humans;
   ro.navigation.quiet_when_done = f.quiet_when_done;
+  ro.clean_table = f.mission == agents::agm::kCleanTable;
   auto agent = agents::agm::make_role(f.role, ro);
   if (!agent.ok()) {
     agents::named_logger("quiver run")->error("{}", agent.error().to_string());
     return 2;
   }
-  if (f.process.world.empty()) f.process.world_text = std::string(agents::agm::world_json());
+  if (f.process.world.empty())
+    f.process.world_text = std::string(ro.clean_table || f.role == agents::agm::kPlannerRole
+                                           ? agents::agm::embedded_file("clean-table.json")
+                                           : agents::agm::world_json());
   return agents::run_process(**agent, f.process);
 }
 
 int run_role(RunFlags f) {
-  if (agents::agm::is_role(f.role)) return run_agm_role(std::move(f));
+  if (agents::agm::is_role_or_planner(f.role)) return run_agm_role(std::move(f));
   barthel::RoleOptions ro;
   ro.out_dir = f.out;
   ro.name = f.name;
@@ -247,7 +252,7 @@ void add_barthel_commands(CLI::App& app) {
   auto rf = std::make_shared<RunFlags>();
   auto* run = app.add_subcommand("run", "Run one agent of the Barthel test or of the AGM scenarios as this process (over DDS)");
   run->add_option("role", rf->role,
-                  "Barthel: planner | speech | panel | person | patient; AGM: navigation | rooms | grasping | humans")
+                  "Barthel: planner | speech | panel | person | patient; AGM: navigation | rooms | grasping | humans | agm-planner")
       ->required();
   rf->process.add_all(run);
   run->add_option("--out", rf->out, "real devices write here (WAVs, screen PNGs, result.json); none: simulated devices");
@@ -262,6 +267,9 @@ void add_barthel_commands(CLI::App& app) {
   run->add_flag("--measure-humans", rf->measure_humans,
                 "AGM navigation, rooms, grasping: measure how fresh the human joints are when they arrive (status line)");
   run->add_flag("--quiet-when-done", rf->quiet_when_done, "AGM navigation: stop publishing once the route is done");
+  run->add_option("--mission", rf->mission,
+                  "AGM: clean-table (its world; navigation and grasping follow the plan agm-planner writes)")
+      ->check(CLI::IsMember({"", "clean-table"}));
   run->callback([rf] { set_exit_code(run_role(*rf)); });
 
   auto sf = std::make_shared<ScenarioFlags>();

@@ -42,7 +42,12 @@ void add_sim_command(CLI::App& app) {
   cmd->add_flag("--agm", *agm,
                 "the AGM scenarios (navigation, rooms, grasping, humans): one run without faults, or with --schedules N "
                 "random fault schedules");
-  cmd->callback([cfg, verbose, scenario, schedules, agm] {
+  auto mission = std::make_shared<std::string>();
+  cmd->add_option("--mission", *mission,
+                  "with --agm: clean-table (the planner agent plans, navigation and grasping follow its plan: both mugs "
+                  "from the table to the kitchen)")
+      ->check(CLI::IsMember({"", "clean-table"}));
+  cmd->callback([cfg, verbose, scenario, schedules, agm, mission] {
     auto log = agents::named_logger("quiver sim");
     auto narrate = [log](std::int64_t t, const std::string& line) { log->info("[{:8.3f} s] {}", static_cast<double>(t) / 1e9, line); };
     if (*agm) {
@@ -51,7 +56,11 @@ void add_sim_command(CLI::App& app) {
       ProgressLine progress("schedules", n);
       for (int k = 0; k < n; ++k) {
         const std::uint64_t seed = cfg->seed + static_cast<std::uint64_t>(k);
-        sim::AgmScenario s = *schedules > 0 ? sim::AgmScenario::random_faults(seed) : sim::AgmScenario{};
+        sim::AgmScenario s = *schedules > 0 ? sim::AgmScenario::random_faults(seed, *mission) : sim::AgmScenario{};
+        if (*schedules == 0 && !mission->empty()) {
+          s.name = *mission;
+          s.mission = *mission;
+        }
         if (!scenario->empty()) {
           auto loaded = sim::AgmScenario::load(*scenario);
           if (!loaded.ok()) {
@@ -70,6 +79,7 @@ void add_sim_command(CLI::App& app) {
           nlohmann::json j = r.to_json();
           if (!r.passed)
             j["replay"] = std::string("quiver sim --agm ") + (scenario->empty() ? "" : "--scenario " + *scenario + " ") +
+                          (mission->empty() || !scenario->empty() ? "" : "--mission " + *mission + " ") +
                           (*schedules > 0 ? "--schedules 1 " : "") + "--seed " + std::to_string(seed);
           std::cout << j.dump() << std::endl;
         }

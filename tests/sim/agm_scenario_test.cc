@@ -8,6 +8,7 @@
 #include <gtest/gtest.h>
 
 #include <nlohmann/json.hpp>
+#include <tuple>
 
 #include "test_seed.h"
 
@@ -84,6 +85,98 @@ TEST(AgmScenario, FaultSchedulesKeepTheFacts) {
     EXPECT_TRUE(r.passed) << "replay: quiver sim --agm --schedules 1 --seed " << seed << "\n"
                           << r.to_json().dump();
   }
+}
+
+// Clean the table (agents/agm/clean_table.h): the planner agent plans from the world, writes
+// the plan into the graph, navigation and grasping follow its next step; both mugs end in the
+// kitchen, one carried at a time; the plan replays through the grammar guard.
+AgmScenario clean_table() {
+  AgmScenario s;
+  s.name = "clean-table";
+  s.mission = "clean-table";
+  return s;
+}
+
+TEST(AgmCleanTable, ThePlannerReachesTheMissionEndToEnd) {
+  const std::uint64_t seed = testing::base_seed("AgmCleanTable.EndToEnd", 1);
+  AgmResult r = run(clean_table(), seed);
+  EXPECT_TRUE(r.passed) << r.to_json().dump();
+  EXPECT_TRUE(r.mission_holds);
+  EXPECT_EQ(r.plan_status, "achieved");
+  EXPECT_EQ(r.plan_verified, "ok");
+  EXPECT_EQ(r.plan_version, 1);
+  EXPECT_EQ(r.replans, 0);
+  EXPECT_EQ(r.plan_steps, 14) << "two trips: 4 room changes, approach, grasp and release each";
+  EXPECT_EQ(r.grasps, 2);
+  EXPECT_EQ(r.releases, 2);
+  EXPECT_EQ(r.room_changes, 8);
+  EXPECT_EQ(r.expected_room_changes, 8);
+  EXPECT_EQ(r.final_room, "kitchen");
+  EXPECT_TRUE(r.converged);
+  EXPECT_GT(r.human_deliveries, 0u);
+}
+
+TEST(AgmCleanTable, WithoutThePlannerNothingHappensAndTheCheckFails) {
+  // The control: the planner killed at once and never restarted before the limit; the mission
+  // must then be reported as not holding.
+  AgmScenario s = clean_table();
+  s.humans = false;
+  s.limit_s = 45;
+  FaultEvent kill;
+  kill.kind = FaultEvent::Kind::kKill;
+  kill.agent = "agm-planner";
+  kill.at_s = 0.0;
+  s.faults.push_back(kill);
+  AgmResult r = run(s, 1);
+  EXPECT_FALSE(r.passed);
+  EXPECT_FALSE(r.mission_holds) << r.to_json().dump();
+}
+
+TEST(AgmCleanTable, ThePlannerKilledMidPlanContinuesFromTheGraph) {
+  // kill -9 of the planner during the first trip and of navigation during the second: a new
+  // planner incarnation finds the plan in the graph and tracks it on.
+  AgmScenario s = clean_table();
+  s.humans_hz = 10;
+  for (auto [at, agent, kind] : {std::tuple{8.0, "agm-planner", FaultEvent::Kind::kKill},
+                                 std::tuple{9.5, "agm-planner", FaultEvent::Kind::kRestart},
+                                 std::tuple{30.0, "navigation", FaultEvent::Kind::kKill},
+                                 std::tuple{31.0, "navigation", FaultEvent::Kind::kRestart}}) {
+    FaultEvent e;
+    e.kind = kind;
+    e.agent = agent;
+    e.at_s = at;
+    s.faults.push_back(e);
+  }
+  const std::uint64_t seed = testing::base_seed("AgmCleanTable.Killed", 3);
+  AgmResult r = run(s, seed);
+  EXPECT_TRUE(r.passed) << r.to_json().dump();
+  EXPECT_EQ(r.kills, 2);
+  EXPECT_TRUE(r.mission_holds);
+}
+
+TEST(AgmCleanTable, FaultSchedulesStillReachTheMission) {
+  const std::uint64_t base = testing::base_seed("AgmCleanTable.FaultSchedules", 200);
+  const int n = testing::seed_count(4);
+  for (int k = 0; k < n; ++k) {
+    const std::uint64_t seed = base + static_cast<std::uint64_t>(k);
+    AgmScenario s = AgmScenario::random_faults(seed, "clean-table");
+    s.humans_hz = 10;
+    AgmResult r = run(s, seed);
+    EXPECT_TRUE(r.passed) << "replay: quiver sim --agm --mission clean-table --schedules 1 --seed "
+                          << seed << "\n"
+                          << r.to_json().dump();
+  }
+}
+
+TEST(AgmCleanTable, ScenarioFilesNameTheMission) {
+  auto s = AgmScenario::parse(nlohmann::json::parse(
+                                  R"({"mission": "clean-table", "faults": [{"at_s": 3, "kill": "agm-planner"}]})"),
+                              "c.json");
+  ASSERT_TRUE(s.ok()) << s.error().to_string();
+  EXPECT_EQ(s->mission, "clean-table");
+  auto bad = AgmScenario::parse(nlohmann::json::parse(R"({"mission": "wash-dishes"})"), "c.json");
+  ASSERT_FALSE(bad.ok());
+  EXPECT_NE(bad.error().message.find("c.json:/mission"), std::string::npos) << bad.error().message;
 }
 
 }  // namespace

@@ -96,6 +96,13 @@ bool Platform::waiting(std::int64_t t) const {
   return false;
 }
 
+void Platform::go_to(std::int64_t t, double x, double y, double speed) {
+  if (!t0_) t0_ = t;
+  const std::int64_t end = end_time().value_or(t);
+  if (t > end) route_.push_back({Leg::Kind::kStand, 0, 0, 0, static_cast<double>(t - end) / 1e9});
+  route_.push_back({Leg::Kind::kDrive, x, y, speed, 0});
+}
+
 bool Platform::release(std::int64_t t) {
   if (release_ || !waiting(t)) return false;
   release_ = t;
@@ -110,8 +117,9 @@ std::vector<std::pair<std::int64_t, std::int64_t>> Platform::drives() const {
 }
 
 std::optional<std::int64_t> Platform::end_time() const {
+  if (!t0_) return std::nullopt;
   auto sp = spans();
-  if (sp.empty()) return std::nullopt;
+  if (sp.empty()) return *t0_;
   return sp.back().end;
 }
 

@@ -1,6 +1,7 @@
 #include "quiver/agents/agm/roles.h"
 
 #include "quiver/agents/agm/schema.h"
+#include "quiver/agents/planner/planner_agent.h"
 
 namespace quiver::agents::agm {
 
@@ -15,6 +16,8 @@ bool is_role(std::string_view role) {
   return false;
 }
 
+bool is_role_or_planner(std::string_view role) { return is_role(role) || role == kPlannerRole; }
+
 namespace {
 
 Result<std::unique_ptr<Agent>> make_agent(std::string_view role, const AgmRoleOptions& o) {
@@ -22,9 +25,12 @@ Result<std::unique_ptr<Agent>> make_agent(std::string_view role, const AgmRoleOp
     return o.name.empty() ? std::string(fallback) : o.name;
   };
   if (role == "navigation") {
-    auto platform =
-        o.platform ? o.platform : std::make_shared<Platform>(default_route(), default_start());
+    auto platform = o.platform ? o.platform
+                               : std::make_shared<Platform>(
+                                     o.clean_table ? std::vector<Leg>{} : default_route(),
+                                     default_start());
     NavigationOptions n = o.navigation;
+    n.follow_plan = n.follow_plan || o.clean_table;
     n.measure_humans = n.measure_humans || o.measure_humans;
     return std::unique_ptr<Agent>(std::make_unique<Navigation>(platform, n, name(role)));
   }
@@ -36,12 +42,23 @@ Result<std::unique_ptr<Agent>> make_agent(std::string_view role, const AgmRoleOp
   if (role == "grasping") {
     GraspingOptions gr = o.grasping;
     gr.measure_humans = gr.measure_humans || o.measure_humans;
+    gr.follow_plan = gr.follow_plan || o.clean_table;
     return std::unique_ptr<Agent>(std::make_unique<Grasping>(gr, name(role)));
   }
   if (role == "humans")
     return std::unique_ptr<Agent>(std::make_unique<Humans>(o.humans, name(role)));
+  if (role == kPlannerRole) {
+    planner::PlannerAgentOptions p;
+    p.domain_text = std::string(embedded_file("clean_table.aggl"));
+    p.domain_source = "clean_table.aggl";
+    p.mission_text = std::string(embedded_file("clean-table.aggt"));
+    p.mission_source = "clean-table.aggt";
+    p.planner.max_expansions = o.planner_max_expansions;
+    return std::unique_ptr<Agent>(std::make_unique<planner::PlannerAgent>(p, name(role)));
+  }
   std::string known;
   for (const auto& r : role_names()) known += (known.empty() ? "" : ", ") + r;
+  known += std::string(", ") + kPlannerRole;
   return make_error(ErrorCode::kInvalidArgument,
                     "unknown AGM role '" + std::string(role) + "' (roles: " + known + ")");
 }

@@ -85,4 +85,85 @@ std::vector<NodeId> room_path(const graph::Graph& g, NodeId from, NodeId to) {
   return path;
 }
 
+namespace {
+
+std::string string_attr(const graph::Graph& g, NodeId n, const char* name) {
+  if (const graph::Value* v = g.attr(n, name))
+    if (const auto* s = v->get_if<std::string>()) return *s;
+  return {};
+}
+
+// A node by its AGM id, or failing that by its name (as the planner prints steps).
+NodeId node_by_key(const graph::Graph& g, const std::string& key) {
+  for (NodeId n : g.nodes())
+    if (string_attr(g, n, "agm_id") == key) return n;
+  return node_id(g, key);
+}
+
+}  // namespace
+
+std::optional<PlanStep> next_plan_step(const graph::Graph& g, std::string_view plan_node) {
+  const NodeId plan = node_id(g, plan_node);
+  if (plan.is_null() || string_attr(g, plan, "status") != "executing") return std::nullopt;
+  PlanStep step;
+  if (const graph::Value* v = g.attr(plan, "next"))
+    if (const auto* i = v->get_if<std::int64_t>()) step.index = *i;
+  if (const graph::Value* v = g.attr(plan, "version"))
+    if (const auto* i = v->get_if<std::int64_t>()) step.version = *i;
+  const std::string steps = string_attr(g, plan, "steps");
+  std::size_t start = 0;
+  std::string line;
+  for (std::int64_t k = 0; start < steps.size(); ++k) {
+    std::size_t end = steps.find('\n', start);
+    if (end == std::string::npos) end = steps.size();
+    if (k == step.index) {
+      line = steps.substr(start, end - start);
+      break;
+    }
+    start = end + 1;
+  }
+  // rule@{'var': 'node', ...}
+  const std::size_t at = line.find("@{");
+  if (at == std::string::npos) return std::nullopt;
+  step.rule = line.substr(0, at);
+  std::vector<std::string> quoted;
+  for (std::size_t i = at + 2; i < line.size();) {
+    const std::size_t a = line.find('\'', i);
+    if (a == std::string::npos) break;
+    const std::size_t b = line.find('\'', a + 1);
+    if (b == std::string::npos) return std::nullopt;
+    quoted.push_back(line.substr(a + 1, b - a - 1));
+    i = b + 1;
+  }
+  if (quoted.size() % 2 != 0) return std::nullopt;
+  for (std::size_t i = 0; i < quoted.size(); i += 2) {
+    const NodeId n = node_by_key(g, quoted[i + 1]);
+    if (n.is_null()) return std::nullopt;
+    step.binding[quoted[i]] = n;
+  }
+  return step;
+}
+
+std::optional<std::array<double, 3>> world_position(const graph::Graph& g, NodeId n) {
+  std::array<double, 3> p{0, 0, 0};
+  bool hangs = false;
+  for (int depth = 0; depth < 64; ++depth) {
+    auto e = g.rt_edge(n);
+    if (!e) break;
+    hangs = true;
+    // p in the parent's frame: R_PC p + t_PC (unit quaternion w, x, y, z).
+    const auto& q = e->pose.rotation;
+    const double w = q[0], x = q[1], y = q[2], z = q[3];
+    const std::array<double, 3> v = p;
+    const std::array<double, 3> r = {
+        (1 - 2 * (y * y + z * z)) * v[0] + 2 * (x * y - w * z) * v[1] + 2 * (x * z + w * y) * v[2],
+        2 * (x * y + w * z) * v[0] + (1 - 2 * (x * x + z * z)) * v[1] + 2 * (y * z - w * x) * v[2],
+        2 * (x * z - w * y) * v[0] + 2 * (y * z + w * x) * v[1] + (1 - 2 * (x * x + y * y)) * v[2]};
+    for (int i = 0; i < 3; ++i) p[i] = r[i] + e->pose.translation[i];
+    n = e->parent;
+  }
+  if (!hangs) return std::nullopt;
+  return p;
+}
+
 }  // namespace quiver::agents::agm

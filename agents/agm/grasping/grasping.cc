@@ -24,6 +24,8 @@ const char* GraspEvent::name() const {
       return "paused";
     case Kind::kGrasped:
       return "grasped";
+    case Kind::kReleased:
+      return "released";
   }
   return "?";
 }
@@ -43,12 +45,17 @@ class GraspAction final : public Action {
     for (const graph::EdgeKey& e : g.edges_from(robot, edge::kFetch))
       if (ready(g, robot, e.to))
         out.push_back(Match{g.name_of(e.to), {{"robot", robot}, {"object", e.to}}});
+    if (const NodeId o = planned(g); !o.is_null() && !g.has_edge(robot, o, edge::kFetch) &&
+                                     ready(g, robot, o) &&
+                                     g.edges_from(robot, edge::kCarrying).empty())
+      out.push_back(Match{g.name_of(o), {{"robot", robot}, {"object", o}}});
     return out;
   }
 
   bool holds(AgentContext& ctx, const Match& m) override {
     const graph::Graph& g = ctx.graph();
-    return g.has_edge(m.at("robot"), m.at("object"), edge::kFetch) &&
+    return (g.has_edge(m.at("robot"), m.at("object"), edge::kFetch) ||
+            planned(g) == m.at("object")) &&
            g.has_edge(m.at("robot"), m.at("object"), edge::kReach) && agent_.platform_still(ctx);
   }
 
@@ -80,7 +87,11 @@ class GraspAction final : public Action {
     const std::int64_t now = ctx.now();
     graph::Transaction tx = g.begin();
     Status s = tx.delete_edge(robot, object, Symbol(edge::kGrasping));
-    if (s.ok()) s = tx.delete_edge(robot, object, Symbol(edge::kFetch));
+    if (s.ok() && g.has_edge(robot, object, edge::kFetch))
+      s = tx.delete_edge(robot, object, Symbol(edge::kFetch));
+    // Off the table (clean the table: graspFromTable).
+    for (const graph::EdgeKey& on : g.edges_from(object, edge::kOn))
+      if (s.ok()) s = tx.delete_edge(object, on.to, Symbol(edge::kOn));
     if (s.ok())
       s = tx.insert_edge(
           robot, object, Symbol(edge::kCarrying),
@@ -107,6 +118,12 @@ class GraspAction final : public Action {
   }
 
  private:
+  // The object the plan's next step asks to grasp (follow_plan), or the null id.
+  NodeId planned(const graph::Graph& g) const {
+    if (!agent_.options().follow_plan) return {};
+    auto step = next_plan_step(g);
+    return step && step->rule == "grasp" ? step->at("o") : NodeId{};
+  }
   static bool ready(const graph::Graph& g, NodeId robot, NodeId object) {
     return g.has_edge(robot, object, edge::kReach) && !g.has_edge(robot, object, edge::kCarrying);
   }
@@ -128,7 +145,10 @@ void Grasping::setup(AgentContext& ctx) {
   frames_ = std::make_unique<kinematics::FrameTree>(ctx.graph());
   scene_ = std::make_unique<kinematics::CollisionScene>(*frames_);
   if (opt_.measure_humans) probe_.attach(*this, ctx);
-  ctx.every(static_cast<std::int64_t>(1e9 / opt_.rate_hz), [this, &ctx] { measure(ctx); });
+  ctx.every(static_cast<std::int64_t>(1e9 / opt_.rate_hz), [this, &ctx] {
+    measure(ctx);
+    if (opt_.follow_plan) release(ctx);
+  });
 }
 
 void Grasping::teardown(AgentContext&) {
@@ -147,6 +167,7 @@ bool Grasping::platform_still(AgentContext& ctx) const {
 void Grasping::note(const GraspEvent& e) {
   if (e.kind == GraspEvent::Kind::kPaused) ++pauses_;
   if (e.kind == GraspEvent::Kind::kGrasped) ++grasps_;
+  if (e.kind == GraspEvent::Kind::kReleased) ++releases_;
   if (opt_.on_event) opt_.on_event(e);
 }
 
@@ -191,11 +212,38 @@ void Grasping::measure(AgentContext& ctx) {
   }
 }
 
+void Grasping::release(AgentContext& ctx) {
+  graph::Graph& g = ctx.graph();
+  auto step = next_plan_step(g);
+  if (!step || step->rule != "release") return;
+  const NodeId robot = node_id(g, node::kRobot), object = step->at("o"),
+               gripper = node_id(g, node::kGripper), world = node_id(g, node::kWorld);
+  if (robot.is_null() || object.is_null() || world.is_null() ||
+      !g.has_edge(robot, object, edge::kCarrying) || !platform_still(ctx))
+    return;
+  const std::int64_t now = ctx.now();
+  graph::Pose X_WO;
+  if (auto p = gripper.is_null() ? std::nullopt : world_position(g, gripper)) X_WO.translation = *p;
+  graph::Transaction tx = g.begin();
+  Status s = tx.delete_edge(robot, object, Symbol(edge::kCarrying));
+  if (s.ok()) s = tx.set_rt(world, object, X_WO, now);
+  if (s.ok()) {
+    if (auto c = tx.commit(); !c.ok()) s = c.error();
+  }
+  if (!s.ok()) {
+    ++refused_;
+    ctx.log("release of " + g.name_of(object) + " refused: " + s.error().to_string());
+    return;
+  }
+  note({GraspEvent::Kind::kReleased, g.name_of(object), now});
+}
+
 void Grasping::status(nlohmann::json& out) const {
   out["reach_changes"] = reach_changes_;
   out["grasps"] = grasps_;
   out["pauses"] = pauses_;
   out["refused"] = refused_;
+  if (opt_.follow_plan) out["releases"] = releases_;
   if (opt_.measure_humans) probe_.to_json(out["humans_latency"]);
 }
 

@@ -1,5 +1,6 @@
 #include "quiver/agents/agm/navigation.h"
 
+#include <algorithm>
 #include <cmath>
 #include <nlohmann/json.hpp>
 
@@ -39,7 +40,14 @@ void Navigation::frame(AgentContext& ctx) {
   const std::int64_t now = ctx.now();
   const bool moved = platform_->moved_between(now - opt_.moved_window_ns, now);
   const bool flagged = g.has_edge(robot, robot, edge::kMoved);
-  if (opt_.quiet_when_done && platform_->finished(now) && !moved && !flagged) return;
+  if (opt_.follow_plan && platform_->finished(now)) steer(g, now);
+  bool done = platform_->finished(now);
+  if (opt_.follow_plan) {
+    const NodeId plan = node_id(g, "plan");
+    const Value* st = plan.is_null() ? nullptr : g.attr(plan, "status");
+    done = done && st && st->get_if<std::string>() && *st->get_if<std::string>() == "achieved";
+  }
+  if (opt_.quiet_when_done && done && !moved && !flagged) return;
 
   graph::Transaction tx = g.begin();
   Status s;
@@ -68,11 +76,52 @@ void Navigation::frame(AgentContext& ctx) {
   if (!moved && flagged) ++moved_cleared_;
 }
 
+void Navigation::steer(const graph::Graph& g, std::int64_t now) {
+  auto step = next_plan_step(g);
+  if (!step) return;
+  double x = 0, y = 0, speed = opt_.speed;
+  if (step->rule == "changeRoom") {
+    const NodeId b = step->at("b");
+    if (b.is_null()) return;
+    const Value* w = g.attr(b, attr::kWaypoint);
+    const auto* xy = w ? w->get_if<graph::DoubleVec>() : nullptr;
+    if (xy && xy->size() == 2) {
+      x = (*xy)[0];
+      y = (*xy)[1];
+    } else {
+      auto limits = room_limits(g, b);
+      if (!limits.ok()) return;
+      double x0 = 1e300, y0 = 1e300, x1 = -1e300, y1 = -1e300;
+      for (auto [px, py] : limits->points) {
+        x0 = std::min(x0, px);
+        y0 = std::min(y0, py);
+        x1 = std::max(x1, px);
+        y1 = std::max(y1, py);
+      }
+      x = (x0 + x1) / 2;
+      y = (y0 + y1) / 2;
+    }
+  } else if (step->rule == "approach") {
+    auto p = world_position(g, step->at("o"));
+    if (!p) return;
+    x = (*p)[0] - opt_.approach_offset_m;
+    y = (*p)[1];
+    speed = opt_.approach_speed;
+  } else {
+    return;  // grasp, release: the grasping agent's; the platform stands still
+  }
+  const Pose2 at = platform_->pose(now);
+  if (std::hypot(at.x - x, at.y - y) < 0.01) return;
+  platform_->go_to(now, x, y, speed);
+  ++goals_;
+}
+
 void Navigation::status(nlohmann::json& out) const {
   out["frames"] = frames_;
   out["refused"] = refused_;
   out["moved_set"] = moved_set_;
   out["moved_cleared"] = moved_cleared_;
+  if (opt_.follow_plan) out["goals"] = goals_;
   if (opt_.measure_humans) probe_.to_json(out["humans_latency"]);
 }
 

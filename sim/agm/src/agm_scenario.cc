@@ -61,7 +61,14 @@ json AgmResult::to_json() const {
           {"partitions", partitions},
           {"rejected", rejected},
           {"human_deliveries", human_deliveries},
-          {"human_latency_p99_ms", human_latency_p99_ms}};
+          {"human_latency_p99_ms", human_latency_p99_ms},
+          {"mission_holds", mission_holds},
+          {"plan_status", plan_status},
+          {"plan_verified", plan_verified},
+          {"plan_steps", plan_steps},
+          {"plan_version", plan_version},
+          {"replans", replans},
+          {"releases", releases}};
 }
 
 namespace {
@@ -75,8 +82,8 @@ Error bad(const std::string& source, const std::string& pointer, const std::stri
 Result<AgmScenario> AgmScenario::parse(const json& j, const std::string& source) {
   AgmScenario s;
   if (!j.is_object()) return bad(source, "/", "a scenario is a JSON object");
-  static const char* kKeys[] = {"name",      "faults",      "checks", "humans",
-                                "humans_hz", "reach_off_m", "limit_s"};
+  static const char* kKeys[] = {"name",        "faults",  "checks", "humans", "humans_hz",
+                                "reach_off_m", "limit_s", "mission"};
   for (auto it = j.begin(); it != j.end(); ++it)
     if (std::none_of(std::begin(kKeys), std::end(kKeys),
                      [&](const char* k) { return it.key() == k; }))
@@ -86,8 +93,8 @@ Result<AgmScenario> AgmScenario::parse(const json& j, const std::string& source)
     s.name = j["name"].get<std::string>();
   }
   auto agent = [&](const json& v, const std::string& where) -> Result<std::string> {
-    if (!v.is_string() || !agm::is_role(v.get<std::string>()))
-      return bad(source, where, "not an agent (navigation, rooms, grasping, humans)");
+    if (!v.is_string() || !agm::is_role_or_planner(v.get<std::string>()))
+      return bad(source, where, "not an agent (navigation, rooms, grasping, humans, agm-planner)");
     return v.get<std::string>();
   };
   if (j.contains("faults")) {
@@ -156,6 +163,12 @@ Result<AgmScenario> AgmScenario::parse(const json& j, const std::string& source)
       *out = c[k].get<double>();
     }
   }
+  if (j.contains("mission")) {
+    if (!j["mission"].is_string() ||
+        (j["mission"] != "" && j["mission"] != std::string(agm::kCleanTable)))
+      return bad(source, "/mission", "expected \"\" or \"clean-table\"");
+    s.mission = j["mission"].get<std::string>();
+  }
   if (j.contains("humans")) {
     if (!j["humans"].is_boolean()) return bad(source, "/humans", "expected true or false");
     s.humans = j["humans"].get<bool>();
@@ -182,17 +195,21 @@ Result<AgmScenario> AgmScenario::load(const std::string& path) {
   }
 }
 
-AgmScenario AgmScenario::random_faults(std::uint64_t seed) {
+AgmScenario AgmScenario::random_faults(std::uint64_t seed) { return random_faults(seed, ""); }
+
+AgmScenario AgmScenario::random_faults(std::uint64_t seed, const std::string& mission) {
   Rng rng(seed ^ 0xa6e5ce7a110ULL);
   AgmScenario s;
-  s.name = "agm-faults";
+  s.name = mission.empty() ? "agm-faults" : mission + "-faults";
+  s.mission = mission;
   // Under partitions and loss the agents still decide right from what their replicas hold; what
   // they cannot do is see a crossing or a start of motion they are cut off from.
   s.checks.exact_crossings = false;
   s.checks.expect_pause = false;
   s.checks.motion_allowance_ms =
       500;  // the grasping agent's freshness bound (300 ms), ticks, retries
-  const std::vector<std::string> roles = agm::role_names();
+  std::vector<std::string> roles = agm::role_names();
+  if (!mission.empty()) roles.push_back(agm::kPlannerRole);
   auto at = [&](double lo, double hi) { return lo + rng.uniform() * (hi - lo); };
   if (rng.chance(0.5)) {
     FaultEvent e;
@@ -233,6 +250,7 @@ AgmScenario AgmScenario::random_faults(std::uint64_t seed) {
 
 AgmResult run_agm_scenario(const AgmScenario& s, std::uint64_t seed,
                            std::function<void(std::int64_t, const std::string&)> log) {
+  if (s.mission == agm::kCleanTable) return run_agm_clean_table(s, seed, log);
   AgmResult r;
   r.name = s.name;
   r.seed = seed;

@@ -43,15 +43,24 @@ struct AgmScenario {
   /// The grasping agent's threshold back to noReach (its reach threshold is 0.10 m); equal to
   /// that, there is no hysteresis (a control: the nudge then makes reach flicker).
   double reach_off_m = 0.15;
+  /// "" (the fixed route: fetch the mug) or "clean-table" (agents/agm/clean_table.h: the planner
+  /// agent runs too, plans from the world, and navigation and grasping follow its plan's next
+  /// step: both mugs from the table to the kitchen, one at a time). Checked: the mission holds
+  /// on the final replica, the plan is achieved, the first plan replays through the grammar
+  /// guard, replicas equal, each mug grasped and released while the platform stood still,
+  /// changeRoom per crossing (exact without faults).
+  std::string mission;
   /// From a scenario file (docs/scenarios.md): {"name", "faults": [...] as in Barthel scenario
   /// files with the AGM agents' names, "checks": {"exact_crossings", "crossing_lag_ms",
-  /// "expect_pause", "motion_allowance_ms"}, "humans", "humans_hz", "reach_off_m", "limit_s"}.
+  /// "expect_pause", "motion_allowance_ms"}, "humans", "humans_hz", "reach_off_m", "limit_s", "mission"}.
   /// @returns kInvalidArgument naming `source` and the JSON pointer of a bad value.
   static Result<AgmScenario> parse(const nlohmann::json& j, const std::string& source);
   static Result<AgmScenario> load(const std::string& path);
   /// Random faults drawn from `seed` (loss up to 20%, up to two partitions and two kill -9 and
   /// restarts of any agent, all in the first 35 s), with the checks that still hold under them.
   static AgmScenario random_faults(std::uint64_t seed);
+  /// The same draw for the clean-the-table mission (the planner among the agents killed).
+  static AgmScenario random_faults(std::uint64_t seed, const std::string& mission);
 };
 
 struct AgmResult {
@@ -69,8 +78,17 @@ struct AgmResult {
   std::uint64_t rejected = 0;
   std::uint64_t human_deliveries = 0;  ///< joint poses the surviving probes saw
   double human_latency_p99_ms = 0;     ///< virtual one-way latency, humans -> every other agent
+  // clean-table:
+  bool mission_holds = false;
+  std::string plan_status, plan_verified;
+  int plan_steps = 0, releases = 0;
+  std::int64_t plan_version = 0, replans = 0;
   nlohmann::json to_json() const;
 };
+
+/// The clean-the-table run (what run_agm_scenario() does when s.mission is "clean-table").
+AgmResult run_agm_clean_table(const AgmScenario& s, std::uint64_t seed,
+                              std::function<void(std::int64_t t_ns, const std::string&)> log = {});
 
 AgmResult run_agm_scenario(const AgmScenario& s, std::uint64_t seed,
                            std::function<void(std::int64_t t_ns, const std::string&)> log = {});

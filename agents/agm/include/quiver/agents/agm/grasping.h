@@ -36,7 +36,8 @@ struct GraspEvent {
     kNoReach,
     kStarted,
     kPaused,
-    kGrasped
+    kGrasped,
+    kReleased  ///< clean the table: put down in the robot's room
   } kind = Kind::kReach;
   std::string object;
   std::int64_t t_ns = 0;
@@ -52,6 +53,11 @@ struct GraspingOptions {
   std::int64_t grasp_ns = 1'500'000'000;
   std::int64_t fresh_ns = 300'000'000;
   bool measure_humans = false;
+  /// Clean the table: also grasp the object the plan node's next step `grasp` names (no fetch
+  /// edge needed; it comes off the table: graspFromTable), and put down the carried object when
+  /// the next step is `release` and the robot stands still (its RT edge moves under the world,
+  /// where the gripper is).
+  bool follow_plan = false;
   std::function<void(const GraspEvent&)> on_event;
 };
 
@@ -73,11 +79,12 @@ class Grasping final : public Agent {
 
  private:
   void measure(AgentContext& ctx);
+  void release(AgentContext& ctx);
   GraspingOptions opt_;
   std::unique_ptr<kinematics::FrameTree> frames_;
   std::unique_ptr<kinematics::CollisionScene> scene_;
   LatencyProbe probe_;
-  std::uint64_t reach_changes_ = 0, grasps_ = 0, pauses_ = 0, refused_ = 0;
+  std::uint64_t reach_changes_ = 0, grasps_ = 0, pauses_ = 0, refused_ = 0, releases_ = 0;
 };
 
 }  // namespace quiver::agents::agm

@@ -24,6 +24,12 @@ struct NavigationOptions {
   /// its localization off): lets replicas go quiet at the end of a scenario.
   bool quiet_when_done = false;
   bool measure_humans = false;  ///< a LatencyProbe on the human joints (status: humans_latency)
+  /// Clean the table: no fixed route; whenever the platform stands idle it drives where the plan
+  /// node's next step asks (changeRoom: to the waypoint of room `b`; approach: in front of
+  /// object `o`, `approach_offset_m` short of it along x, at `approach_speed`). Done (for
+  /// quiet_when_done) once the plan is achieved.
+  bool follow_plan = false;
+  double speed = 1.0, approach_speed = 0.25, approach_offset_m = 0.45;
 };
 
 class Navigation final : public Agent {
@@ -39,10 +45,11 @@ class Navigation final : public Agent {
 
  private:
   void frame(AgentContext& ctx);
+  void steer(const graph::Graph& g, std::int64_t now);
   std::shared_ptr<Platform> platform_;
   NavigationOptions opt_;
   LatencyProbe probe_;
-  std::uint64_t frames_ = 0, refused_ = 0, moved_set_ = 0, moved_cleared_ = 0;
+  std::uint64_t frames_ = 0, refused_ = 0, moved_set_ = 0, moved_cleared_ = 0, goals_ = 0;
 };
 
 }  // namespace quiver::agents::agm

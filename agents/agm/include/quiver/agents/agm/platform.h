@@ -41,6 +41,10 @@ class Platform {
   void start(std::int64_t t0);
   bool started() const { return t0_.has_value(); }
   std::int64_t t0() const { return t0_.value_or(0); }
+  /// Appends a drive to (x, y) at `speed` m/s, from `t` or when the legs before it end (standing
+  /// still until then): a navigation agent that follows a plan adds its legs as the plan asks.
+  /// Starts the platform at `t` if it was not started.
+  void go_to(std::int64_t t, double x, double y, double speed);
   /// Ends the current wait leg at `t` (ignored unless waiting at `t`). @returns whether it did.
   bool release(std::int64_t t);
   std::optional<std::int64_t> released_at() const { return release_; }
