@@ -154,6 +154,23 @@ TEST(AgmCleanTable, ThePlannerKilledMidPlanContinuesFromTheGraph) {
   EXPECT_TRUE(r.mission_holds);
 }
 
+TEST(AgmCleanTable, AMugPutBackOnTheTableMakesThePlannerPlanAgain) {
+  // The example file: at 28 s, after the first mug was released in the kitchen, a person puts it
+  // back on the table; the plan's rest no longer reaches the mission, the planner plans again
+  // from the world as it is, and the robot fetches it a second time.
+  auto s = AgmScenario::load(QUIVER_EXAMPLES "/agm/clean-table-put-back.json");
+  ASSERT_TRUE(s.ok()) << s.error().to_string();
+  s->humans_hz = 10;
+  const std::uint64_t seed = testing::base_seed("AgmCleanTable.PutBack", 1);
+  AgmResult r = run(*s, seed);
+  EXPECT_TRUE(r.passed) << r.to_json().dump();
+  EXPECT_TRUE(r.mission_holds);
+  EXPECT_GE(r.replans, 1);
+  EXPECT_GE(r.plan_version, 2);
+  EXPECT_EQ(r.grasps, 3) << "mug twice, mug2 once";
+  EXPECT_EQ(r.releases, 3);
+}
+
 TEST(AgmCleanTable, FaultSchedulesStillReachTheMission) {
   const std::uint64_t base = testing::base_seed("AgmCleanTable.FaultSchedules", 200);
   const int n = testing::seed_count(4);

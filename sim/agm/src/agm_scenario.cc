@@ -83,7 +83,7 @@ Result<AgmScenario> AgmScenario::parse(const json& j, const std::string& source)
   AgmScenario s;
   if (!j.is_object()) return bad(source, "/", "a scenario is a JSON object");
   static const char* kKeys[] = {"name",        "faults",  "checks", "humans", "humans_hz",
-                                "reach_off_m", "limit_s", "mission"};
+                                "reach_off_m", "limit_s", "mission", "put_back_s"};
   for (auto it = j.begin(); it != j.end(); ++it)
     if (std::none_of(std::begin(kKeys), std::end(kKeys),
                      [&](const char* k) { return it.key() == k; }))
@@ -175,7 +175,8 @@ Result<AgmScenario> AgmScenario::parse(const json& j, const std::string& source)
   }
   for (auto [k, out, lo, hi] : {std::tuple{"humans_hz", &s.humans_hz, 1.0, 200.0},
                                 std::tuple{"reach_off_m", &s.reach_off_m, 0.10, 1.0},
-                                std::tuple{"limit_s", &s.limit_s, 45.0, 86'400.0}}) {
+                                std::tuple{"limit_s", &s.limit_s, 45.0, 86'400.0},
+                                std::tuple{"put_back_s", &s.put_back_s, 0.0, 86'400.0}}) {
     if (!j.contains(k)) continue;
     if (!j[k].is_number() || j[k].get<double>() < lo || j[k].get<double>() > hi)
       return bad(source, std::string("/") + k,

@@ -50,9 +50,14 @@ struct AgmScenario {
   /// guard, replicas equal, each mug grasped and released while the platform stood still,
   /// changeRoom per crossing (exact without faults).
   std::string mission;
+  /// clean-table: at this time (s; 0: never) a person puts the first mug back on the table if it
+  /// is not carried (a sixth agent, "person", with its own grammar: rule putBack): the world
+  /// deviates from the plan and the planner must plan again. Checked: at least one replan, and
+  /// the mission still reached.
+  double put_back_s = 0;
   /// From a scenario file (docs/scenarios.md): {"name", "faults": [...] as in Barthel scenario
   /// files with the AGM agents' names, "checks": {"exact_crossings", "crossing_lag_ms",
-  /// "expect_pause", "motion_allowance_ms"}, "humans", "humans_hz", "reach_off_m", "limit_s", "mission"}.
+  /// "expect_pause", "motion_allowance_ms"}, "humans", "humans_hz", "reach_off_m", "limit_s", "mission", "put_back_s"}.
   /// @returns kInvalidArgument naming `source` and the JSON pointer of a bad value.
   static Result<AgmScenario> parse(const nlohmann::json& j, const std::string& source);
   static Result<AgmScenario> load(const std::string& path);
