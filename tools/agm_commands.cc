@@ -209,7 +209,8 @@ int run_agm_clean_table(const AgmScenarioFlags& f) {
   if (!procs.start("navigation", with({"--measure-humans", "--quiet-when-done"})) ||
       !procs.start("rooms", with({"--measure-humans"})) ||
       !procs.start("grasping", with({"--measure-humans"})) ||
-      !procs.start(agm::kPlannerRole, with({})) || !procs.start("humans", with({}))) {
+      !procs.start(agm::kPlannerRole, with({"--measure-humans"})) ||
+      !procs.start("humans", with({}))) {
     log->error("cannot start {} run ROLE", self_executable());
     return 2;
   }
@@ -584,7 +585,8 @@ int run_humans_bench(const HumansBenchFlags& f) {
   auto log = agents::named_logger("quiver bench humans");
   const std::string out = make_out(f.out, "quiver-bench-humans");
   AgmProcesses procs(f.dds, out);
-  const std::vector<std::string> others = {"navigation", "rooms", "grasping"};
+  std::vector<std::string> others = {"navigation", "rooms", "grasping"};
+  if (!f.no_planner) others.push_back(agm::kPlannerRole);
   // With the planner (the default): the clean-the-table mission, the planner agent planning
   // and tracking the plan, navigation and grasping following it.
   std::vector<std::string> mission;
@@ -598,7 +600,6 @@ int run_humans_bench(const HumansBenchFlags& f) {
       log->error("cannot start {} run {}", self_executable(), r);
       return 2;
     }
-  if (!f.no_planner && !procs.start(agm::kPlannerRole, with({}))) return 2;
   // The others join and warm up (their probes start 0.5 s after their setup) before tracking.
   ::usleep(3'000'000);
   if (!procs.start("humans", with({}))) return 2;
@@ -611,16 +612,11 @@ int run_humans_bench(const HumansBenchFlags& f) {
   double delivery_secs = 0;
   std::map<std::string, int> exit_statuses;
   json planner_status;
-  if (!f.no_planner) {
-    auto st = procs.stop(agm::kPlannerRole);
-    exit_statuses[agm::kPlannerRole] = st ? st->value("exit_status", -1) : -1;
-    planner_status = {{"running", st.has_value()}};
-    if (st)
-      for (const char* k : {"planner", "plans", "replans", "exit_status"})
-        if (st->contains(k)) planner_status[k] = (*st)[k];
-  }
   for (const auto& r : others) {
     auto st = procs.stop(r);
+    if (r == agm::kPlannerRole && st)
+      for (const char* k : {"planner", "plans", "replans", "exit_status"})
+        if (st->contains(k)) planner_status[k] = (*st)[k];
     if (!st || !st->contains("humans_latency")) {
       log->error("no status from {}", r);
       return 1;
@@ -668,7 +664,6 @@ int run_humans_bench(const HumansBenchFlags& f) {
   bool clean = humans && humans->value("exit_status", -1) == 0;
   for (const auto& r : others) clean = clean && exit_statuses[r] == 0;
   if (!f.no_planner) {
-    clean = clean && exit_statuses[agm::kPlannerRole] == 0;
     res["planner"] = planner_status;
     res["mission"] = agm::kCleanTable;
   }

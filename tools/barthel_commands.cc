@@ -265,7 +265,7 @@ void add_barthel_commands(CLI::App& app) {
   run->add_option("--answer-timeout", rf->answer_timeout_s, "planner: seconds to wait for an answer")
       ->check(CLI::Range(0.1, 600.0));
   run->add_flag("--measure-humans", rf->measure_humans,
-                "AGM navigation, rooms, grasping: measure how fresh the human joints are when they arrive (status line)");
+                "AGM navigation, rooms, grasping, agm-planner: measure how fresh the human joints are when they arrive (status line)");
   run->add_flag("--quiet-when-done", rf->quiet_when_done, "AGM navigation: stop publishing once the route is done");
   run->add_option("--mission", rf->mission,
                   "AGM: clean-table (its world; navigation and grasping follow the plan agm-planner writes)")

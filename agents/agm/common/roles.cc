@@ -1,5 +1,7 @@
 #include "quiver/agents/agm/roles.h"
 
+#include <nlohmann/json.hpp>
+
 #include "quiver/agents/agm/schema.h"
 #include "quiver/agents/planner/planner_agent.h"
 
@@ -54,6 +56,11 @@ Result<std::unique_ptr<Agent>> make_agent(std::string_view role, const AgmRoleOp
     p.mission_text = std::string(embedded_file("clean-table.aggt"));
     p.mission_source = "clean-table.aggt";
     p.planner.max_expansions = o.planner_max_expansions;
+    if (o.measure_humans) {
+      auto probe = std::make_shared<LatencyProbe>();
+      p.on_setup = [probe](Agent& a, AgentContext& ctx) { probe->attach(a, ctx); };
+      p.on_status = [probe](nlohmann::json& out) { probe->to_json(out["humans_latency"]); };
+    }
     return std::unique_ptr<Agent>(std::make_unique<planner::PlannerAgent>(p, name(role)));
   }
   std::string known;

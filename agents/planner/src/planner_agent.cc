@@ -66,12 +66,14 @@ void PlannerAgent::setup(AgentContext& ctx) {
     impl_->seen = ctx.graph().digest();
     impl_->seen_any = true;
   });
+  if (opt_.on_setup) opt_.on_setup(*this, ctx);
 }
 
 void PlannerAgent::status(nlohmann::json& out) const {
   out["planner"] = state_;
   out["plans"] = plans_;
   out["replans"] = replans_;
+  if (opt_.on_status) opt_.on_status(out);
 }
 
 void PlannerAgent::think(AgentContext& ctx) {

@@ -18,6 +18,7 @@
 /// continues from it. Deterministic (no wall clock: the search is bounded by expansions).
 
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <string>
 
@@ -41,6 +42,10 @@ struct PlannerAgentOptions {
   }();
   /// How often it looks at the world again when something changed.
   std::int64_t period_ns = 50'000'000;
+  /// Called at the end of setup() and of status(): what an embedding adds to the agent (e.g. a
+  /// latency probe subscribing to changes, and its figures in the status line).
+  std::function<void(Agent&, AgentContext&)> on_setup;
+  std::function<void(nlohmann::json&)> on_status;
 };
 
 class PlannerAgent final : public Agent {
