@@ -130,6 +130,11 @@ struct AgmScenarioFlags {
 // released once, replicas equal.
 int run_agm_clean_table(const AgmScenarioFlags& f) {
   auto log = agents::named_logger("quiver scenario");
+  if (!f.kill.empty()) {
+    // A navigation process restarted mid-mission would start a new platform at the start pose.
+    log->error("--kill is not supported with --mission clean-table (docs/scenarios.md, limits)");
+    return 2;
+  }
   const std::string out = make_out(f.out, "quiver-agm-clean-table");
   agents::DdsReplicaOptions o;
   o.name = "agm-observer";
