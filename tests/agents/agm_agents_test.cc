@@ -286,6 +286,53 @@ TEST(AgmNavigation, PublishesPosesAndMovedInLastSecondsFromOdometryAndWaitsForTh
   EXPECT_EQ(st["moved_set"], 2);
 }
 
+TEST(AgmPlatform, GoToAppendsDrivesFromIdle) {
+  Platform p({}, default_start());
+  EXPECT_FALSE(p.end_time().has_value());
+  p.start(1 * kSec);
+  EXPECT_TRUE(p.finished(1 * kSec)) << "no legs: idle from the start";
+  p.go_to(3 * kSec, 3.0, 2.0, 1.0);  // 2 m at 1 m/s, from 3 s
+  EXPECT_FALSE(p.moving(2 * kSec));
+  EXPECT_TRUE(p.moving(4 * kSec));
+  EXPECT_NEAR(p.pose(4 * kSec).x, 2.0, 1e-6);
+  EXPECT_EQ(*p.end_time(), 5 * kSec);
+  EXPECT_TRUE(p.finished(5 * kSec));
+  EXPECT_NEAR(p.pose(9 * kSec).x, 3.0, 1e-9);
+}
+
+TEST(AgmPlan, NextStepFromThePlanNodeByAgmIdOrName) {
+  graph::Graph g(graph::ReplicaId{7, 1});
+  auto seed = graph::world_seed(embedded_file("clean-table.json"), "clean-table.json");
+  ASSERT_TRUE(seed.ok()) << seed.error().to_string();
+  g.merge(seed->delta);
+  const NodeId plan = node_id(g, "plan");
+  ASSERT_FALSE(plan.is_null());
+  EXPECT_FALSE(next_plan_step(g)) << "no status yet";
+  auto tx = g.begin();
+  ASSERT_TRUE(tx.set(plan, "status", Value(std::string("executing"))).ok());
+  ASSERT_TRUE(tx.set(plan, "next", Value(std::int64_t{1})).ok());
+  ASSERT_TRUE(tx.set(plan, "steps", Value(std::string("changeRoom@{'a': '2', 'b': '3', 'r': '1'}\n"
+                                                        "approach@{'o': '7', 'r': 'robot', 't': '5', 'x': '4'}\n")))
+                  .ok());
+  ASSERT_TRUE(tx.commit().ok());
+  auto step = next_plan_step(g);
+  ASSERT_TRUE(step);
+  EXPECT_EQ(step->rule, "approach");
+  EXPECT_EQ(step->at("o"), node_id(g, "mug2"));
+  EXPECT_EQ(step->at("r"), node_id(g, "robot"));
+  EXPECT_TRUE(step->at("nope").is_null());
+  auto p = world_position(g, node_id(g, "gripper"));
+  ASSERT_TRUE(p);
+  EXPECT_NEAR((*p)[0], 1.35, 1e-9);
+  EXPECT_NEAR((*p)[2], 0.81, 1e-9);
+  // A step naming a node the graph lacks is no step.
+  auto tx2 = g.begin();
+  ASSERT_TRUE(tx2.set(plan, "next", Value(std::int64_t{0})).ok());
+  ASSERT_TRUE(tx2.set(plan, "steps", Value(std::string("grasp@{'o': '99'}\n"))).ok());
+  ASSERT_TRUE(tx2.commit().ok());
+  EXPECT_FALSE(next_plan_step(g));
+}
+
 TEST(AgmLatencyProbe, PercentilesAndPooling) {
   LatencyProbe p;
   for (int ms = 1; ms <= 100; ++ms) p.record(ms * kMs);
