@@ -27,10 +27,10 @@ Result<std::unique_ptr<Agent>> make_agent(std::string_view role, const AgmRoleOp
     return o.name.empty() ? std::string(fallback) : o.name;
   };
   if (role == "navigation") {
-    auto platform = o.platform ? o.platform
-                               : std::make_shared<Platform>(
-                                     o.clean_table ? std::vector<Leg>{} : default_route(),
-                                     default_start());
+    auto platform =
+        o.platform ? o.platform
+                   : std::make_shared<Platform>(
+                         o.clean_table ? std::vector<Leg>{} : default_route(), default_start());
     NavigationOptions n = o.navigation;
     n.follow_plan = n.follow_plan || o.clean_table;
     n.measure_humans = n.measure_humans || o.measure_humans;

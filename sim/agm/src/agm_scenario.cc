@@ -82,7 +82,7 @@ Error bad(const std::string& source, const std::string& pointer, const std::stri
 Result<AgmScenario> AgmScenario::parse(const json& j, const std::string& source) {
   AgmScenario s;
   if (!j.is_object()) return bad(source, "/", "a scenario is a JSON object");
-  static const char* kKeys[] = {"name",        "faults",  "checks", "humans", "humans_hz",
+  static const char* kKeys[] = {"name",        "faults",  "checks",  "humans",    "humans_hz",
                                 "reach_off_m", "limit_s", "mission", "put_back_s"};
   for (auto it = j.begin(); it != j.end(); ++it)
     if (std::none_of(std::begin(kKeys), std::end(kKeys),

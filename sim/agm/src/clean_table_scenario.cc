@@ -72,9 +72,11 @@ class PutBack final : public agents::Agent {
       if (done_ || ctx.now() < at_ns_) return;
       graph::Graph& g = ctx.graph();
       const NodeId mug = agm::node_id(g, "mug"), table = agm::node_id(g, "table"),
-                   robot = agm::node_id(g, agm::node::kRobot), world = agm::node_id(g, agm::node::kWorld);
-      if (mug.is_null() || table.is_null() || world.is_null() || g.has_edge(mug, table, agm::edge::kOn) ||
-          g.has_edge(robot, mug, agm::edge::kCarrying) || g.has_edge(robot, mug, agm::edge::kGrasping))
+                   robot = agm::node_id(g, agm::node::kRobot),
+                   world = agm::node_id(g, agm::node::kWorld);
+      if (mug.is_null() || table.is_null() || world.is_null() ||
+          g.has_edge(mug, table, agm::edge::kOn) || g.has_edge(robot, mug, agm::edge::kCarrying) ||
+          g.has_edge(robot, mug, agm::edge::kGrasping))
         return;
       auto from = agm::room_of(g, mug), to = agm::room_of(g, table);
       if (!from || !to || *from == *to) return;
@@ -221,8 +223,7 @@ AgmResult run_agm_clean_table(const AgmScenario& s, std::uint64_t seed,
   while (host.now() < limit) {
     host.run_until(host.now() + 100 * kMs);
     const graph::Graph* g = planner >= 0 && host.up(planner) ? host.graph(planner) : nullptr;
-    const bool achieved =
-        g && string_attr(*g, agm::node_id(*g, "plan"), "status") == "achieved";
+    const bool achieved = g && string_attr(*g, agm::node_id(*g, "plan"), "status") == "achieved";
     if (achieved && achieved_at < 0) achieved_at = host.now();
     if (!achieved) achieved_at = -1;
     if (achieved_at >= 0 && platform->finished(host.now()) && host.now() > achieved_at + 2 * kSec)
@@ -282,18 +283,23 @@ AgmResult run_agm_clean_table(const AgmScenario& s, std::uint64_t seed,
     r.plan_steps = static_cast<int>(std::count(first.begin(), first.end(), '\n'));
     Status v = agm::verify_clean_table_plan(first);
     r.plan_verified = v.ok() ? "ok" : v.error().to_string();
-    if (!v.ok()) fail("the first plan does not replay through the grammar guard: " + r.plan_verified);
-    if (plans.begin()->first != 1) fail("the first plan seen is version " + std::to_string(plans.begin()->first));
+    if (!v.ok())
+      fail("the first plan does not replay through the grammar guard: " + r.plan_verified);
+    if (plans.begin()->first != 1)
+      fail("the first plan seen is version " + std::to_string(plans.begin()->first));
   }
   const bool deviates = s.put_back_s > 0;
-  if (deviates && rep.replans < 1) fail("the mug was put back on the table, yet the planner never replanned");
+  if (deviates && rep.replans < 1)
+    fail("the mug was put back on the table, yet the planner never replanned");
   if (!faults && !deviates && rep.replans != 0)
     fail("the planner replanned " + std::to_string(rep.replans) + " times without faults");
   const NodeId robot = agm::node_id(g, agm::node::kRobot);
   auto room = agm::room_of(g, robot);
   r.final_room = room ? g.name_of(*room) : "";
-  if (g.has_edge(robot, robot, agm::edge::kMoved)) fail("movedInLastSeconds still set on a parked robot");
-  if (!g.edges_from(robot, agm::edge::kGrasping).empty()) fail("a grasp still announced at the end");
+  if (g.has_edge(robot, robot, agm::edge::kMoved))
+    fail("movedInLastSeconds still set on a parked robot");
+  if (!g.edges_from(robot, agm::edge::kGrasping).empty())
+    fail("a grasp still announced at the end");
 
   // Crossings of room limits against changeRoom.
   std::vector<std::pair<std::string, std::string>> expected;
@@ -347,8 +353,8 @@ AgmResult run_agm_clean_table(const AgmScenario& s, std::uint64_t seed,
         const std::int64_t began = run_started.count(e.object) ? run_started[e.object] : e.t_ns;
         for (auto [b, en] : platform->drives())
           if (en > began && b < e.t_ns - allowance)
-            fail("grasped " + e.object + " at " + fmt_s(e.t_ns) + " though the platform drove from " +
-                 fmt_s(b) + " to " + fmt_s(en));
+            fail("grasped " + e.object + " at " + fmt_s(e.t_ns) +
+                 " though the platform drove from " + fmt_s(b) + " to " + fmt_s(en));
         break;
       }
       case agm::GraspEvent::Kind::kReleased:

@@ -57,7 +57,8 @@ struct AgmScenario {
   double put_back_s = 0;
   /// From a scenario file (docs/scenarios.md): {"name", "faults": [...] as in Barthel scenario
   /// files with the AGM agents' names, "checks": {"exact_crossings", "crossing_lag_ms",
-  /// "expect_pause", "motion_allowance_ms"}, "humans", "humans_hz", "reach_off_m", "limit_s", "mission", "put_back_s"}.
+  /// "expect_pause", "motion_allowance_ms"}, "humans", "humans_hz", "reach_off_m", "limit_s",
+  /// "mission", "put_back_s"}.
   /// @returns kInvalidArgument naming `source` and the JSON pointer of a bad value.
   static Result<AgmScenario> parse(const nlohmann::json& j, const std::string& source);
   static Result<AgmScenario> load(const std::string& path);
