@@ -11,6 +11,7 @@
 #include "quiver/agents/viewer/event_hub.h"
 #include "quiver/agents/viewer/timeline.h"
 #include "quiver/agents/viewer/view_json.h"
+#include "quiver/agents/viewer/viewer.h"
 
 namespace quiver::agents::viewer {
 namespace {
@@ -131,6 +132,20 @@ TEST(TimelineTest, ListsWhatEachFrameDidAndRebuildsTheStateAfterIt) {
   EXPECT_EQ((*s)["edges"].size(), 0u);
   EXPECT_EQ((*s)["changed"], nlohmann::json::array({node_key(cup)}));
   EXPECT_FALSE(t.state_after(3, Decor{}).ok());
+}
+
+// A viewer destroyed as soon as start() returned (`quiver view --replay` of a damaged file) must
+// stop its server: before the fix, httplib's stop() could come before its listen loop began, and
+// the destructor then waited for ever (the ctest timeout catches a hang).
+TEST(ViewerTest, AViewerDestroyedRightAfterStartStopsItsServer) {
+  graph::Graph g(graph::ReplicaId{5, 1});
+  ViewerOptions o;
+  o.port = 0;
+  for (int i = 0; i < 200; ++i) {
+    auto v = Viewer::start(g, o, Hooks{});
+    ASSERT_TRUE(v.ok()) << v.error().to_string();
+    EXPECT_GT((*v)->port(), 0);
+  }
 }
 
 }  // namespace

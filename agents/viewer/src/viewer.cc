@@ -5,6 +5,7 @@
 #include "quiver/agents/images/image_attrs.h"
 #include <unistd.h>
 
+#include <atomic>
 #include <chrono>
 #include <cstdlib>
 #include <filesystem>
@@ -18,6 +19,7 @@ namespace fs = std::filesystem;
 struct Viewer::Http {
   httplib::Server server;
   std::thread thread;
+  std::atomic<bool> returned{false};  // listen_after_bind() came back
 };
 
 std::string default_assets_dir() {
@@ -94,7 +96,15 @@ Result<std::unique_ptr<Viewer>> Viewer::start(graph::Graph& g, ViewerOptions opt
     return make_error(ErrorCode::kIo, "the viewer cannot listen on " + v->opt_.host + ":" + std::to_string(v->opt_.port) +
                                           " (in use, or not an address of this machine)");
   v->url_ = "http://" + v->opt_.host + ":" + std::to_string(v->port_) + "/";
-  v->http_->thread = std::thread([self] { self->http_->server.listen_after_bind(); });
+  v->http_->thread = std::thread([self] {
+    self->http_->server.listen_after_bind();
+    self->http_->returned = true;
+  });
+  // httplib's stop() does nothing until listen has begun: a viewer destroyed before that (a bad
+  // recording found right after start) would wait for its server thread for ever. So start()
+  // returns once the server listens (or gave up).
+  while (!v->http_->server.is_running() && !v->http_->returned)
+    std::this_thread::sleep_for(std::chrono::milliseconds(1));
   return v;
 }
 
