@@ -10,5 +10,7 @@ namespace quiver::agents::barthel {
 std::string_view role_grammar(std::string_view role);
 /// The Barthel world file (JSON).
 std::string_view world_json();
+/// An embedded file by its name ("speech.aggl", "barthel.json"); empty if there is none.
+std::string_view embedded_file(std::string_view name);
 
 }  // namespace quiver::agents::barthel
