@@ -311,7 +311,9 @@ bool store_record(const std::uint8_t* data, std::size_t size) {
     }
     if (auto s = decode_snapshot(in, "fuzz snapshot"); s.ok()) {
       any = true;
-      auto again = decode_snapshot(encode_snapshot(s->upto, s->applied, s->state), "again");
+      // The decoded snapshot's state is a view into the bytes: keep them alive.
+      const std::vector<std::uint8_t> bytes = encode_snapshot(s->upto, s->applied, s->state);
+      auto again = decode_snapshot(bytes, "again");
       if (!again.ok() || again->upto != s->upto ||
           !std::equal(again->state.begin(), again->state.end(), s->state.begin(), s->state.end())) {
         std::fprintf(stderr, "store_record: a decoded snapshot does not re-encode to itself\n");

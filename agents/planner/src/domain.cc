@@ -461,7 +461,9 @@ std::optional<State> Domain::apply(const State& s, const Step& step) const {
   if (step.rule < 0 || static_cast<std::size_t>(step.rule) >= rules_.size()) return std::nullopt;
   const Compiled& r = *rules_[step.rule];
   Binding b(r.slots, kNoNode);
-  for (const auto& [var, slot] : r.vars) {
+  for (const auto& entry : r.vars) {
+    const auto& var = entry.first;
+    const int slot = entry.second;
     auto it = std::find_if(step.binding.begin(), step.binding.end(), [&](const auto& p) { return p.first == var; });
     if (it == step.binding.end()) return std::nullopt;
     // Created variables are bound by the rewrite itself.

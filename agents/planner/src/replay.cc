@@ -150,7 +150,9 @@ Status verify_plan(graph::Graph& g, const GrammarChecker& checker, symbolic::Wor
       break;
     }
     claim = RuleMatch{step.name, {}};
-    for (const auto& [var, n] : step.binding) {
+    for (const auto& entry : step.binding) {
+      const auto& var = entry.first;
+      const auto n = entry.second;
       auto old = std::find_if(before_ids.begin(), before_ids.end(), [&](const auto& p) { return p.first == var; });
       claim.binding.emplace_back(var, old != before_ids.end() ? old->second : world.ids[n]);
     }
