@@ -20,6 +20,7 @@ const char* to_string(ErrorCode code) {
     case ErrorCode::kTransport: return "transport";
     case ErrorCode::kEquivocation: return "equivocation";
     case ErrorCode::kInternal: return "internal";
+    case ErrorCode::kPermissionDenied: return "permission_denied";
   }
   return "unknown";
 }

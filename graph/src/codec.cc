@@ -4,6 +4,7 @@
 //           16 replica differs from the previous node's), [replica index], counter (delta from
 //           the previous node of that replica: unsigned when the message is sorted, else
 //           zigzag; absolute after a replica change), [header: type symbol, name],
+//           [no header, message flag kTyped: type symbol + 1, 0 for none],
 //           attr ops, [claims: removed dots, added claims], [samples]
 // Attr op:  hdr varint = symbol << 2 | code
 //           code 0: one value whose dot is the origin's; overwrites one origin dot (gap varint)
@@ -27,8 +28,8 @@ namespace {
 constexpr std::uint8_t kMagic0 = 'Q';
 constexpr std::uint8_t kMagic1 = 'G';
 // Message flags.
-constexpr std::uint64_t kImplicitDots = 1, kSortedNodes = 2, kFenced = 4, kClaim = 8, kSeq = 16;
-constexpr std::uint64_t kAllFlags = 31;
+constexpr std::uint64_t kImplicitDots = 1, kSortedNodes = 2, kFenced = 4, kClaim = 8, kSeq = 16, kTyped = 32;
+constexpr std::uint64_t kAllFlags = 63;
 // Decoded symbols not yet in the process's table are provisional (this bit set, the low bits
 // index the message's table) until the whole message has been read and checked: a message that
 // fails adds nothing to the table.
@@ -57,9 +58,10 @@ class Encoder {
     w_.u8(static_cast<std::uint8_t>(d_.kind));
     plan_dots();
     for (const auto& e : d_.values) fenced_ = fenced_ || e.fence != 0;
+    for (const auto& n : d_.nodes) typed_ = typed_ || (!n.has_header && !n.type.is_null());
     const bool seq = seq_lo_ != 0;
     std::uint64_t flags = (implicit_ ? kImplicitDots : 0) | (sorted_ ? kSortedNodes : 0) | (fenced_ ? kFenced : 0) |
-                          (d_.rule.empty() ? 0 : kClaim) | (seq ? kSeq : 0);
+                          (d_.rule.empty() ? 0 : kClaim) | (seq ? kSeq : 0) | (typed_ ? kTyped : 0);
     w_.varint(flags);
     if (seq) {
       w_.varint(seq_lo_);
@@ -135,7 +137,7 @@ class Encoder {
     // wrote them in: a decoded delta then re-encodes to the same bytes.
     for (const auto& n : d_.nodes) {
       add_replica(n.id.dot.replica);
-      if (n.has_header) add_symbol(n.type);
+      if (n.has_header || !n.type.is_null()) add_symbol(n.type);
       for (std::uint32_t i = n.attrs.begin; i < n.attrs.end; ++i) add_symbol(d_.attrs[i].name);
     }
     for (const auto& e : d_.edges) {
@@ -301,6 +303,8 @@ class Encoder {
     if (n.has_header) {
       w_.varint(sindex(n.type));
       w_.string(n.name);
+    } else if (typed_) {
+      w_.varint(n.type.is_null() ? 0 : sindex(n.type) + 1);
     }
     for (std::uint32_t i = n.attrs.begin; i < n.attrs.end; ++i) attr(d_.attrs[i]);
     if (flags & kClaims) {
@@ -388,6 +392,7 @@ class Encoder {
   bool implicit_ = false;
   bool sorted_ = true;
   bool fenced_ = false;
+  bool typed_ = false;
   std::uint64_t next_implicit_ = 0;
   std::uint64_t base_ = 0;
 };
@@ -424,6 +429,7 @@ class Decoder {
     implicit_ = flags & kImplicitDots;
     sorted_ = flags & kSortedNodes;
     fenced_ = flags & kFenced;
+    typed_ = flags & kTyped;
 
     std::uint64_t nrep = r_.count("replica count", lim_.max_table, 2);
     if (r_.ok() && nrep == 0) return fail(ErrorCode::kMalformed, "replica count", "the replica table is empty");
@@ -648,6 +654,13 @@ class Decoder {
         r_.fail(ErrorCode::kMalformed, "node name", "a node name is empty, not UTF-8 or holds the reserved '~'");
         return;
       }
+    } else if (typed_) {
+      std::uint64_t t = r_.varint("node type (stated)");
+      if (r_.ok() && t > symbols_.size()) {
+        r_.fail(ErrorCode::kMalformed, "node type (stated)", "symbol index " + std::to_string(t - 1) + " is out of the table");
+        return;
+      }
+      if (t != 0) n.type = symbols_[t - 1];
     }
     n.attrs.begin = u32(d_.attrs.size());
     for (std::uint64_t i = 0; i < nattrs && r_.ok(); ++i) attr();
@@ -832,6 +845,7 @@ class Decoder {
   bool implicit_ = false;
   bool sorted_ = false;
   bool fenced_ = false;
+  bool typed_ = false;
   std::uint64_t next_implicit_ = 0;
   std::uint64_t base_ = 0;
 };

@@ -647,6 +647,7 @@ void Graph::set_delta_sink(std::function<void(const GraphDelta&)> sink) {
   impl_->sink = std::move(sink);
 }
 void Graph::set_commit_validator(CommitValidator v) { impl_->validator = std::move(v); }
+void Graph::set_permission_check(CommitValidator v) { impl_->permission_check = std::move(v); }
 void Graph::set_fence_provider(FenceProvider f) { impl_->fence_of = std::move(f); }
 Graph::ObserverId Graph::add_merge_observer(MergeObserver o) {
   const ObserverId id = impl_->next_observer++;

@@ -185,6 +185,7 @@ struct Graph::Impl {
   GraphDelta out;
   std::function<void(const GraphDelta&)> sink;
   CommitValidator validator;
+  CommitValidator permission_check;
   FenceProvider fence_of;
   Graph::OriginNamer origin_namer;
   std::vector<std::pair<Graph::ObserverId, MergeObserver>> merge_observers;

@@ -96,6 +96,9 @@ GraphDelta::NodeOp& Graph::Impl::out_node(NodeId id, int section) {
   }
   GraphDelta::NodeOp op;
   op.id = id;
+  // Every op states its node's type, so that a receiver can check the change against a policy
+  // from the delta alone (docs/security.md), whatever it already holds.
+  if (const NodeRec* r = find_node(id)) op.type = r->type;
   op.attrs = open_span(out.attrs.size());
   op.claim_removed = open_span(out.removed.size());
   op.claim_added = open_span(out.claims.size());
@@ -755,6 +758,10 @@ Result<CommitInfo> Transaction::commit() {
   const bool stale = book_->epoch != g.epoch;
   if (stale)
     if (Status s = revalidate(); !s.ok()) return refuse(s.error());
+  if (g.permission_check) {
+    Status s = g.permission_check(*graph_, ops_);
+    if (!s.ok()) return refuse(s.error());
+  }
   if (g.validator) {
     Status s = g.validator(*graph_, ops_);  // may annotate g.out with the rule it matched
     if (!s.ok()) return refuse(s.error());

@@ -67,6 +67,7 @@ GraphDelta Graph::state_diff(const crdt::CausalContext& theirs) const {
   for (const auto& [id, r] : g.nodes) {
     GraphDelta::NodeOp op;
     op.id = id;
+    op.type = r.type;  // stated even without the header (docs/security.md)
     if (r.alive) {
       if (theirs.contains(id.dot)) {
         out.keep.push_back(id.dot);

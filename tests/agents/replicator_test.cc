@@ -260,12 +260,14 @@ TEST(ReplicatorTest, ARogueDeltaWithCorruptPayloadIsRejected) {
   net.pump();
   add_node(*net.nodes[a].g, "x");
   ASSERT_FALSE(net.inflight.empty());
-  // Corrupt the graph payload inside the frame (last bytes).
+  // Corrupt the graph payload inside the frame: its last bytes, before the (empty, one-byte)
+  // signature that ends the frame.
   Frame f = net.inflight.back();
   net.inflight.clear();
+  ASSERT_EQ(f.bytes.back(), 0) << "an unsigned delta ends with an empty signature";
+  f.bytes[f.bytes.size() - 4] = 0xff;
   f.bytes[f.bytes.size() - 3] = 0xff;
   f.bytes[f.bytes.size() - 2] = 0xff;
-  f.bytes[f.bytes.size() - 1] = 0xff;
   auto before = net.nodes[b].g->digest();
   net.nodes[b].rep->on_packet(f.bytes, 0);
   EXPECT_EQ(net.nodes[b].g->digest(), before);

@@ -47,6 +47,10 @@ Result<std::unique_ptr<DdsReplica>> DdsReplica::create(DdsReplicaOptions options
     a->replicator_->restore(applied);
     a->replicator_->set_journal(a->store_.get());
   }
+  if (a->opt_.permissions) {
+    a->replicator_->set_admission(a->opt_.permissions.get());
+    a->graph_->set_permission_check(a->opt_.permissions->commit_check(a->graph_->replica().agent));
+  }
   const std::int64_t now = monotonic_ns();
   a->replicator_->start(now);
   a->next_tick_ = now + a->opt_.tick_ns;

@@ -58,7 +58,9 @@ Envelope envelope_of(const quiver_wire_Summary& s) {
 }
 
 Envelope envelope_of(const quiver_wire_Delta& s) {
-  return addressed(s, DeltaMsg{from_wire(s.origin), s.lo, s.hi, copy_octets(s.payload)});
+  DeltaMsg m{from_wire(s.origin), s.lo, s.hi, copy_octets(s.payload), nullptr};
+  if (s.signature._length > 0) m.signature = copy_octets(s.signature);
+  return addressed(s, std::move(m));
 }
 
 Envelope envelope_of(const quiver_wire_Pull& s) {
@@ -140,7 +142,8 @@ std::pair<DdsTopic, const void*> SampleBuilder::build(const Message& m, const Pe
           summary_.digest = msg.digest;
           return {DdsTopic::kSummary, &summary_};
         } else if constexpr (std::is_same_v<T, DeltaMsg>) {
-          delta_ = quiver_wire_Delta{from, to, to_wire(msg.origin), msg.lo, msg.hi, octets(*msg.payload)};
+          delta_ = quiver_wire_Delta{from, to, to_wire(msg.origin), msg.lo, msg.hi, octets(*msg.payload),
+                                     msg.signature ? octets(*msg.signature) : dds_sequence_octet{}};
           return {DdsTopic::kDelta, &delta_};
         } else if constexpr (std::is_same_v<T, PullMsg>) {
           pull_ = quiver_wire_Pull{from, to, msg.request, a_.build(msg.applied), b_.build(msg.context), msg.whole_state,

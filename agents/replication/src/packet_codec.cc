@@ -66,6 +66,7 @@ struct BodyWriter {
     w.varint(m.lo);
     w.varint(m.hi);
     w.bytes(*m.payload);
+    w.bytes(m.signature ? std::span<const std::uint8_t>(*m.signature) : std::span<const std::uint8_t>());
   }
   void operator()(const PullMsg& m) {
     w.u8(kPull);
@@ -159,6 +160,9 @@ Result<Envelope> decode_packet(std::span<const std::uint8_t> packet) {
         m.hi = b.varint("last sequence number");
         auto payload = b.bytes("delta", kMaxBody);
         m.payload = std::make_shared<const std::vector<std::uint8_t>>(payload.begin(), payload.end());
+        auto signature = b.bytes("signature", kMaxBody);
+        if (!signature.empty())
+          m.signature = std::make_shared<const std::vector<std::uint8_t>>(signature.begin(), signature.end());
         e.messages.emplace_back(std::move(m));
         break;
       }

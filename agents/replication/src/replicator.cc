@@ -95,11 +95,15 @@ void Replicator::flush() {
 
 void Replicator::publish(std::vector<std::uint8_t> bytes, std::uint64_t lo, std::uint64_t hi) {
   auto shared = std::make_shared<const std::vector<std::uint8_t>>(std::move(bytes));
+  Bytes signature;
+  if (admission_ != nullptr)
+    if (auto sig = admission_->sign(*shared); !sig.empty())
+      signature = std::make_shared<const std::vector<std::uint8_t>>(std::move(sig));
   applied_.add_range(self_, lo, hi);
   record(self_, lo, hi, digest_of(*shared));
-  remember(self_, lo, hi, shared);
+  remember(self_, lo, hi, shared, signature);
   ++stats_.deltas_published;
-  queue(PeerId{}, DeltaMsg{self_, lo, hi, std::move(shared)});
+  queue(PeerId{}, DeltaMsg{self_, lo, hi, std::move(shared), std::move(signature)});
   send_queued();
 }
 
@@ -113,8 +117,8 @@ Result<bool> Replicator::seed(const graph::GraphDelta& d) {
   applied_.add_range(d.origin, d.seq_lo, d.seq_hi);
   if (journal_ != nullptr) journal_->remote(d.origin, d.seq_lo, d.seq_hi, *bytes);
   record(d.origin, d.seq_lo, d.seq_hi, digest_of(*bytes));
-  remember(d.origin, d.seq_lo, d.seq_hi, bytes);
-  queue(PeerId{}, DeltaMsg{d.origin, d.seq_lo, d.seq_hi, std::move(bytes)});
+  remember(d.origin, d.seq_lo, d.seq_hi, bytes, nullptr);
+  queue(PeerId{}, DeltaMsg{d.origin, d.seq_lo, d.seq_hi, std::move(bytes), nullptr});
   send_queued();
   return true;
 }
@@ -296,7 +300,7 @@ std::uint64_t Replicator::state_digest() {
 // forged interval covering real ones). Twice in a row (a commit may be racing the summary), this
 // replica asks that peer for its whole state; the peer does the same, and the joins converge.
 void Replicator::check_digest(const PeerId& from, Peer& p, std::uint64_t digest) {
-  if (digest == 0 || pulling_ || state_.active || pending_lo_ != 0 || !(p.applied == applied_)) return;
+  if (digest == 0 || p.state_refused || pulling_ || state_.active || pending_lo_ != 0 || !(p.applied == applied_)) return;
   if (digest == state_digest()) {
     p.digest_mismatches = 0;
     return;
@@ -383,7 +387,7 @@ void Replicator::apply_delta(const PeerId& from, const DeltaMsg& m, std::uint64_
   if (journal_ != nullptr) journal_->remote(m.origin, m.lo, m.hi, *m.payload);
   record(m.origin, m.lo, m.hi, digest);
   ++stats_.deltas_applied;
-  remember(m.origin, m.lo, m.hi, m.payload);
+  remember(m.origin, m.lo, m.hi, m.payload, m.signature);
   if (auto it = peers_.find(from); it != peers_.end() && pulling_ && pull_target_ == from) it->second.pull_failures = 0;
   if (applied_.contiguous(m.origin) + 1 < m.lo && !gap_pending_) {
     gap_pending_ = true;
@@ -406,7 +410,28 @@ void Replicator::handle(const PeerId& from, const DeltaMsg& m) {
   if (applied_.intersects(m.origin, m.lo, m.hi))
     return equivocate(from, m, digest, "overlaps intervals already applied");
   if (Status s = decode_delta(from, m); !s.ok()) return reject(s.error());
+  if (!admitted(from, m, digest)) return;
   apply_delta(from, m, digest);
+}
+
+// The Admission's verdict on the decoded delta in scratch_. A refused delta is never applied,
+// but its interval counts as received and it is relayed like any other: every replica sees it
+// and refuses it alike (the verdict depends on the delta and the policy only), so the replicas
+// stay equal and nobody pulls it for ever.
+bool Replicator::admitted(const PeerId& from, const DeltaMsg& m, std::uint64_t digest) {
+  if (admission_ == nullptr) return true;
+  const std::span<const std::uint8_t> sig =
+      m.signature ? std::span<const std::uint8_t>(*m.signature) : std::span<const std::uint8_t>();
+  Status s = admission_->admit_delta(scratch_, *m.payload, sig);
+  if (s.ok()) return true;
+  ++stats_.deltas_refused;
+  applied_.add_range(m.origin, m.lo, m.hi);
+  record(m.origin, m.lo, m.hi, digest);
+  remember(m.origin, m.lo, m.hi, m.payload, m.signature);
+  queue(PeerId{}, DeltaMsg{m.origin, m.lo, m.hi, m.payload, m.signature});
+  reject(make_error(ErrorCode::kPermissionDenied, "delta " + interval(m.origin, m.lo, m.hi) + " relayed by " +
+                                                      from.to_string() + " refused: " + s.error().message));
+  return false;
 }
 
 // Two payloads under one (origin, seq): one of them is forged (or a replica is broken). Which,
@@ -421,6 +446,16 @@ void Replicator::equivocate(const PeerId& from, const DeltaMsg& m, std::uint64_t
   equivocation("delta " + interval(m.origin, m.lo, m.hi) + " relayed by " + from.to_string() + " " + what +
                ": both are joined");
   if (Status s = decode_delta(from, m); !s.ok()) return reject(s.error());
+  if (admission_ != nullptr) {
+    const std::span<const std::uint8_t> sig =
+        m.signature ? std::span<const std::uint8_t>(*m.signature) : std::span<const std::uint8_t>();
+    if (Status a = admission_->admit_delta(scratch_, *m.payload, sig); !a.ok()) {
+      ++stats_.deltas_refused;
+      return reject(make_error(ErrorCode::kPermissionDenied, "delta " + interval(m.origin, m.lo, m.hi) +
+                                                                 " relayed by " + from.to_string() +
+                                                                 " refused: " + a.error().message));
+    }
+  }
   g_.merge(scratch_);
   ++state_version_;
   applied_.add_range(m.origin, m.lo, m.hi);
@@ -438,12 +473,12 @@ void Replicator::equivocate(const PeerId& from, const DeltaMsg& m, std::uint64_t
     ++stats_.versions_not_relayed;
     return;
   }
-  queue(PeerId{}, DeltaMsg{m.origin, m.lo, m.hi, m.payload});
+  queue(PeerId{}, DeltaMsg{m.origin, m.lo, m.hi, m.payload, m.signature});
   if (first_other) {
     auto idx = buffer_index_.find(m.origin);
     if (idx != buffer_index_.end())
       if (auto it = idx->second.find(m.lo); it != idx->second.end())
-        queue(PeerId{}, DeltaMsg{m.origin, it->second->lo, it->second->hi, it->second->bytes});
+        queue(PeerId{}, DeltaMsg{m.origin, it->second->lo, it->second->hi, it->second->bytes, it->second->signature});
   }
 }
 
@@ -467,6 +502,7 @@ void Replicator::handle_own(const PeerId& from, const DeltaMsg& m) {
   const bool overlaps = applied_.intersects(self_, m.lo, m.hi);
   skip_own_numbers_to(m.hi);
   if (overlaps) return equivocate(from, m, digest, "claims to be ours but differs from what we published");
+  if (!admitted(from, m, digest)) return;
   equivocation("delta " + interval(m.origin, m.lo, m.hi) + " relayed by " + from.to_string() +
                " was published under this replica's name, which never published it; later deltas take sequence "
                "numbers beyond it");
@@ -534,7 +570,7 @@ void Replicator::handle(const PeerId& from, const PullMsg& m) {
   if (covered) {
     ++stats_.pulls_answered_with_deltas;
     for (const Buffered* e : entries) {
-      queue(from, DeltaMsg{e->origin, e->lo, e->hi, e->bytes});
+      queue(from, DeltaMsg{e->origin, e->lo, e->hi, e->bytes, e->signature});
       ++stats_.deltas_relayed;
     }
     return;
@@ -612,6 +648,12 @@ void Replicator::handle(const PeerId& from, const StateMsg& m) {
   if (!s.ok()) return reject(make_error(s.error().code, "state from " + from.to_string() + ": " + s.error().message));
   if (scratch_.kind != graph::GraphDelta::Kind::kState)
     return reject(make_error(ErrorCode::kMalformed, "state from " + from.to_string() + ": not a state"));
+  if (admission_ != nullptr)
+    if (Status a = admission_->admit_state(from, scratch_); !a.ok()) {
+      ++stats_.states_refused;
+      peers_[from].state_refused = true;
+      return reject(make_error(ErrorCode::kPermissionDenied, "state from " + from.to_string() + " refused: " + a.error().message));
+    }
   g_.merge(scratch_);
   ++state_version_;
   applied_.join(applied);
@@ -635,11 +677,11 @@ void Replicator::handle(const PeerId& from, const ByeMsg&) {
 
 // ------------------------------------------------------------------ buffer
 
-void Replicator::remember(const PeerId& origin, std::uint64_t lo, std::uint64_t hi, Bytes bytes) {
+void Replicator::remember(const PeerId& origin, std::uint64_t lo, std::uint64_t hi, Bytes bytes, Bytes signature) {
   auto& idx = buffer_index_[origin];
   if (idx.count(lo)) return;
   buffer_bytes_ += bytes->size();
-  buffer_.push_back(Buffered{origin, lo, hi, std::move(bytes)});
+  buffer_.push_back(Buffered{origin, lo, hi, std::move(bytes), std::move(signature)});
   idx.emplace(lo, std::prev(buffer_.end()));
   while (buffer_bytes_ > opt_.buffer_bytes && buffer_.size() > 1) {
     evict_front();

@@ -51,6 +51,10 @@ Status check(const DeltaMsg& m, const EnvelopeLimits& lim) {
     return make_error(ErrorCode::kTooLarge, "the interval of " + m.origin.to_string() + " claims " +
                                                 num(m.hi - m.lo + 1) + " sequence numbers (the limit is " +
                                                 num(lim.max_interval) + ")");
+  if (m.signature && m.signature->size() > lim.max_signature_bytes)
+    return make_error(ErrorCode::kTooLarge, "the signature of " + m.origin.to_string() + "'s delta holds " +
+                                                num(m.signature->size()) + " bytes (the limit is " +
+                                                num(lim.max_signature_bytes) + ")");
   return bytes(m.payload, "the payload", lim.max_payload_bytes);
 }
 

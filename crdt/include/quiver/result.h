@@ -28,6 +28,7 @@ enum class ErrorCode : std::uint16_t {
   kTransport,            ///< The network layer failed.
   kEquivocation,         ///< A peer sent two different things under one name (a forgery or a bug).
   kInternal,             ///< A bug: an invariant of Quiver itself did not hold.
+  kPermissionDenied,     ///< The change's author may not make it, or is not who it claims (docs/security.md).
 };
 
 /// Stable lowercase name of an error code ("not_found", ...).

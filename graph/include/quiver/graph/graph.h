@@ -344,6 +344,9 @@ class Graph {
   /// Observed just before a commit applies: return an error to refuse the transaction.
   using CommitValidator = std::function<Status(const Graph&, const std::vector<TxnOp>&)>;
   void set_commit_validator(CommitValidator v);
+  /// A second check, run before the validator on every commit, that the grammar guard and the
+  /// locks never replace: the agent's graph-level permissions (agents/permissions). Null: none.
+  void set_permission_check(CommitValidator v);
   /// Attaches a rule claim to the delta of the next (or in-progress) commit; typically called by
   /// a commit validator that matched the transaction to a rule.
   /// @returns kInvalidArgument / kTooLarge if a name breaks the limits table (nothing attached).

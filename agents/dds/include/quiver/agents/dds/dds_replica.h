@@ -20,6 +20,7 @@
 
 #include "quiver/posted_call.h"
 #include "quiver/agents/dds/dds_transport.h"
+#include "quiver/agents/permissions/policy_admission.h"
 #include "quiver/agents/replication/replicator.h"
 #include "quiver/agents/store/store.h"
 #include "quiver/graph/graph.h"
@@ -37,6 +38,9 @@ struct DdsReplicaOptions {
   /// change it joins is logged. A store that cannot be read is set aside (DIR.corrupt-N) and
   /// the replica starts empty under a new incarnation, to be filled by its peers.
   std::optional<StoreOptions> store;
+  /// Graph-level permissions and signed deltas (docs/security.md): the replicator's Admission and
+  /// the graph's permission check. Null: every well-formed change is joined.
+  std::shared_ptr<permissions::PolicyAdmission> permissions;
 };
 
 /// A new incarnation number for a process start: microseconds of the wall clock shifted left

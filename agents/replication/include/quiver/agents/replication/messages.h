@@ -52,6 +52,9 @@ struct DeltaMsg {
   std::uint64_t lo = 0;
   std::uint64_t hi = 0;
   std::shared_ptr<const std::vector<std::uint8_t>> payload;
+  /// The origin's signature of `payload` when the replicas run with identities (admission.h);
+  /// null or empty: unsigned. Relays pass it on unchanged.
+  std::shared_ptr<const std::vector<std::uint8_t>> signature;
 };
 
 /// "Send me what I lack": my (origin, seq) set and my causal context (for a context diff).

@@ -37,6 +37,7 @@
 #include <unordered_map>
 #include <vector>
 
+#include "quiver/agents/replication/admission.h"
 #include "quiver/agents/replication/journal.h"
 #include "quiver/agents/replication/messages.h"
 #include "quiver/agents/replication/transport.h"
@@ -107,6 +108,8 @@ struct ReplicatorStats {
   std::uint64_t suspects = 0;             ///< peers found claiming what they did not deliver
   std::uint64_t divergences = 0;          ///< same (origin, seq) set, other digest: whole state pulled
   std::uint64_t versions_not_relayed = 0;  ///< versions of one (origin, seq) beyond max_versions: joined only
+  std::uint64_t deltas_refused = 0;        ///< deltas the Admission refused (never applied; relayed)
+  std::uint64_t states_refused = 0;        ///< state transfers the Admission refused (never joined)
 };
 
 class Replicator {
@@ -125,6 +128,10 @@ class Replicator {
   void restore(const crdt::CausalContext& applied);
   /// Tells `journal` (owned by the caller, outliving this) every change joined from now on.
   void set_journal(Journal* journal) { journal_ = journal; }
+  /// Before start(): signs what this replica publishes and checks what it receives (owned by
+  /// the caller, outliving this). Refused deltas are reported (kPermissionDenied), counted and
+  /// never applied; their interval counts as received (every replica refuses them alike).
+  void set_admission(Admission* admission) { admission_ = admission; }
   /// Handles one received envelope, from any transport: checked whole first (validate.h); then
   /// messages that do not hold (e.g. a delta whose payload does not decode) are counted,
   /// reported and dropped; the replica is unchanged by them.
@@ -190,6 +197,7 @@ class Replicator {
     PeerId origin;
     std::uint64_t lo, hi;
     std::shared_ptr<const std::vector<std::uint8_t>> bytes;
+    std::shared_ptr<const std::vector<std::uint8_t>> signature;
   };
   using Bytes = std::shared_ptr<const std::vector<std::uint8_t>>;
   struct Peer {
@@ -197,6 +205,7 @@ class Replicator {
     crdt::CausalContext applied;
     bool announced = false;     // kJoined was reported (once its summary named it)
     bool said_bye = false;      // it left cleanly: late messages of this incarnation are ignored
+    bool state_refused = false;  // it sent a state the Admission refused: no digest repair with it
     int pull_failures = 0;      // pulls in a row it left unanswered
     std::int64_t suspect_until = 0;
     std::int64_t last_state_answer_ns = -1;
@@ -239,6 +248,7 @@ class Replicator {
   /// Decodes and checks a delta payload against its message; the error names what is wrong.
   Status decode_delta(const PeerId& from, const DeltaMsg& m);
   void apply_delta(const PeerId& from, const DeltaMsg& m, std::uint64_t digest);
+  bool admitted(const PeerId& from, const DeltaMsg& m, std::uint64_t digest);
   void record(const PeerId& origin, std::uint64_t lo, std::uint64_t hi, std::uint64_t digest);
   const Seen* recorded(const PeerId& origin, std::uint64_t lo) const;
   Seen* recorded(const PeerId& origin, std::uint64_t lo) {
@@ -262,7 +272,7 @@ class Replicator {
   std::uint64_t state_digest();
   void check_digest(const PeerId& from, Peer& p, std::uint64_t digest);
   bool behind(const Peer& p) const { return !applied_.includes(p.applied); }
-  void remember(const PeerId& origin, std::uint64_t lo, std::uint64_t hi, Bytes bytes);
+  void remember(const PeerId& origin, std::uint64_t lo, std::uint64_t hi, Bytes bytes, Bytes signature);
   void evict_front();
   void trim_buffer();
   void queue(const PeerId& to, Message msg);
@@ -283,6 +293,7 @@ class Replicator {
 
   std::uint64_t seq_ = 0;  // last local sequence number
   Journal* journal_ = nullptr;
+  Admission* admission_ = nullptr;
   crdt::CausalContext applied_;
   graph::GraphDelta pending_;  // coalesced local deltas
   std::uint64_t pending_lo_ = 0;

@@ -23,6 +23,7 @@ struct EnvelopeLimits {
   std::size_t max_payload_bytes = graph::limits::kMaxDeltaBytes + (1u << 20);  ///< one delta
   std::size_t max_chunk_bytes = 16u << 20;  ///< one state chunk
   std::uint64_t max_chunks = 1u << 16;      ///< chunks of one state transfer
+  std::size_t max_signature_bytes = 512;    ///< a delta's signature
 };
 
 /// Checks an envelope against `limits`. @returns kMalformed or kTooLarge naming what was wrong.
