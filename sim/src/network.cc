@@ -48,6 +48,7 @@ int VirtualNetwork::index_of(const agents::PeerId& id) const {
 }
 
 void VirtualNetwork::transmit(int from, int to, std::shared_ptr<const std::vector<std::uint8_t>> packet) {
+  if (!nodes_[from].up) return;  // a node that is down sends nothing (a host that fail-stopped)
   auto one = [&](int d) {
     ++stats_.messages;
     stats_.bytes += packet->size();

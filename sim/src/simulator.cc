@@ -1,6 +1,8 @@
 #include "quiver/sim/simulator.h"
 
 #include <algorithm>
+#include <cstdlib>
+#include <filesystem>
 #include <map>
 #include <memory>
 #include <nlohmann/json.hpp>
@@ -10,6 +12,7 @@
 #include "quiver/agents/replication/packet_codec.h"
 #include "quiver/agents/grammar/grammar_guard.h"
 #include "quiver/agents/locks/locks.h"
+#include "quiver/hash.h"
 #include "quiver/rng.h"
 
 namespace quiver::sim {
@@ -19,10 +22,26 @@ using agents::PeerId;
 
 class Simulation;
 
+// A simulated disk under an agent's store: faults are decided here, in virtual time.
+struct Disk {
+  std::string dir;
+  Rng rng{1};
+  std::int64_t full_from = -1, full_until = -1;  // the disk refuses writes in [from, until)
+  bool power_off = false;  // the host lost power: nothing more reaches the disk
+  bool tear_next = false;  // the next log write tears, and the power fails during it
+  bool torn = false;       // a write tore: the host must go down now
+  bool lying = false;      // control: log writes are acknowledged and dropped
+};
+
 struct Agent {
   std::uint64_t agent_id = 0;
   std::uint64_t incarnation = 0;
+  std::uint64_t last_incarnation = 0;  // the greatest incarnation ever used (fresh ones go beyond)
   bool up = false;
+  bool failing = false;  // fail-stopped: down for the network, to be killed at once
+  Disk disk;
+  crdt::CausalContext acked;  // this agent's acknowledged commits, every incarnation
+  std::unique_ptr<agents::Store> store;  // declared before the replicator: destroyed after it
   std::unique_ptr<graph::Graph> graph;
   std::unique_ptr<agents::Replicator> replicator;
   std::unique_ptr<agents::LockManager> locks;
@@ -58,11 +77,27 @@ class Simulation {
       rooms_grammar_ = *agents::parse_grammar(rooms_grammar(cfg.rooms.repair), "rooms");
     agents_.resize(cfg.agents);
     net_.after_each_event([this] { account_overlap(); });
+    boot_pending_.assign(cfg.agents, false);
+    if (cfg.disks.enabled) make_disks();
+  }
+
+  ~Simulation() {
+    for (auto& a : agents_) {
+      a.guard.reset();
+      a.locks.reset();
+      a.replicator.reset();
+      a.store.reset();
+    }
+    if (own_dir_) {
+      std::error_code ec;
+      std::filesystem::remove_all(root_, ec);
+    }
   }
 
   SimResult run() {
     for (int i = 0; i < cfg_.agents; ++i) {
-      agents_[i].agent_id = 0x5100 + static_cast<std::uint64_t>(i);
+      // A store names its replica's local changes by the agent's name, as a process does.
+      agents_[i].agent_id = cfg_.disks.enabled ? fnv1a64("agent" + std::to_string(i)) : 0x5100 + static_cast<std::uint64_t>(i);
       boot(i);
       net_.at(static_cast<std::int64_t>(rng_.below(cfg_.tick_interval_ns)), [this, i] { tick(i); });
     }
@@ -71,6 +106,7 @@ class Simulation {
     if (cfg_.rooms.enabled) create_rooms();
     for (int s = 0; s < cfg_.steps; ++s) net_.at((s + 1) * cfg_.step_interval_ns, [this] { step(); });
     plan_faults(work_end);
+    if (cfg_.disks.enabled) plan_disk_faults(work_end);
     // Workload and faults.
     net_.run_until(work_end + cfg_.step_interval_ns);
     // Heal: faults off, everyone up and connected; then wait for convergence.
@@ -78,18 +114,24 @@ class Simulation {
     net_.faults().loss = 0;
     net_.faults().dup = 0;
     net_.heal();
+    for (auto& a : agents_) {
+      a.disk.full_until = std::min(a.disk.full_until, net_.now());
+      a.disk.tear_next = false;
+    }
     for (int i = 0; i < cfg_.agents; ++i)
       if (!agents_[i].up) boot(i);
     const std::int64_t heal_at = net_.now();
-    const std::int64_t deadline = net_.now() + cfg_.settle_limit_ns;
-    while (net_.now() < deadline) {
-      net_.run_until(net_.now() + 50'000'000);
-      if (converged()) {
-        result_.converged = true;
-        note("converged: " + std::to_string(cfg_.agents) + " replicas hold digest " +
-             agents_[0].graph->digest().hex() + " (" + std::to_string(agents_[0].graph->node_count()) + " nodes)");
-        break;
-      }
+    settle(net_.now() + cfg_.settle_limit_ns);
+    if (cfg_.disks.enabled && result_.converged) {
+      // Every agent loses power at once and comes back from its store alone: under `always`
+      // what they reload must hold every acknowledged commit; then they converge again.
+      note("every agent loses power at once; all restart from their stores");
+      for (int i = 0; i < cfg_.agents; ++i) crash(i);
+      for (int i = 0; i < cfg_.agents; ++i) boot(i);
+      settle(net_.now() + cfg_.settle_limit_ns);
+      if (cfg_.disks.durability == agents::Durability::kAlways)
+        for (int i = 0; i < cfg_.agents; ++i)
+          if (agents_[i].up) check_acked(i, agents_[i].replicator->applied(), "the final replicas");
     }
     account_overlap();
     result_.settle_ms = (net_.now() - heal_at) / 1'000'000;
@@ -117,12 +159,272 @@ class Simulation {
     if (cfg_.log) cfg_.log(net_.now(), line);
   }
 
+  void settle(std::int64_t deadline) {
+    result_.converged = false;
+    while (net_.now() < deadline) {
+      net_.run_until(net_.now() + 50'000'000);
+      if (cfg_.disks.enabled)
+        for (int i = 0; i < cfg_.agents; ++i)
+          if (!agents_[i].up && !boot_pending_[i]) boot(i);  // a restart the disk refused, retried
+      if (converged()) {
+        result_.converged = true;
+        note("converged: " + std::to_string(cfg_.agents) + " replicas hold digest " +
+             agents_[0].graph->digest().hex() + " (" + std::to_string(agents_[0].graph->node_count()) + " nodes)");
+        break;
+      }
+    }
+  }
+
+  // ---------------------------------------------------------------- stores on simulated disks
+
+  void make_disks() {
+    if (cfg_.disks.dir.empty()) {
+      // In memory when we can: the disks are simulated, the host's fdatasync would only cost time.
+      std::error_code ec;
+      const std::filesystem::path base =
+          std::filesystem::is_directory("/dev/shm", ec) ? std::filesystem::path("/dev/shm") : std::filesystem::temp_directory_path();
+      std::string tmpl = (base / "quiver-sim-disks-XXXXXX").string();
+      if (::mkdtemp(tmpl.data()) == nullptr) {
+        store_error("cannot create a temporary directory for the stores");
+        return;
+      }
+      root_ = tmpl;
+      own_dir_ = true;
+    } else {
+      root_ = cfg_.disks.dir;
+    }
+    for (int i = 0; i < cfg_.agents; ++i) {
+      Disk& d = agents_[i].disk;
+      d.dir = (std::filesystem::path(root_) / ("agent" + std::to_string(i))).string();
+      d.rng = Rng(cfg_.seed ^ (0xd15c0000ULL + static_cast<std::uint64_t>(i)));
+      d.lying = cfg_.disks.lying_disk && i == 0;
+    }
+  }
+
+  void store_error(const std::string& e) {
+    if (result_.first_store_error.empty()) result_.first_store_error = "t=" + std::to_string(net_.now()) + "ns " + e;
+    note(e);
+  }
+
+  // The fault the disk of agent `i` injects into a write. Called on the thread that writes:
+  // the owner's (always), or the store's while the owner waits in sync() (batch): in order.
+  agents::StoreFault disk_fault(int i, const agents::StoreWrite& w) {
+    using Kind = agents::StoreFault::Kind;
+    Disk& d = agents_[i].disk;
+    if (d.power_off) return {Kind::kNoSpace};
+    const bool log = w.what == agents::StoreWrite::What::kLog;
+    if (log && d.tear_next) {
+      d.tear_next = false;
+      d.torn = true;
+      d.power_off = true;
+      ++result_.torn_writes;
+      agents::StoreFault f{Kind::kTear};
+      f.flip = d.rng.chance(0.3);
+      f.keep = static_cast<std::size_t>(d.rng.below(std::max<std::size_t>(1, w.bytes)));
+      return f;
+    }
+    if (net_.now() >= d.full_from && net_.now() < d.full_until) {
+      ++result_.writes_refused;
+      return {Kind::kNoSpace};
+    }
+    if (log && d.lying) return {Kind::kLie};
+    return {};
+  }
+
+  // Under `always` a write failed: the host stops at once (nothing leaves it from now on).
+  void fail_stop(int i, const Error& e) {
+    Agent& a = agents_[i];
+    if (a.failing) return;
+    a.failing = true;
+    ++result_.fail_stops;
+    net_.set_up(i, false);
+    note("agent" + std::to_string(i) + " stops (fail-stop): " + e.message);
+    net_.at(net_.now(), [this, i] {
+      crash(i);
+      restart_later(i, 20'000'000);
+    });
+  }
+
+  void restart_later(int i, std::int64_t after_ns) {
+    boot_pending_[i] = true;
+    net_.at(net_.now() + after_ns, [this, i] {
+      boot_pending_[i] = false;
+      if (!agents_[i].up) boot(i);
+    });
+  }
+
+  // Opens agent i's store and loads its replica into a new graph. False: the disk refused (the
+  // caller retries later).
+  bool open_store(int i, crdt::CausalContext& applied) {
+    Agent& a = agents_[i];
+    agents::StoreOptions so;
+    so.dir = a.disk.dir;
+    so.durability = cfg_.disks.durability;
+    so.batch_ns = 0;            // flushed by the simulator, in virtual time
+    so.compact_log_bytes = 0;   // compacted by the simulator, in virtual time
+    so.map_bytes = std::size_t{1} << 30;
+    so.faults.before_write = [this, i](const agents::StoreWrite& w) { return disk_fault(i, w); };
+    so.faults.fail_stop = [this, i](const Error& e) { fail_stop(i, e); };
+    const std::string name = "agent" + std::to_string(i);
+    for (int attempt = 0; attempt < 2; ++attempt) {
+      const std::uint64_t fresh = a.last_incarnation + 1;
+      auto s = agents::Store::open(so, name, fresh);
+      Error err;
+      if (s.ok()) {
+        a.store = std::move(*s);
+        a.incarnation = a.store->opening().incarnation;
+        a.last_incarnation = std::max(a.last_incarnation, a.incarnation);
+        a.graph = std::make_unique<graph::Graph>(graph::ReplicaId{a.agent_id, a.incarnation});
+        auto loaded = a.store->load(*a.graph);
+        if (loaded.ok()) {
+          applied = std::move(*loaded);
+          ++result_.store_reloads;
+          result_.records_reloaded += a.store->opening().records;
+          if (!a.store->opening().torn_tail.empty()) {
+            ++result_.torn_tails_dropped;
+            note(name + ": " + a.store->opening().torn_tail);
+          }
+          return true;
+        }
+        err = loaded.error();
+        a.store.reset();
+        a.graph.reset();
+      } else {
+        err = s.error();
+      }
+      if (err.code != ErrorCode::kMalformed && err.code != ErrorCode::kTruncated &&
+          err.code != ErrorCode::kUnsupportedVersion) {
+        ++result_.restarts_refused;
+        note(name + " cannot open its store, retries: " + err.to_string());
+        return false;
+      }
+      // Damage: as DdsReplica does, set the store aside and start empty, filled by the peers.
+      ++result_.stores_set_aside;
+      store_error(name + ": " + err.to_string() + "; the store is set aside");
+      if (auto aside = agents::Store::set_aside(a.disk.dir); !aside.ok()) {
+        store_error(aside.error().to_string());
+        return false;
+      }
+    }
+    return false;
+  }
+
+  // Under `always`: every commit agent i acknowledged must be in `have`.
+  void check_acked(int i, const crdt::CausalContext& have, const std::string& where) {
+    std::uint64_t lost = 0;
+    std::string first;
+    agents_[i].acked.for_each_range([&](const graph::ReplicaId& r, std::uint64_t lo, std::uint64_t hi) {
+      for (std::uint64_t c = lo; c <= hi; ++c)
+        if (!have.contains(r, c)) {
+          if (first.empty()) first = r.to_string() + ":" + std::to_string(c);
+          ++lost;
+        }
+    });
+    if (lost == 0) return;
+    result_.acked_lost += lost;
+    const std::string line = "agent" + std::to_string(i) + ": " + std::to_string(lost) +
+                             " acknowledged commits missing from " + where + " (first " + first + ")";
+    if (result_.first_acked_lost.empty()) result_.first_acked_lost = "t=" + std::to_string(net_.now()) + "ns " + line;
+    note(line);
+  }
+
+  void plan_disk_faults(std::int64_t work_end) {
+    const DiskFaults& d = cfg_.disks;
+    // Flushes (batch) and compactions, each store on its own phase.
+    for (int i = 0; i < cfg_.agents; ++i) {
+      if (d.durability != agents::Durability::kAlways)
+        every(static_cast<std::int64_t>(rng_.below(d.flush_ns)) + 1, d.flush_ns, [this, i] { flush(i); });
+      every(static_cast<std::int64_t>(rng_.below(d.compact_ns)) + 1, d.compact_ns, [this, i] { compact(i); });
+    }
+    if (d.disk_full) {
+      const int episodes = 1 + static_cast<int>(rng_.below(3));
+      for (int e = 0; e < episodes; ++e) {
+        const int who = static_cast<int>(rng_.below(cfg_.agents));
+        const std::int64_t from = static_cast<std::int64_t>(rng_.below(work_end));
+        const std::int64_t len = 30'000'000 + static_cast<std::int64_t>(rng_.below(600'000'000));
+        net_.at(from, [this, who, len] {
+          Disk& k = agents_[who].disk;
+          k.full_from = net_.now();
+          k.full_until = net_.now() + len;
+          note("agent" + std::to_string(who) + "'s disk is full for " + std::to_string(len / 1'000'000) + " ms");
+        });
+        // Under batch the agent goes on without its store; a later power cut brings it back.
+        if (d.durability != agents::Durability::kAlways && rng_.chance(0.5)) {
+          const std::int64_t cut = from + len + static_cast<std::int64_t>(rng_.below(300'000'000));
+          net_.at(cut, [this, who] { power_cut(who, 20'000'000); });
+        }
+      }
+    }
+    if (d.power_cut_all) {
+      const std::int64_t at = static_cast<std::int64_t>(rng_.below(work_end));
+      const std::int64_t back = 20'000'000 + static_cast<std::int64_t>(rng_.below(500'000'000));
+      net_.at(at, [this, back] {
+        note("every agent loses power at once");
+        for (int i = 0; i < cfg_.agents; ++i) power_cut(i, back);
+      });
+    }
+  }
+
+  void every(std::int64_t first, std::int64_t period, std::function<void()> fn) {
+    net_.at(net_.now() + first, [this, period, fn] {
+      fn();
+      every(period, period, fn);
+    });
+  }
+
+  void flush(int i) {
+    Agent& a = agents_[i];
+    if (!a.up || a.failing || !a.store) return;
+    (void)a.store->sync();
+    after_write(i);
+  }
+
+  void compact(int i) {
+    Agent& a = agents_[i];
+    if (!a.up || a.failing || !a.store) return;
+    const std::uint64_t before = a.store->stats().compactions;
+    if (Status s = a.store->compact(); !s.ok()) {
+      ++result_.compactions_failed;
+      note("agent" + std::to_string(i) + ": store: " + s.error().message);
+    }
+    result_.compactions += a.store->stats().compactions - before;
+    after_write(i);
+  }
+
+  // A write tore (the power failed during it): the host goes down now.
+  void after_write(int i) {
+    if (agents_[i].disk.torn && agents_[i].up) power_cut(i, 20'000'000);
+  }
+
+  // The host of agent i loses power: the process dies with what its store had not written.
+  void power_cut(int i, std::int64_t back_after_ns) {
+    if (!agents_[i].up) return;
+    ++result_.power_cuts;
+    crash(i);
+    restart_later(i, back_after_ns);
+  }
+
   void boot(int i) {
     Agent& a = agents_[i];
-    if (a.incarnation > 0) note("agent" + std::to_string(i) + " restarts as incarnation " + std::to_string(a.incarnation + 1) + " with an empty replica");
-    ++a.incarnation;
+    crdt::CausalContext applied;
+    if (cfg_.disks.enabled) {
+      a.disk.power_off = false;
+      a.disk.torn = false;
+      if (!open_store(i, applied)) {
+        restart_later(i, 100'000'000);
+        return;
+      }
+      note("agent" + std::to_string(i) + (a.store->opening().created ? " starts with a new store" : " restarts from its store") +
+           " as incarnation " + std::to_string(a.incarnation) + (a.store->opening().incarnation_kept ? " (kept)" : "") +
+           " (" + std::to_string(a.store->opening().records) + " records)");
+      if (cfg_.disks.durability == agents::Durability::kAlways) check_acked(i, applied, "its store");
+    } else {
+      if (a.incarnation > 0) note("agent" + std::to_string(i) + " restarts as incarnation " + std::to_string(a.incarnation + 1) + " with an empty replica");
+      ++a.incarnation;
+      a.graph = std::make_unique<graph::Graph>(graph::ReplicaId{a.agent_id, a.incarnation});
+    }
     a.up = true;
-    a.graph = std::make_unique<graph::Graph>(graph::ReplicaId{a.agent_id, a.incarnation});
+    a.failing = false;
     net_.set_up(i, true);
     net_.set_address(i, a.graph->replica());
     agents::ReplicatorOptions opt = cfg_.replicator;
@@ -136,6 +438,10 @@ class Simulation {
       if (result_.first_rejection.empty()) result_.first_rejection = "t=" + std::to_string(net_.now()) + "ns " + line;
       note(line);
     });
+    if (a.store) {
+      a.replicator->restore(applied);
+      a.replicator->set_journal(a.store.get());
+    }
     a.replicator->start(net_.now());
     if (rooms_grammar_)
       a.guard = std::make_unique<agents::GrammarGuard>(
@@ -279,7 +585,14 @@ class Simulation {
     a.guard.reset();
     a.locks.reset();
     a.replicator.reset();
+    if (a.store) {
+      // The power is off: what the store had not written is lost (its last sync() fails).
+      a.disk.power_off = true;
+      a.store.reset();
+      a.disk.power_off = false;
+    }
     a.graph.reset();
+    a.failing = false;
     ++result_.crashes;
     note("agent" + std::to_string(i) + " crashes (kill -9: its replica is lost)");
   }
@@ -311,6 +624,13 @@ class Simulation {
         int who = static_cast<int>(rng_.below(cfg_.agents));
         std::int64_t at = static_cast<std::int64_t>(rng_.below(work_end));
         std::int64_t back = at + 20'000'000 + static_cast<std::int64_t>(rng_.below(1'500'000'000));
+        if (cfg_.disks.enabled && cfg_.disks.torn_writes && rng_.chance(0.5)) {
+          // The power fails during the next write of its store (the host goes down then).
+          net_.at(at, [this, who] {
+            if (agents_[who].up) agents_[who].disk.tear_next = true;
+          });
+          continue;
+        }
         net_.at(at, [this, who] { crash(who); });
         if (back < work_end)
           net_.at(back, [this, who] {
@@ -321,7 +641,7 @@ class Simulation {
   }
 
   void tick(int i) {
-    if (agents_[i].up) {
+    if (agents_[i].up && !agents_[i].failing) {
       agents_[i].replicator->tick(net_.now());
       if (agents_[i].locks) agents_[i].locks->tick();
       if (agents_[i].guard) agents_[i].guard->tick();
@@ -344,12 +664,25 @@ class Simulation {
     if (cfg_.progress) cfg_.progress(steps_done_, cfg_.steps);
     std::vector<int> up;
     for (int i = 0; i < cfg_.agents; ++i)
-      if (agents_[i].up) up.push_back(i);
+      if (agents_[i].up && !agents_[i].failing) up.push_back(i);
     if (up.empty()) return;
     int who = rng_.pick(up);
     if (cfg_.rooms.enabled) rooms_step(who);
     else if (cfg_.locks.enabled && rng_.chance(0.5)) lock_step(who);
-    else result_.ops += churn_.step(*agents_[who].graph, rng_, net_.now());
+    else {
+      Agent& a = agents_[who];
+      const std::uint64_t before = a.replicator->applied().max_counter(a.graph->replica());
+      result_.ops += churn_.step(*a.graph, rng_, net_.now());
+      // The commit returned with the host up: acknowledged. (One whose write failed stopped
+      // the host first: never acknowledged.)
+      if (cfg_.disks.enabled && a.up && !a.failing) {
+        const std::uint64_t after = a.replicator->applied().max_counter(a.graph->replica());
+        if (after > before) {
+          a.acked.add_range(a.graph->replica(), before + 1, after);
+          result_.acked += after - before;
+        }
+      }
+    }
     if (cfg_.check_every_step) check_invariants_all();
   }
 
@@ -390,6 +723,9 @@ class Simulation {
   }
 
   SimConfig cfg_;
+  std::string root_;       // the stores' directory
+  bool own_dir_ = false;   // made by us: removed at the end
+  std::vector<bool> boot_pending_;  // a restart is scheduled
   int steps_done_ = 0;
   Rng rng_;
   VirtualNetwork net_;
@@ -452,6 +788,23 @@ std::string SimResult::to_json() const {
     j["lock_refused"] = lock_refused;
     j["lock_overlap_connected_ms"] = lock_overlap_connected_ns / 1e6;
     j["lock_overlap_partitioned_ms"] = lock_overlap_partitioned_ns / 1e6;
+  }
+  if (power_cuts + fail_stops + store_reloads > 0) {
+    j["acked"] = acked;
+    j["acked_lost"] = acked_lost;
+    if (!first_acked_lost.empty()) j["first_acked_lost"] = first_acked_lost;
+    j["power_cuts"] = power_cuts;
+    j["torn_writes"] = torn_writes;
+    j["torn_tails_dropped"] = torn_tails_dropped;
+    j["writes_refused"] = writes_refused;
+    j["fail_stops"] = fail_stops;
+    j["store_reloads"] = store_reloads;
+    j["records_reloaded"] = records_reloaded;
+    j["restarts_refused"] = restarts_refused;
+    j["stores_set_aside"] = stores_set_aside;
+    j["compactions"] = compactions;
+    j["compactions_failed"] = compactions_failed;
+    if (!first_store_error.empty()) j["first_store_error"] = first_store_error;
   }
   j["virtual_ms"] = virtual_ms;
   j["settle_ms"] = settle_ms;

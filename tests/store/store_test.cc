@@ -229,6 +229,7 @@ TEST(StoreTest, ADamagedRecordIsNamedAndTheStoreCanBeSetAside) {
     ASSERT_TRUE(id.ok());
     ASSERT_TRUE(tx.set(*id, "note", Value(marker)).ok());
     ASSERT_TRUE(tx.commit().ok());
+    write(*net.nodes[a].g, "after", 1);  // the damaged record is not the last (that one is a torn write)
     ASSERT_TRUE((*store)->sync().ok());
   }
   const fs::path data = dir.path / "data.mdb";

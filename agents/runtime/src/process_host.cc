@@ -42,6 +42,8 @@ nlohmann::json status(Agent& agent, DdsReplica& r, const AgentRuntime& rt) {
   j["synced"] = r.replicator().synced();
   j["deltas_applied"] = st.deltas_applied;
   j["states_applied"] = st.states_applied;
+  j["pulls_sent"] = st.pulls_sent;  // with states_applied: a state transfer is under way (crash tests)
+  j["state_answers"] = st.pulls_answered_with_state;
   j["write_timeouts"] = r.transport().stats().write_timeouts;
   j["rejected"] = st.rejected_packets;
   j["equivocations"] = st.equivocations;
@@ -159,6 +161,8 @@ int run_process(Agent& agent, const ProcessFlags& f) {
   if (r.store_recovery())
     log->error("{}: the store was set aside and the replica starts empty, to be filled by its peers",
                r.store_recovery()->to_string());
+  if (Store* s = r.store(); s != nullptr && !s->opening().torn_tail.empty())
+    log->error("{}", s->opening().torn_tail);
   if (Store* s = r.store())
     log->info("store {} ({}): {} records replayed, snapshot {} bytes, {} incarnation", f.store, f.durability,
               s->opening().records, s->opening().snapshot_bytes,

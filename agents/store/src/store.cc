@@ -1,5 +1,6 @@
 #include "quiver/agents/store/store.h"
 
+#include <errno.h>
 #include <fcntl.h>
 #include <sys/file.h>
 #include <sys/stat.h>
@@ -122,16 +123,46 @@ struct Store::Impl {
     return {};
   }
 
+  // The fault to inject into a write (StoreOptions::faults), if any.
+  StoreFault fault(StoreWrite::What what, std::size_t bytes, std::uint64_t first = 0, std::uint64_t last = 0) const {
+    if (!opt.faults.before_write) return {};
+    return opt.faults.before_write(StoreWrite{what, bytes, first, last});
+  }
+
   // Writes records in one transaction.
   Status write(const std::vector<std::pair<std::uint64_t, std::vector<std::uint8_t>>>& recs) {
+    std::size_t bytes = 0;
+    for (const auto& r : recs) bytes += r.second.size();
+    const StoreFault f = fault(StoreWrite::What::kLog, bytes, recs.front().first, recs.back().first);
+    if (f.kind == StoreFault::Kind::kNoSpace) return lmdb_error(where, "mdb_put (log)", ENOSPC);
+    if (f.kind == StoreFault::Kind::kLie) return {};
     Txn t;
     if (Status s = t.begin(env, false, where); !s.ok()) return s;
+    std::vector<std::uint8_t> torn;
     for (const auto& [n, bytes] : recs) {
       auto key = record_key(n);
       MDB_val k = val(key), v = val(bytes);
+      if (f.kind == StoreFault::Kind::kTear && n == recs.back().first) {
+        torn = bytes;
+        if (f.flip) torn[f.keep % torn.size()] ^= 0xff;
+        else torn.resize(std::min(f.keep, torn.size()));
+        v = val(torn);
+      }
       if (int rc = mdb_put(t.get(), log, &k, &v, MDB_APPEND); rc != 0) return lmdb_error(where, "mdb_put (log)", rc);
     }
-    return t.commit(where);
+    if (Status s = t.commit(where); !s.ok()) return s;
+    if (f.kind == StoreFault::Kind::kTear)
+      return make_error(ErrorCode::kIo, where + ": the power failed while log record " +
+                                            std::to_string(recs.back().first) + " was written (a torn write)");
+    return {};
+  }
+
+  // Under `always`: a write failed; the commit it belongs to must not return (fail-stop).
+  void fail_stop(const Status& s) {
+    if (opt.faults.fail_stop) return opt.faults.fail_stop(s.error());
+    std::fprintf(stderr, "quiver: %s: a write under durability 'always' failed, stopping: %s\n", where.c_str(),
+                 s.error().to_string().c_str());
+    std::abort();
   }
 
   void append(std::vector<std::uint8_t> rec) {
@@ -140,8 +171,9 @@ struct Store::Impl {
     ++stats.records_appended;
     stats.bytes_appended += rec.size();
     log_bytes += rec.size();
-    if (!health.ok()) return;
     if (opt.durability == Durability::kAlways) {
+      // Every commit is written whatever happened before (a compaction that failed for want of
+      // space must not make later commits return unwritten).
       l.unlock();
       std::vector<std::pair<std::uint64_t, std::vector<std::uint8_t>>> one;
       one.emplace_back(n, std::move(rec));
@@ -149,9 +181,12 @@ struct Store::Impl {
       if (s.ok()) s = sync_env();
       if (!s.ok()) {
         // Fail-stop: this commit has not returned and its delta is not published yet.
-        std::fprintf(stderr, "quiver: %s: a write under durability 'always' failed, stopping: %s\n", where.c_str(),
-                     s.error().to_string().c_str());
-        std::abort();
+        {
+          std::lock_guard<std::mutex> g(mu);
+          if (health.ok()) health = s;
+        }
+        fail_stop(s);
+        return;
       }
       l.lock();
       written = synced = n;
@@ -159,6 +194,7 @@ struct Store::Impl {
       if (compaction_due()) wake.notify_one();
       return;
     }
+    if (!health.ok()) return;
     pending_bytes += rec.size();
     pending.emplace_back(n, std::move(rec));
     if (pending_bytes >= kWakeBytes) wake.notify_one();
@@ -172,10 +208,15 @@ struct Store::Impl {
   void run() {
     std::unique_lock<std::mutex> l(mu);
     while (true) {
-      wake.wait_for(l, std::chrono::nanoseconds(opt.batch_ns), [&] {
-        return stopping || compact_wanted || flush_wanted > synced || pending_bytes >= kWakeBytes ||
-               (opt.durability == Durability::kAlways && compaction_due());
-      });
+      // After an error nothing more is written or compacted: a flush that cannot happen must not
+      // wake this thread (it would spin).
+      auto ready = [&] {
+        return stopping || compact_wanted || pending_bytes >= kWakeBytes ||
+               (health.ok() && (flush_wanted > synced ||
+                                (opt.durability == Durability::kAlways && compaction_due())));
+      };
+      if (opt.batch_ns > 0) wake.wait_for(l, std::chrono::nanoseconds(opt.batch_ns), ready);
+      else wake.wait(l, ready);
       if (!pending.empty()) {
         auto batch = std::move(pending);
         pending.clear();
@@ -288,6 +329,8 @@ struct Store::Impl {
     }
     const std::vector<std::uint8_t> state = graph::encode(shadow.state());
     std::vector<std::uint8_t> snapshot = encode_snapshot(upto, applied, state);
+    if (fault(StoreWrite::What::kSnapshot, snapshot.size()).kind == StoreFault::Kind::kNoSpace)
+      return lmdb_error(where, "mdb_put (snapshot)", ENOSPC);
     Txn t;
     if (Status s = t.begin(env, false, where); !s.ok()) return s;
     MDB_val k = val(std::string_view("s")), v = val(snapshot);
@@ -380,6 +423,9 @@ Result<std::unique_ptr<Store>> Store::open(const StoreOptions& opt, std::string_
     if (int rc = mdb_put(t.get(), m.meta, &k, &v, 0); rc != 0) return lmdb_error(m.where, "mdb_put (meta)", rc);
     return {};
   };
+  std::size_t meta_bytes = 32 + name.size();
+  if (m.fault(StoreWrite::What::kMeta, meta_bytes).kind == StoreFault::Kind::kNoSpace)
+    return lmdb_error(m.where, "mdb_put (meta)", ENOSPC);
   const std::string name_s(name);
   const std::span<const std::uint8_t> name_b(reinterpret_cast<const std::uint8_t*>(name_s.data()), name_s.size());
   for (Status st : {put("format", u64_bytes(kFormat)), put("name", name_b), put("incarnation", u64_bytes(o.incarnation)),
@@ -390,7 +436,29 @@ Result<std::unique_ptr<Store>> Store::open(const StoreOptions& opt, std::string_
     MDB_cursor* c = nullptr;
     if (int rc = mdb_cursor_open(t.get(), m.log, &c); rc != 0) return lmdb_error(m.where, "mdb_cursor_open", rc);
     MDB_val k, v;
-    if (mdb_cursor_get(c, &k, &v, MDB_LAST) == 0 && k.mv_size == 8) m.next_record = record_number(bytes_of(k)) + 1;
+    if (mdb_cursor_get(c, &k, &v, MDB_LAST) == 0 && k.mv_size == 8) {
+      const std::uint64_t last = record_number(bytes_of(k));
+      m.next_record = last + 1;
+      // A last record that does not verify is the trace of a write the power cut: dropped, and
+      // named. Under `always` it was never acknowledged; the replica takes a new incarnation
+      // all the same (the store cannot prove what the write held).
+      if (auto rec = decode_record(bytes_of(v), m.where + ": log record " + std::to_string(last)); !rec.ok()) {
+        if (int rc = mdb_cursor_del(c, 0); rc != 0) {
+          mdb_cursor_close(c);
+          return lmdb_error(m.where, "mdb_cursor_del (torn log record)", rc);
+        }
+        o.torn_tail = rec.error().message + "; dropped as a torn write";
+        m.next_record = last;
+        if (o.incarnation_kept) {
+          o.incarnation_kept = false;
+          o.incarnation = fresh_incarnation;
+          if (Status st = put("incarnation", u64_bytes(o.incarnation)); !st.ok()) {
+            mdb_cursor_close(c);
+            return st.error();
+          }
+        }
+      }
+    }
     mdb_cursor_close(c);
     MDB_val sk = val(std::string_view("s")), sv;
     if (mdb_get(t.get(), m.snap, &sk, &sv) == 0) {

@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "quiver/agents/replication/replicator.h"
+#include "quiver/agents/store/store.h"
 #include "quiver/sim/network.h"
 #include "quiver/sim/workload.h"
 
@@ -38,6 +39,25 @@ struct RoomsWorkload {
   bool repair = true;
 };
 
+/// Agents keep their replicas in durable stores (agents/store: LMDB, in a temporary directory)
+/// on simulated disks driven in virtual time (docs/persistence.md). A crash becomes a power cut:
+/// the store loses what it had not written, and the agent restarts from it (reopen, load,
+/// restore) instead of empty. Disks fill up for a while, power cuts tear the write in progress,
+/// and every agent loses power at once. Flushes (batch) and compactions are made by the
+/// simulator at virtual times, so that a seed replays exactly.
+struct DiskFaults {
+  bool enabled = false;
+  agents::Durability durability = agents::Durability::kAlways;
+  bool disk_full = false;      ///< episodes in which one agent's disk refuses every write
+  bool torn_writes = false;    ///< crashes tear the next write (the power fails during it)
+  bool power_cut_all = false;  ///< once during the workload every agent loses power at once
+  /// Control: agent 0's disk acknowledges writes it drops. The checks must catch it.
+  bool lying_disk = false;
+  std::int64_t flush_ns = 20'000'000;      ///< batch: virtual time between flushes
+  std::int64_t compact_ns = 150'000'000;   ///< virtual time between compactions of a store
+  std::string dir;  ///< where the stores live (empty: a new temporary directory, removed after)
+};
+
 struct SimConfig {
   std::uint64_t seed = 1;
   int agents = 5;
@@ -46,6 +66,7 @@ struct SimConfig {
   ChurnMix mix;
   LockWorkload locks;
   RoomsWorkload rooms;
+  DiskFaults disks;
   std::int64_t step_interval_ns = 5'000'000;
   std::int64_t tick_interval_ns = 10'000'000;
   std::int64_t settle_limit_ns = 120'000'000'000;
@@ -92,11 +113,22 @@ struct SimResult {
   std::int64_t lock_overlap_connected_ns = 0;    ///< two connected agents both held one scope: must be 0
   std::int64_t lock_overlap_partitioned_ns = 0;  ///< both held while unable to hear each other (allowed)
   std::vector<std::int64_t> lock_acquire_latency_ns;  ///< virtual time from acquire() to held
+  // Disk faults (DiskFaults).
+  std::uint64_t acked = 0;         ///< local commits acknowledged (returned with the host up)
+  /// Acknowledged commits of an agent missing from what its store gave back at a restart
+  /// (under `always`), or from the final replicas: must be 0.
+  std::uint64_t acked_lost = 0;
+  std::string first_acked_lost;
+  std::uint64_t power_cuts = 0, torn_writes = 0, torn_tails_dropped = 0, writes_refused = 0, fail_stops = 0;
+  std::uint64_t store_reloads = 0, records_reloaded = 0, restarts_refused = 0, stores_set_aside = 0;
+  std::uint64_t compactions = 0, compactions_failed = 0;
+  std::string first_store_error;
   // Rooms workload.
   std::uint64_t moves = 0, moves_refused = 0, violations_seen = 0, repairs = 0, final_violations = 0;
 
   bool ok() const {
-    return converged && invariant_violations == 0 && rejected_packets == 0 && lock_overlap_connected_ns == 0;
+    return converged && invariant_violations == 0 && rejected_packets == 0 && lock_overlap_connected_ns == 0 &&
+           acked_lost == 0 && stores_set_aside == 0;
   }
   /// One line of JSON.
   std::string to_json() const;

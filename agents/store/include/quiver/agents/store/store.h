@@ -23,6 +23,7 @@
 /// writes (none, batch) and compacts. One process at a time may open a directory.
 
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <string>
 #include <string_view>
@@ -40,13 +41,49 @@ std::string_view to_string(Durability d);
 /// "none", "batch" or "always".
 Result<Durability> parse_durability(std::string_view s);
 
+/// A write the store is about to make (fault injection: StoreFaults).
+struct StoreWrite {
+  enum class What : std::uint8_t { kMeta, kLog, kSnapshot } what = What::kLog;
+  std::size_t bytes = 0;                             ///< bytes of records, snapshot or meta
+  std::uint64_t first_record = 0, last_record = 0;   ///< kLog: the records it holds
+};
+
+/// A fault injected into one write (the simulator's disks; tests).
+struct StoreFault {
+  enum class Kind : std::uint8_t {
+    kNone,
+    kNoSpace,  ///< the write fails as on a full disk (ENOSPC); nothing of it reaches the disk
+    /// kLog only: the power fails mid-write. The records before the last reach the disk, of the
+    /// last only its first `keep` bytes (or, with `flip`, all of it with byte `keep` inverted),
+    /// and the write fails.
+    kTear,
+    /// The disk says the write succeeded and keeps nothing of it (a lying disk: the control of
+    /// tests that must catch lost acknowledged writes).
+    kLie,
+  } kind = Kind::kNone;
+  std::size_t keep = 0;
+  bool flip = false;
+};
+
+struct StoreFaults {
+  /// Consulted before every write transaction, on the thread that writes it. Empty: no faults.
+  std::function<StoreFault(const StoreWrite&)> before_write;
+  /// Under `always`, called when a write fails, instead of printing the error and aborting the
+  /// process (fail-stop). Whoever sets it must make sure nothing the store's caller does next
+  /// leaves the process (the simulator marks the host down at once, then kills it).
+  std::function<void(const Error&)> fail_stop;
+};
+
 struct StoreOptions {
   std::string dir;                            ///< created if absent
   Durability durability = Durability::kBatch;
-  std::int64_t batch_ns = 20'000'000;         ///< batch: the longest a change waits for its flush
+  /// batch: the longest a change waits for its flush; none: for its write. 0: only when sync()
+  /// asks (the simulator flushes in virtual time).
+  std::int64_t batch_ns = 20'000'000;
   /// Compact when the log holds this many bytes and more than the snapshot (0: never).
   std::size_t compact_log_bytes = 64u << 20;
   std::size_t map_bytes = std::size_t{64} << 30;  ///< LMDB map size (address space, not disk)
+  StoreFaults faults;                         ///< none unless set (simulation, tests)
 };
 
 struct StoreStats {
@@ -65,6 +102,11 @@ struct StoreOpening {
   std::uint64_t incarnation = 0;  ///< the incarnation to run under
   std::uint64_t records = 0;      ///< log records replayed
   std::size_t snapshot_bytes = 0;
+  /// Not empty when the last log record did not verify and was dropped: the trace of a write
+  /// the power cut (a torn write), named ("store DIR: log record 12: checksum mismatch ...").
+  /// Under `always` that write was never acknowledged (a commit returns after its flush). The
+  /// replica then takes a new incarnation. Damage anywhere else is refused (load()).
+  std::string torn_tail;
 };
 
 class Store final : public Journal {
@@ -98,10 +140,11 @@ class Store final : public Journal {
   Status sync();
   /// Compacts now (on the store's thread) and waits for it.
   Status compact();
-  /// The first error the store's thread met (a full disk, say), or OK. After one, appends are
-  /// dropped (the next start takes a new incarnation: `always` was not kept). Under `always` a
-  /// failed write stops the process instead (fail-stop: the commit it belongs to has not
-  /// returned and its delta was not published, so nothing acknowledged is lost).
+  /// The first error the store met (a full disk, say), or OK. After one, under `none` and
+  /// `batch`, appends are dropped (the next start takes a new incarnation: `always` was not
+  /// kept). Under `always` every append is still written, and one whose write fails stops the
+  /// process (fail-stop: the commit it belongs to has not returned and its delta was not
+  /// published, so nothing acknowledged is lost); a failed compaction only stops compacting.
   Status health() const;
   StoreStats stats() const;
   const StoreOptions& options() const;
