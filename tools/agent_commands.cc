@@ -134,6 +134,9 @@ void add_agent_commands(CLI::App& app) {
   agent->add_option("--grammar", af->grammar, "check every local change against this grammar file (docs/grammar.md)");
   af->process.join_wait_s = 0;  // a test agent starts at once (before add_all: its default)
   af->process.add_all(agent);
+  agent->add_option("--security", af->process.security,
+                    "DDS Security: the credentials directory of `quiver keys`; the agent authenticates as "
+                    "--name and meets only agents of the same CA (docs/security.md)");
   agent->add_option("--churn-hz", af->churn_hz, "testing: make random changes at this many transactions per second")
       ->check(CLI::Range(0.0, 100000.0));
   agent->add_option("--churn-for", af->churn_for_s, "testing: stop the random changes after this many seconds")

@@ -15,6 +15,7 @@
 #include "quiver/agents/replication/error_limiter.h"
 #include "quiver/agents/runtime/logging.h"
 #include "quiver/agents/runtime/runtime.h"
+#include "quiver/agents/security/keys.h"
 #include "quiver/graph/world_file.h"
 
 namespace quiver::agents {
@@ -137,6 +138,14 @@ int run_process(Agent& agent, const ProcessFlags& f) {
   if (Status s = f.apply_to(o.dds); !s.ok()) {
     log->error("{}", s.error().to_string());
     return 2;
+  }
+  if (!f.security.empty()) {
+    auto files = security::agent_files(f.security, agent.name());
+    if (!files.ok()) {
+      log->error("--security: {}", files.error().to_string());
+      return 2;
+    }
+    o.dds.security = *files;
   }
   if (!f.store.empty()) {
     StoreOptions so;
