@@ -39,8 +39,8 @@ set(QUIVER_PC_agents_REQUIRES "quiver-graph = ${PROJECT_VERSION}, nlohmann_json"
 set(QUIVER_PC_agents_PRIVATE "")
 set(QUIVER_PC_agents_LIBS "-lquiver_runtime -lquiver_recording -lquiver_permissions -lquiver_locks -lquiver_grammar -lquiver_replication")
 set(QUIVER_PC_dds_REQUIRES "quiver-agents = ${PROJECT_VERSION}, CycloneDDS, CLI11")
-set(QUIVER_PC_dds_PRIVATE "spdlog, lmdb")
-set(QUIVER_PC_dds_LIBS "-lquiver_runtime_process -lquiver_agents_dds -lquiver_store")
+set(QUIVER_PC_dds_PRIVATE "spdlog, lmdb, libcrypto")
+set(QUIVER_PC_dds_LIBS "-lquiver_runtime_process -lquiver_agents_dds -lquiver_store -lquiver_security")
 # cv::Mat is in quiver::images' API: opencv4 is a public requirement (its include path).
 set(QUIVER_PC_sim_REQUIRES "quiver-agents = ${PROJECT_VERSION}, opencv4")
 set(QUIVER_PC_sim_PRIVATE "libgvc, libcgraph")

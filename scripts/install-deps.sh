@@ -10,7 +10,7 @@ packages=(
   cyclonedds-dev cyclonedds-tools
   libeigen3-dev libfcl-dev liburdfdom-dev liburdfdom-headers-dev libconsole-bridge-dev
   libtf2-dev
-  nlohmann-json3-dev libcli11-dev libspdlog-dev libpugixml-dev liblmdb-dev
+  nlohmann-json3-dev libcli11-dev libspdlog-dev libpugixml-dev liblmdb-dev libssl-dev
   espeak-ng libopencv-dev
   libcpp-httplib-dev libjs-d3 libjs-three libgraphviz-dev
   chromium chromium-driver python3-selenium

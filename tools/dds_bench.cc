@@ -11,6 +11,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <filesystem>
 #include <atomic>
 #include <memory>
 #include <thread>
@@ -24,6 +25,7 @@
 #include "quiver/agents/runtime/logging.h"
 #include "dds_options.h"
 #include "quiver/agents/dds/dds_replica.h"
+#include "quiver/agents/security/keys.h"
 #include "quiver/graph/graph.h"
 #include "quiver/rng.h"
 #include "subprocess.h"
@@ -84,6 +86,7 @@ struct RoleFlags {
   double seconds = 5;
   bool with_viewer = false;
   bool viewer_every_delta = false;
+  bool secure = false;  ///< make a temporary key directory for the roles (docs/security.md)
 };
 
 // ------------------------------------------------------------------ throughput / latency / join
@@ -309,6 +312,7 @@ void listener_role(const RoleFlags& f) {
 std::vector<std::string> role_argv(const std::string& role, const DdsFlags& dds, std::vector<std::string> extra) {
   std::vector<std::string> argv = {self_exe(), "bench-dds-role", role, "--domain", std::to_string(dds.domain),
                                    "--dds-config", dds.dds_config, "--loss-permille", std::to_string(dds.loss_permille)};
+  if (!dds.security.empty()) argv.insert(argv.end(), {"--security", dds.security});
   argv.insert(argv.end(), extra.begin(), extra.end());
   return argv;
 }
@@ -400,7 +404,36 @@ class AttachedViewer {
   std::thread reader_;
 };
 
-int run_bench_dds(const RoleFlags& f) {
+// --secure: a fresh CA and one identity per role, in a temporary directory removed at exit.
+std::optional<std::string> make_bench_keys(const RoleFlags& f) {
+  char tmpl[] = "/tmp/quiver-bench-keys-XXXXXX";
+  if (mkdtemp(tmpl) == nullptr) return std::nullopt;
+  const std::string dir = tmpl;
+  std::vector<std::string> names = {"bench-writer", "bench-joiner"};
+  for (int i = 0; i < f.readers; ++i) names.push_back("bench-reader-" + std::to_string(i));
+  Status s = agents::security::init_keys(dir);
+  for (const auto& n : names)
+    if (s.ok()) s = agents::security::add_agent(dir, n);
+  if (!s.ok()) {
+    agents::named_logger("bench")->error("--secure: {}", s.error().to_string());
+    return std::nullopt;
+  }
+  return dir;
+}
+
+int run_bench_dds(const RoleFlags& flags) {
+  RoleFlags f = flags;
+  std::shared_ptr<void> cleanup;
+  if (f.secure) {
+    if (f.with_viewer) {
+      agents::named_logger("bench")->error("--secure with --with-viewer is not supported");
+      return 2;
+    }
+    auto dir = make_bench_keys(f);
+    if (!dir) return 2;
+    f.dds.security = *dir;
+    cleanup = std::shared_ptr<void>(nullptr, [d = *dir](void*) { std::filesystem::remove_all(d); });
+  }
   std::vector<std::string> common = {"--updates", std::to_string(f.updates), "--batch", std::to_string(f.batch),
                                      "--readers", std::to_string(f.readers), "--latency-samples",
                                      std::to_string(f.latency_samples), "--join-nodes", std::to_string(f.join_nodes)};
@@ -498,6 +531,9 @@ void add_dds_bench_commands(CLI::App& app) {
   dds->add_flag("--with-viewer", f->with_viewer,
                 "run `quiver view` on the domain, with a page's event stream open, during the benchmark");
   dds->add_flag("--viewer-every-delta", f->viewer_every_delta, "the viewer reads every delta (`quiver view --every-delta`)");
+  dds->add_flag("--secure", f->secure,
+                "DDS Security and signed, policy-checked deltas: every role gets an identity from a fresh CA in a "
+                "temporary directory (docs/security.md)");
   dds->callback([f] { set_exit_code(run_bench_dds(*f)); });
 
   auto* tr = bench->add_subcommand("dds-tracking",

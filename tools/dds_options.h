@@ -9,6 +9,7 @@
 
 #include "quiver/agents/dds/dds_replica.h"
 #include "quiver/agents/dds/dds_transport.h"
+#include "quiver/agents/dds/security_setup.h"
 #include "quiver/agents/runtime/process_host.h"
 #include "quiver/result.h"
 
@@ -20,6 +21,8 @@ struct DdsFlags : agents::ProcessFlags {
   /// A replica on the chosen domain and configuration; the other options come from `o`.
   Result<std::unique_ptr<agents::DdsReplica>> create_agent(agents::DdsReplicaOptions o) const {
     if (Status s = apply_to(o.dds); !s.ok()) return s.error();
+    if (!security.empty())
+      if (Status s = agents::enable_security(o, security); !s.ok()) return make_error(s.error().code, "--security: " + s.error().message);
     return agents::DdsReplica::create(o);
   }
 };

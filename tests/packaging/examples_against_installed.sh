@@ -21,7 +21,7 @@ step() { echo "== $*"; }
 step "cmake --install $build --prefix $prefix"
 cmake --install "$build" --prefix "$prefix" >"$work/install.log"
 test -x "$prefix/bin/quiver"
-for lib in crdt graph interop kinematics replication grammar locks runtime store agents_dds runtime_process images; do
+for lib in crdt graph interop kinematics replication grammar locks runtime security store agents_dds runtime_process images; do
   find "$prefix" -name "libquiver_$lib.a" | grep -q . || { echo "FAIL: no libquiver_$lib.a" >&2; exit 1; }
   find "$prefix" -name "libquiver_$lib.so" | grep -q . || { echo "FAIL: no libquiver_$lib.so" >&2; exit 1; }
 done

@@ -36,6 +36,7 @@ std::vector<std::string> required(const std::vector<std::string>& path) {
   if (path == std::vector<std::string>{"plan"}) return {"/dev/null", "/dev/null", "/dev/null"};
   if (path == std::vector<std::string>{"mission", "check"}) return {"/dev/null", "/dev/null"};
   if (path == std::vector<std::string>{"bench", "planner"}) return {"d.aggl:w.xml:m.aggt"};
+  if (path == std::vector<std::string>{"keys", "add-agent"}) return {"a", "--dir", "/nonexistent"};
   return {};
 }
 

@@ -3,9 +3,11 @@
 #include <dds/dds.h>
 
 #include <algorithm>
+#include <cstdio>
 #include <cstdlib>
 #include <map>
 #include <mutex>
+#include <set>
 #include <type_traits>
 #include <vector>
 
@@ -59,32 +61,140 @@ struct SharedDomain {
   dds_entity_t handle = 0;
   int users = 0;
   std::string xml;  // the configuration it was created with
+  bool secured = false;  // Cyclone has loaded the security plugins in it
 };
 std::mutex g_domains_mu;
 std::map<dds_domainid_t, SharedDomain> g_domains;
 std::atomic<dds_domainid_t> g_next_private{0x4000};
+// Local ids (0..230) of private instances with DDS Security, under g_domains_mu.
+std::set<dds_domainid_t> g_secured_private;
+constexpr dds_domainid_t kMaxDomainId = 230;
 
 }  // namespace
 
 namespace {
 std::mutex g_log_mu;
 std::function<void(const std::string&)> g_log_sink;
+std::vector<std::string>* g_log_capture = nullptr;  // lines logged while a participant is created
 
 extern "C" void forward_dds_log(void*, const dds_log_data_t* d) {
   std::string line(d->message, d->size);
   while (!line.empty() && (line.back() == '\n' || line.back() == ' ')) line.pop_back();
   std::lock_guard<std::mutex> lock(g_log_mu);
+  if (g_log_capture) g_log_capture->push_back(line);
   if (g_log_sink) g_log_sink(line);
+}
+
+/// Collects Cyclone's log lines while it lives (one at a time: secured participants are created
+/// one after the other), so that a refused participant's error can say why. Without a routed
+/// sink the lines would have gone to stderr: they go there after all unless taken().
+class LogCapture {
+ public:
+  // dds_set_log_sink is called without g_log_mu held: Cyclone holds its own log lock while it
+  // calls the sink, which takes g_log_mu.
+  LogCapture() : serial_(g_capture_mu) {
+    {
+      std::lock_guard<std::mutex> lock(g_log_mu);
+      g_log_capture = &lines_;
+      routed_ = static_cast<bool>(g_log_sink);
+    }
+    if (!routed_) dds_set_log_sink(forward_dds_log, nullptr);
+  }
+  ~LogCapture() {
+    bool unroute = false;
+    {
+      std::lock_guard<std::mutex> lock(g_log_mu);
+      g_log_capture = nullptr;
+      unroute = !routed_ && !g_log_sink;
+    }
+    if (unroute) dds_set_log_sink(nullptr, nullptr);
+    if (!routed_ && !taken_)
+      for (const std::string& l : lines_) std::fprintf(stderr, "%s\n", l.c_str());
+  }
+  /// The lines so far, joined; they are then not printed.
+  std::string take() {
+    std::lock_guard<std::mutex> lock(g_log_mu);
+    taken_ = true;
+    std::string out;
+    for (const std::string& l : lines_) out += (out.empty() ? "" : " | ") + l;
+    return out;
+  }
+
+ private:
+  static inline std::mutex g_capture_mu;
+  std::lock_guard<std::mutex> serial_;
+  std::vector<std::string> lines_;
+  bool routed_ = false;
+  bool taken_ = false;
+};
+
+const char* const kPlugins[][2] = {
+    // property prefix, library: init and finalize are the plugins' standard entry points
+    {"dds.sec.auth.library.", "dds_security_auth"},
+    {"dds.sec.crypto.library.", "dds_security_crypto"},
+    {"dds.sec.access.library.", "dds_security_ac"},
+};
+const char* const kPluginInit[][2] = {{"init_authentication", "finalize_authentication"},
+                                      {"init_crypto", "finalize_crypto"},
+                                      {"init_access_control", "finalize_access_control"}};
+
+/// The participant QoS properties that make Cyclone load its security plugins with `f`.
+Status set_security_properties(dds_qos_t* q, const security::DdsSecurityFiles& f) {
+  const std::string dir = dds_security_plugin_dir();
+  if (dir.empty())
+    return make_error(ErrorCode::kNotFound,
+                      "DdsTransport: DDS Security needs Cyclone's security plugins, and this build found none: set "
+                      "QUIVER_DDS_SECURITY_LIB_DIR to the folder of libdds_security_auth.so");
+  for (int i = 0; i < 3; ++i) {
+    const std::string prefix = kPlugins[i][0];
+    const std::string lib = dir + "/lib" + kPlugins[i][1] + ".so";
+    if (std::FILE* probe = std::fopen(lib.c_str(), "rb")) {
+      std::fclose(probe);
+    } else {
+      return make_error(ErrorCode::kNotFound, "DdsTransport: DDS Security plugin " + lib +
+                                                  " is missing (QUIVER_DDS_SECURITY_LIB_DIR names another folder)");
+    }
+    dds_qset_prop(q, (prefix + "path").c_str(), lib.c_str());
+    dds_qset_prop(q, (prefix + "init").c_str(), kPluginInit[i][0]);
+    dds_qset_prop(q, (prefix + "finalize").c_str(), kPluginInit[i][1]);
+  }
+  const std::pair<const char*, const std::string*> files[] = {
+      {"dds.sec.auth.identity_ca", &f.identity_ca},
+      {"dds.sec.auth.identity_certificate", &f.identity_certificate},
+      {"dds.sec.auth.private_key", &f.private_key},
+      {"dds.sec.access.permissions_ca", &f.permissions_ca},
+      {"dds.sec.access.governance", &f.governance},
+      {"dds.sec.access.permissions", &f.permissions},
+  };
+  for (const auto& p : files) {
+    if (p.second->empty())
+      return make_error(ErrorCode::kInvalidArgument, std::string("DdsTransport: DdsConfig::security: ") + p.first +
+                                                         " has no file");
+    dds_qset_prop(q, p.first, ("file:" + *p.second).c_str());
+  }
+  if (!f.crl.empty()) dds_qset_prop(q, "org.eclipse.cyclonedds.sec.auth.crl", ("file:" + f.crl).c_str());
+  return {};
 }
 }  // namespace
 
 void route_dds_log(std::function<void(const std::string&)> sink) {
+  bool routed = false;
   {
     std::lock_guard<std::mutex> lock(g_log_mu);
     g_log_sink = std::move(sink);
+    routed = g_log_sink || g_log_capture;
   }
-  if (g_log_sink) dds_set_log_sink(forward_dds_log, nullptr);
+  if (routed) dds_set_log_sink(forward_dds_log, nullptr);
   else dds_set_log_sink(nullptr, nullptr);
+}
+
+std::string dds_security_plugin_dir() {
+  if (const char* env = std::getenv("QUIVER_DDS_SECURITY_LIB_DIR"); env != nullptr && *env != '\0') return env;
+#ifdef QUIVER_DDS_SECURITY_DIR
+  return QUIVER_DDS_SECURITY_DIR;
+#else
+  return "";
+#endif
 }
 
 std::string loopback_config_xml(const DdsConfig& cfg) {
@@ -118,6 +228,7 @@ std::string loopback_config_xml(const DdsConfig& cfg) {
 struct DdsTransport::Impl {
   dds_domainid_t domain_id = 0;
   bool shared_domain = false;
+  bool secured_private = false;  // domain_id is in g_secured_private
   Entity private_domain;
   Entity participant;
   // One topic, writer and reader per message kind, indexed by Kind.
@@ -139,6 +250,10 @@ struct DdsTransport::Impl {
     guard.reset();
     participant.reset();
     private_domain.reset();
+    if (secured_private) {
+      std::lock_guard<std::mutex> lock(g_domains_mu);
+      g_secured_private.erase(domain_id);
+    }
     if (shared_domain) {
       std::lock_guard<std::mutex> lock(g_domains_mu);
       auto it = g_domains.find(domain_id);
@@ -166,22 +281,55 @@ Result<std::unique_ptr<DdsTransport>> DdsTransport::create(const PeerId& self, c
       break;
     }
   }
-  if (cfg.own_domain_instance) {
+  if (cfg.own_domain_instance && !cfg.security) {
     d.domain_id = g_next_private++;
     dds_entity_t dom = dds_create_domain(d.domain_id, xml.c_str());
     if (dom < 0) return dds_error("DdsTransport: dds_create_domain(private instance)", dom);
     d.private_domain = Entity(dom);
+  } else if (cfg.own_domain_instance) {
+    // Cyclone 0.10's access control looks the instance's local domain id up in the governance,
+    // whose ids end at 230, so a secured private instance takes a free local id in 0..230: the
+    // domain's own if it is free in this process, else the highest free one. On the wire its
+    // domain is still cfg.domain (ExternalDomainId).
+    std::lock_guard<std::mutex> lock(g_domains_mu);
+    dds_entity_t dom = DDS_RETCODE_OUT_OF_RESOURCES;
+    for (dds_domainid_t i = 0; i <= kMaxDomainId + 1; ++i) {
+      const dds_domainid_t id = i == 0 ? cfg.domain : kMaxDomainId + 1 - i;
+      if (id > kMaxDomainId || g_domains.count(id) > 0 || g_secured_private.count(id) > 0) continue;
+      dom = dds_create_domain(id, xml.c_str());
+      if (dom == DDS_RETCODE_PRECONDITION_NOT_MET) continue;  // open, but not through us
+      if (dom < 0) break;
+      d.domain_id = id;
+      g_secured_private.insert(id);
+      d.secured_private = true;
+      break;
+    }
+    if (dom < 0) return dds_error("DdsTransport: dds_create_domain(secured private instance)", dom);
+    d.private_domain = Entity(dom);
   } else {
     d.domain_id = cfg.domain;
     std::lock_guard<std::mutex> lock(g_domains_mu);
+    if (g_secured_private.count(d.domain_id) > 0)
+      return make_error(ErrorCode::kInvalidArgument,
+                        "DdsTransport: the local id of DDS domain " + std::to_string(cfg.domain) +
+                            " is taken in this process by a secured private Cyclone instance (own_domain_instance); "
+                            "open this transport with own_domain_instance too");
     auto& shared = g_domains[d.domain_id];
     if (shared.users > 0 && shared.xml != xml)
       return make_error(ErrorCode::kInvalidArgument,
                         "DdsTransport: DDS domain " + std::to_string(cfg.domain) +
                             " is already open in this process with another configuration; one process shares one "
                             "configuration per domain (set DdsConfig::own_domain_instance for a private one)");
+    // Cyclone loads the security plugins per domain instance, and then refuses a participant
+    // without credentials in it (and an instance without them would refuse none).
+    if (shared.users > 0 && shared.secured != cfg.security.has_value())
+      return make_error(ErrorCode::kInvalidArgument,
+                        "DdsTransport: DDS domain " + std::to_string(cfg.domain) + " is already open in this process " +
+                            (shared.secured ? "with" : "without") + " DDS Security; a secured and an unsecured " +
+                            "participant need separate Cyclone instances (set DdsConfig::own_domain_instance)");
     if (shared.users == 0) {
       shared.xml = xml;
+      shared.secured = cfg.security.has_value();
       dds_entity_t dom = dds_create_domain(d.domain_id, xml.c_str());
       if (dom < 0 && dom != DDS_RETCODE_PRECONDITION_NOT_MET) {
         g_domains.erase(d.domain_id);
@@ -195,8 +343,22 @@ Result<std::unique_ptr<DdsTransport>> DdsTransport::create(const PeerId& self, c
 
   Qos pqos;
   dds_qset_userdata(pqos.q, &self, sizeof self);
-  dds_entity_t pp = dds_create_participant(d.domain_id, pqos.q, nullptr);
-  if (pp < 0) return dds_error("DdsTransport: dds_create_participant", pp);
+  dds_entity_t pp = 0;
+  if (cfg.security) {
+    if (Status s = set_security_properties(pqos.q, *cfg.security); !s.ok()) return s.error();
+    // Cyclone says why it refuses credentials only in its log: the error quotes it.
+    LogCapture capture;
+    pp = dds_create_participant(d.domain_id, pqos.q, nullptr);
+    if (pp < 0) {
+      const std::string why = capture.take();
+      return make_error(ErrorCode::kRefused, "DdsTransport: Cyclone DDS refused the secured participant of " +
+                                                 cfg.security->identity_certificate + " (" + dds_strretcode(pp) +
+                                                 ")" + (why.empty() ? "" : ": " + why));
+    }
+  } else {
+    pp = dds_create_participant(d.domain_id, pqos.q, nullptr);
+    if (pp < 0) return dds_error("DdsTransport: dds_create_participant", pp);
+  }
   d.participant = Entity(pp);
 
   // Heartbeats: the latest per sender is all that matters.

@@ -15,6 +15,7 @@
 #include "quiver/agents/replication/error_limiter.h"
 #include "quiver/agents/runtime/logging.h"
 #include "quiver/agents/runtime/runtime.h"
+#include "quiver/agents/dds/security_setup.h"
 #include "quiver/graph/world_file.h"
 
 namespace quiver::agents {
@@ -86,6 +87,10 @@ void ProcessFlags::add_dds(CLI::App* cmd) {
       ->capture_default_str();
   cmd->add_option("--loss-permille", loss_permille, "testing: Cyclone drops this share of sent packets")
       ->check(CLI::Range(0, 999));
+  cmd->add_option("--security", security,
+                  "DDS Security and graph-level permissions: the credentials directory of `quiver keys`; the "
+                  "agent authenticates under its name, signs its deltas, and meets only agents of the same CA "
+                  "(docs/security.md)");
 }
 
 void ProcessFlags::add_all(CLI::App* cmd) {
@@ -140,6 +145,11 @@ int run_process(Agent& agent, const ProcessFlags& f) {
     log->error("{}", s.error().to_string());
     return 2;
   }
+  if (!f.security.empty())
+    if (Status s = enable_security(o, f.security); !s.ok()) {
+      log->error("--security: {}", s.error().to_string());
+      return 2;
+    }
   if (!f.store.empty()) {
     StoreOptions so;
     so.dir = f.store;

@@ -15,16 +15,23 @@
 /// NETWORK SAFETY: by default the transport builds its own Cyclone domain from an embedded
 /// configuration bound to 127.0.0.1 with multicast off, and `CYCLONEDDS_URI` is NOT consulted.
 /// Another configuration is an explicit opt-in (DdsConfig::Source::kEnvironment or kXml).
+///
+/// DDS SECURITY (docs/security.md): with DdsConfig::security set, the participant loads Cyclone's
+/// standard plugins (authentication, access control, cryptography) with the agent's credentials:
+/// it meets only participants whose certificates the same CA signed (and did not revoke), and the
+/// governance document encrypts and signs everything they exchange.
 
 #include <atomic>
 #include <cstdint>
 #include <functional>
 #include <memory>
+#include <optional>
 #include <string>
 
 #include "quiver/agents/replication/messages.h"
 #include "quiver/agents/replication/transport.h"
 #include "quiver/agents/replication/validate.h"
+#include "quiver/agents/security/keys.h"
 #include "quiver/result.h"
 
 namespace quiver::agents {
@@ -49,7 +56,18 @@ struct DdsConfig {
   /// Subscribe to deltas. Off for a sampling observer (ReplicatorOptions::sample_ns): no writer
   /// then sends it a single delta; it pulls context diffs instead.
   bool read_deltas = true;
+  /// DDS Security credentials (security::agent_files()); none: an unsecured participant, which
+  /// secured ones neither hear nor answer. Cyclone loads the security plugins once per domain
+  /// instance and then refuses participants without credentials in it, so a secured and an
+  /// unsecured transport of one process need `own_domain_instance`; two identities under one CA
+  /// may share an instance. A secured private instance takes a process-local domain id in
+  /// 0..230 (Cyclone checks the local id against the governance), at most 231 per process.
+  std::optional<security::DdsSecurityFiles> security;
 };
+
+/// The folder Cyclone's security plugins (libdds_security_{auth,ac,crypto}.so) are loaded from:
+/// $QUIVER_DDS_SECURITY_LIB_DIR if set, else the one found at build time ("" if none).
+std::string dds_security_plugin_dir();
 
 /// The largest sample the embedded configuration lets Cyclone accept or send: a delta at the
 /// protocol's limit (EnvelopeLimits::max_payload_bytes) with room for its header.

@@ -37,6 +37,9 @@ struct ProcessFlags {
   std::string store;                ///< durable store directory (empty: none)
   std::string durability = "batch";  ///< none | batch | always
   double store_compact_mb = 64;      ///< compact when the log holds this much (and more than the snapshot)
+  /// DDS Security credentials directory (`quiver keys`, docs/security.md); empty: unsecured.
+  /// run_process() and DdsFlags authenticate as the agent's name (enable_security()).
+  std::string security;
 
   /// --domain, --dds-config, --loss-permille (the DDS ones) on `cmd`.
   void add_dds(CLI::App* cmd);
