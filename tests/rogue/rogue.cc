@@ -15,12 +15,14 @@
 #include <cstdio>
 #include <cstdlib>
 #include <map>
+#include <optional>
 #include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
 
 #include "quiver/agents/dds/cdr.h"
 #include "quiver/agents/dds/dds_transport.h"
+#include "quiver/agents/security/keys.h"
 #include "quiver/graph/codec.h"
 #include "quiver/rng.h"
 #include "forged_delta.h"
@@ -46,13 +48,23 @@ struct Victim {
 
 class Rogue {
  public:
-  Rogue(std::uint32_t domain, std::uint64_t seed) : rng_(seed) {
+  /// With `security`, the rogue is an authenticated member of the domain (it holds credentials of
+  /// the agents' CA) rather than an outsider.
+  Rogue(std::uint32_t domain, std::uint64_t seed, const std::optional<agents::security::DdsSecurityFiles>& security)
+      : rng_(seed) {
     agents::DdsConfig cfg;
     cfg.domain = domain;
     const std::string xml = agents::loopback_config_xml(cfg);
     dds_entity_t dom = dds_create_domain(domain, xml.c_str());
     if (dom < 0 && dom != DDS_RETCODE_PRECONDITION_NOT_MET) fail("dds_create_domain", dom);
-    pp_ = dds_create_participant(domain, nullptr, nullptr);
+    dds_qos_t* pq = dds_create_qos();
+    if (security)
+      if (Status s = agents::set_security_qos(pq, *security); !s.ok()) {
+        std::fprintf(stderr, "quiver_rogue: %s\n", s.error().to_string().c_str());
+        std::exit(2);
+      }
+    pp_ = dds_create_participant(domain, pq, nullptr);
+    dds_delete_qos(pq);
     if (pp_ < 0) fail("dds_create_participant", pp_);
     dds_qos_t* q = dds_create_qos();
     dds_qset_reliability(q, DDS_RELIABILITY_RELIABLE, DDS_MSECS(50));
@@ -308,10 +320,22 @@ int main(int argc, char** argv) {
   app.add_option("--domain", domain, "DDS domain id")->check(CLI::Range(0, 230))->required();
   app.add_option("--seconds", seconds, "how long to attack")->check(CLI::Range(0.1, 3600.0));
   app.add_option("--seed", seed, "seed of the attacks")->check(CLI::NonNegativeNumber);
+  std::string security_dir, name = "rogue";
+  app.add_option("--security", security_dir, "attack as an authenticated member: credentials of `quiver keys`");
+  app.add_option("--name", name, "with --security: whose credentials")->capture_default_str();
   CLI11_PARSE(app, argc, argv);
+  std::optional<quiver::agents::security::DdsSecurityFiles> files;
+  if (!security_dir.empty()) {
+    auto f = quiver::agents::security::agent_files(security_dir, name);
+    if (!f.ok()) {
+      std::fprintf(stderr, "quiver_rogue: --security: %s\n", f.error().to_string().c_str());
+      return 2;
+    }
+    files = *f;
+  }
   std::fprintf(stderr, "quiver_rogue: domain %u, %.1f s, seed %llu\n", domain, seconds,
                static_cast<unsigned long long>(seed));
-  quiver::rogue::Rogue r(domain, seed);
+  quiver::rogue::Rogue r(domain, seed, files);
   r.run(seconds);
   return 0;
 }

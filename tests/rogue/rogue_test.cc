@@ -8,6 +8,7 @@
 
 #include <gtest/gtest.h>
 
+#include <filesystem>
 #include <fstream>
 #include <map>
 #include <regex>
@@ -114,6 +115,84 @@ TEST_F(RogueTest, HonestAgentsSurviveAndConvergeUnderAttack) {
     EXPECT_LT(all_lines, 150) << "the whole log stays readable (invented peers joining included)";
     std::remove(logs[i].c_str());
   }
+}
+
+
+// The rogue suite with DDS Security and graph-level permissions on (docs/security.md). An
+// outsider without credentials reaches nobody: it never hears an agent and nothing it sends is
+// even refused. A member with valid credentials reaches the agents: its malformed samples are
+// refused as without security, and the deltas it forges under the honest agents' names are
+// refused for their signatures. The honest agents converge either way.
+TEST_F(RogueTest, WithSecurityAnOutsiderReachesNobodyAndAMemberCannotForge) {
+  const std::uint32_t domain = 183;
+  char tmpl[] = "/tmp/quiver-rogue-keys-XXXXXX";
+  ASSERT_NE(mkdtemp(tmpl), nullptr);
+  const std::string keys = tmpl;
+  auto run = [](std::vector<std::string> argv) {
+    auto p = Subprocess::spawn(argv);
+    return p.has_value() && p->wait(30'000) == 0;
+  };
+  ASSERT_TRUE(run({QUIVER_BIN, "keys", "init", keys}));
+  for (const char* n : {"honest0", "honest1", "honest2", "rogue"})
+    ASSERT_TRUE(run({QUIVER_BIN, "keys", "add-agent", n, "--dir", keys}));
+  std::vector<std::unique_ptr<AgentProc>> agents;
+  for (int i = 0; i < 3; ++i)
+    agents.push_back(start("honest" + std::to_string(i), domain,
+                           {"--security", keys, "--churn-hz", "20", "--churn-for", "30", "--seed", std::to_string(700 + i)}));
+  ASSERT_TRUE(poll_until(agents, 30'000, 50, [&] {
+    for (auto& a : agents)
+      if (!a->last.is_object() || a->last["peers"] < 2) return false;
+    return true;
+  })) << "the secured agents meet";
+  auto totals = [&](const char* key) {
+    std::uint64_t n = 0;
+    for (auto& a : agents) n += a->last.value(key, std::uint64_t{0});
+    return n;
+  };
+  auto attack = [&](std::vector<std::string> extra) {
+    std::vector<std::string> argv = {QUIVER_ROGUE, "--domain", std::to_string(domain), "--seconds", "6", "--seed", "9"};
+    argv.insert(argv.end(), extra.begin(), extra.end());
+    auto rogue = Subprocess::spawn(argv);
+    EXPECT_TRUE(rogue.has_value());
+    std::string report;
+    const auto until = std::chrono::steady_clock::now() + std::chrono::seconds(60);
+    while (rogue && std::chrono::steady_clock::now() < until) {
+      if (auto line = rogue->read_line(200)) report = *line;
+      poll(agents);
+      if (rogue->wait(0) >= 0) break;
+    }
+    EXPECT_TRUE(rogue && rogue->wait(5'000) == 0) << "the rogue ran";
+    std::printf("[rogue, secured agents] %s\n", report.c_str());
+    json j = json::parse(report, nullptr, false);
+    return j.is_object() ? j : json::object();
+  };
+
+  const std::uint64_t rejected0 = totals("rejected");
+  json outsider = attack({});
+  ASSERT_TRUE(outsider.contains("sent"));
+  EXPECT_GT(outsider["sent"].value("random_bytes", 0), 0) << "the outsider did attack";
+  EXPECT_EQ(outsider["victims"].get<int>(), 0) << "it never heard an agent";
+  poll(agents);
+  EXPECT_EQ(totals("rejected"), rejected0) << "nothing it sent reached an agent";
+
+  json member = attack({"--security", keys, "--name", "rogue"});
+  ASSERT_TRUE(member.contains("sent"));
+  EXPECT_GT(member["victims"].get<int>(), 0) << "a member hears the agents";
+  EXPECT_GT(member["sent"].value("forgery", 0), 0);
+  poll(agents);
+  EXPECT_GT(totals("rejected"), rejected0 + 10) << "its bad samples reached the agents and were refused";
+  EXPECT_GT(totals("refused"), 0u) << "its forgeries failed their signature checks";
+
+  for (auto& a : agents) EXPECT_EQ(a->proc.wait(0), -1) << a->name << " died";
+  const std::string digest = wait_converged(agents, 60'000, 2);
+  EXPECT_NE(digest, "") << "the honest agents converge after both attacks";
+  std::printf("[rogue, secured agents] %llu packets refused, %llu deltas or states refused by the permissions\n",
+              static_cast<unsigned long long>(totals("rejected")), static_cast<unsigned long long>(totals("refused")));
+  for (auto& a : agents) {
+    a->proc.kill(SIGTERM);
+    a->proc.wait(10'000);
+  }
+  std::filesystem::remove_all(keys);
 }
 
 }  // namespace

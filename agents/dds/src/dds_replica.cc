@@ -42,6 +42,9 @@ Result<std::unique_ptr<DdsReplica>> DdsReplica::create(DdsReplicaOptions options
   ReplicatorOptions ro = a->opt_.replicator;
   ro.name = a->opt_.name;
   ro.observer = a->opt_.observer;
+  // Signed deltas: the commits of one round of the loop go out as one delta interval, one
+  // signature (spin_once() flushes at its end), instead of one signature per commit.
+  if (a->opt_.permissions) ro.coalesce = true;
   a->replicator_ = std::make_unique<Replicator>(*a->graph_, *a->transport_, ro);
   if (a->store_) {
     a->replicator_->restore(applied);
@@ -90,6 +93,7 @@ DdsReplica::~DdsReplica() {
 }
 
 void DdsReplica::spin_once(std::int64_t max_wait_ns) {
+  replicator_->flush();  // commits made since the last round (outside it) leave before we block
   std::int64_t now = monotonic_ns();
   std::int64_t wait = std::min(max_wait_ns, next_tick_ - now);
   if (!timers_.empty()) wait = std::min(wait, timers_.top().due - now);
@@ -111,6 +115,7 @@ void DdsReplica::spin_once(std::int64_t max_wait_ns) {
     replicator_->tick(now);
     next_tick_ = now + opt_.tick_ns;
   }
+  replicator_->flush();  // coalesced commits (signed replicas) leave at the end of each round
 }
 
 bool DdsReplica::spin_until(const std::function<bool()>& done, std::int64_t timeout_ns) {

@@ -138,8 +138,11 @@ const char* const kPluginInit[][2] = {{"init_authentication", "finalize_authenti
                                       {"init_crypto", "finalize_crypto"},
                                       {"init_access_control", "finalize_access_control"}};
 
+
+}  // namespace
+
 /// The participant QoS properties that make Cyclone load its security plugins with `f`.
-Status set_security_properties(dds_qos_t* q, const security::DdsSecurityFiles& f) {
+Status set_security_qos(dds_qos_t* q, const security::DdsSecurityFiles& f) {
   const std::string dir = dds_security_plugin_dir();
   if (dir.empty())
     return make_error(ErrorCode::kNotFound,
@@ -175,7 +178,6 @@ Status set_security_properties(dds_qos_t* q, const security::DdsSecurityFiles& f
   if (!f.crl.empty()) dds_qset_prop(q, "org.eclipse.cyclonedds.sec.auth.crl", ("file:" + f.crl).c_str());
   return {};
 }
-}  // namespace
 
 void route_dds_log(std::function<void(const std::string&)> sink) {
   bool routed = false;
@@ -345,7 +347,7 @@ Result<std::unique_ptr<DdsTransport>> DdsTransport::create(const PeerId& self, c
   dds_qset_userdata(pqos.q, &self, sizeof self);
   dds_entity_t pp = 0;
   if (cfg.security) {
-    if (Status s = set_security_properties(pqos.q, *cfg.security); !s.ok()) return s.error();
+    if (Status s = set_security_qos(pqos.q, *cfg.security); !s.ok()) return s.error();
     // Cyclone says why it refuses credentials only in its log: the error quotes it.
     LogCapture capture;
     pp = dds_create_participant(d.domain_id, pqos.q, nullptr);

@@ -49,6 +49,7 @@ nlohmann::json status(Agent& agent, DdsReplica& r, const AgentRuntime& rt) {
   j["rejected"] = st.rejected_packets;
   j["equivocations"] = st.equivocations;
   j["divergences"] = st.divergences;
+  j["refused"] = st.deltas_refused + st.states_refused;  // by the graph-level permissions (docs/security.md)
   j["peers_known"] = r.replicator().peers().size();
   j["rss_kb"] = resident_kb();
   j["actions_started"] = rt.stats().started;

@@ -202,7 +202,7 @@ std::string governance_xml() {
          "</dds>\n";
 }
 
-// One grant: agent `name` may publish and subscribe to every topic on every domain, for its
+// One grant: agent `name` may publish and subscribe to every topic in every partition on every domain, for its
 // certificate's validity; anything else is denied.
 std::string permissions_xml(const std::string& name, X509* cert) {
   return "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n"
@@ -226,8 +226,8 @@ std::string permissions_xml(const std::string& name, X509* cert) {
          "      </validity>\n"
          "      <allow_rule>\n" +
          domains_xml("        ") +
-         "        <publish><topics><topic>*</topic></topics></publish>\n"
-         "        <subscribe><topics><topic>*</topic></topics></subscribe>\n"
+         "        <publish><topics><topic>*</topic></topics><partitions><partition>*</partition></partitions></publish>\n"
+         "        <subscribe><topics><topic>*</topic></topics><partitions><partition>*</partition></partitions></subscribe>\n"
          "      </allow_rule>\n"
          "      <default>DENY</default>\n"
          "    </grant>\n"

@@ -69,6 +69,10 @@ struct DdsConfig {
 /// $QUIVER_DDS_SECURITY_LIB_DIR if set, else the one found at build time ("" if none).
 std::string dds_security_plugin_dir();
 
+/// Sets on a participant QoS (a `dds_qos_t*`) the properties that make Cyclone load its security
+/// plugins with `f`: for code that creates DDS participants itself (the rogue suite's attacker).
+Status set_security_qos(struct dds_qos* qos, const security::DdsSecurityFiles& f);
+
 /// The largest sample the embedded configuration lets Cyclone accept or send: a delta at the
 /// protocol's limit (EnvelopeLimits::max_payload_bytes) with room for its header.
 inline constexpr std::size_t kMaxSampleBytes = EnvelopeLimits{}.max_payload_bytes + (64u << 10);
