@@ -327,5 +327,33 @@ TEST_F(DdsSecurityTest, AnAuthenticatedAgentWritingOutsideItsPermissionsIsRefuse
   EXPECT_EQ(c.error().code, ErrorCode::kPermissionDenied);
 }
 
+
+// A certificate that expires while its participant runs: Cyclone drops the participant when the
+// certificate's validity ends. Before, its changes reach its peer; after, they no longer do,
+// while a valid agent's change (the control) still does.
+TEST_F(DdsSecurityTest, AnAgentWhoseCertificateExpiresWhileRunningIsDropped) {
+  ASSERT_TRUE(security::add_agent(dir_, "a").ok());
+  ASSERT_TRUE(security::add_agent(dir_, "c").ok());
+  security::AgentKeyOptions brief;
+  brief.valid_days = 15.0 / 86400.0;  // 15 s: room for a slow handshake on a loaded machine
+  ASSERT_TRUE(security::add_agent(dir_, "b", brief).ok());
+  const std::int64_t start = monotonic_ns();
+  auto a = must(replica("a", 194, files("a")));
+  auto b = must(replica("b", 194, files("b")));
+  auto c = must(replica("c", 194, files("c")));
+  ASSERT_TRUE(a && b && c);
+  std::vector<DdsReplica*> all = {a.get(), b.get(), c.get()};
+  commit_node(*b, "before_expiry");
+  ASSERT_TRUE(spin_until(all, [&] { return has(*a, "before_expiry"); }, 12000)) << "b's change arrives while valid";
+  // Past the end of b's validity (and a margin for Cyclone's timer).
+  const std::int64_t left_ms = 15000 - (monotonic_ns() - start) / kMs + 2000;
+  if (left_ms > 0) spin_until(all, [] { return false; }, left_ms);
+  commit_node(*b, "after_expiry");
+  commit_node(*c, "control");
+  ASSERT_TRUE(spin_until(all, [&] { return has(*a, "control"); }, 6000)) << "a valid agent still reaches a";
+  spin_until(all, [] { return false; }, 1500);
+  EXPECT_FALSE(has(*a, "after_expiry")) << "the expired agent's change does not reach a";
+}
+
 }  // namespace
 }  // namespace quiver::agents
