@@ -18,30 +18,8 @@ echo "crash_test seed $SEED (replay: $0 $QUIVER $SEED)"
 RANDOM=$SEED
 WORK=$(mktemp -d)
 DOMAIN=$(( 100 + SEED % 100 ))
-pids=()
-cleanup() {
-  for p in "${pids[@]}"; do kill -9 "$p" 2>/dev/null; done
-  [ -n "${QUIVER_KEEP:-}" ] && echo "kept $WORK" || rm -rf "$WORK"
-}
-trap cleanup EXIT
-fail() {
-  echo "FAIL (seed $SEED): $*"
-  for f in "$WORK"/*.log; do echo "--- $f"; tail -5 "$f"; done
-  exit 1
-}
+. "$(dirname "$0")/crash_lib.sh"
 
-# start NAME STORE DURABILITY LOG [extra args]: starts an agent in the background; sets $started.
-start() {
-  local name=$1 store=$2 durability=$3 log=$4
-  shift 4
-  "$QUIVER" --log-level info agent --name "$name" --domain "$DOMAIN" --store "$store" --durability "$durability" \
-    --store-compact-mb 0.01 "$@" >>"$log" 2>&1 &
-  started=$!
-  pids+=("$started")
-}
-
-last_acked() { grep -o '^acked [0-9]*' "$1" | tail -1 | cut -d' ' -f2; }
-last_loaded() { grep -o '^loaded [0-9]*' "$1" | tail -1 | cut -d' ' -f2; }
 wait_for_line() {  # FILE PATTERN COUNT TIMEOUT_S
   local i
   for ((i = 0; i < $4 * 20; ++i)); do

@@ -26,32 +26,10 @@ echo "state_transfer_crash_test seed $SEED, $NODES nodes (replay: $0 $QUIVER $SE
 RANDOM=$SEED
 WORK=$(mktemp -d)
 DOMAIN=$(( 200 + SEED % 30 ))
-pids=()
-cleanup() {
-  for p in "${pids[@]}"; do kill -9 "$p" 2>/dev/null; done
-  [ -n "${QUIVER_KEEP:-}" ] && echo "kept $WORK" || rm -rf "$WORK"
-}
-trap cleanup EXIT
-fail() {
-  echo "FAIL (seed $SEED): $*"
-  for f in "$WORK"/*.log; do echo "--- $f"; grep -v '^acked' "$f" | tail -4 | cut -c1-400; done
-  exit 1
-}
-
-# start NAME STORE DURABILITY LOG [extra args]: starts an agent in the background; sets $started.
-start() {
-  local name=$1 store=$2 durability=$3 log=$4
-  shift 4
-  "$QUIVER" --log-level info agent --name "$name" --domain "$DOMAIN" --store "$store" --durability "$durability" \
-    --store-compact-mb 0.01 "$@" >>"$log" 2>&1 &
-  started=$!
-  pids+=("$started")
-}
+. "$(dirname "$0")/crash_lib.sh"
 # field LOG NAME: NAME's value in LOG's last status line.
 field() { grep -s '^{' "$1" | tail -1 | grep -o "\"$2\":[^,}]*" | cut -d: -f2 | tr -d '"'; }
 count_lines() { grep -c "$2" "$1"; }
-last_acked() { grep -o '^acked [0-9]*' "$1" | tail -1 | cut -d' ' -f2; }
-last_loaded() { grep -o '^loaded [0-9]*' "$1" | tail -1 | cut -d' ' -f2; }
 # wait_until TIMEOUT_S COMMAND...: polls COMMAND every 10 ms.
 wait_until() {
   local t=$1 i

@@ -419,19 +419,27 @@ void Replicator::handle(const PeerId& from, const DeltaMsg& m) {
 // and refuses it alike (the verdict depends on the delta and the policy only), so the replicas
 // stay equal and nobody pulls it for ever.
 bool Replicator::admitted(const PeerId& from, const DeltaMsg& m, std::uint64_t digest) {
-  if (admission_ == nullptr) return true;
-  const std::span<const std::uint8_t> sig =
-      m.signature ? std::span<const std::uint8_t>(*m.signature) : std::span<const std::uint8_t>();
-  Status s = admission_->admit_delta(scratch_, *m.payload, sig);
+  Status s = admission_verdict(from, m);
   if (s.ok()) return true;
-  ++stats_.deltas_refused;
   applied_.add_range(m.origin, m.lo, m.hi);
   record(m.origin, m.lo, m.hi, digest);
   remember(m.origin, m.lo, m.hi, m.payload, m.signature);
   queue(PeerId{}, DeltaMsg{m.origin, m.lo, m.hi, m.payload, m.signature});
-  reject(make_error(ErrorCode::kPermissionDenied, "delta " + interval(m.origin, m.lo, m.hi) + " relayed by " +
-                                                      from.to_string() + " refused: " + s.error().message));
+  reject(s.error());
   return false;
+}
+
+// The Admission's verdict on the decoded delta in scratch_ (ok without one); a refusal is counted
+// and names the delta and its relay.
+Status Replicator::admission_verdict(const PeerId& from, const DeltaMsg& m) {
+  if (admission_ == nullptr) return {};
+  const std::span<const std::uint8_t> sig =
+      m.signature ? std::span<const std::uint8_t>(*m.signature) : std::span<const std::uint8_t>();
+  Status s = admission_->admit_delta(scratch_, *m.payload, sig);
+  if (s.ok()) return s;
+  ++stats_.deltas_refused;
+  return make_error(ErrorCode::kPermissionDenied, "delta " + interval(m.origin, m.lo, m.hi) + " relayed by " +
+                                                      from.to_string() + " refused: " + s.error().message);
 }
 
 // Two payloads under one (origin, seq): one of them is forged (or a replica is broken). Which,
@@ -446,16 +454,7 @@ void Replicator::equivocate(const PeerId& from, const DeltaMsg& m, std::uint64_t
   equivocation("delta " + interval(m.origin, m.lo, m.hi) + " relayed by " + from.to_string() + " " + what +
                ": both are joined");
   if (Status s = decode_delta(from, m); !s.ok()) return reject(s.error());
-  if (admission_ != nullptr) {
-    const std::span<const std::uint8_t> sig =
-        m.signature ? std::span<const std::uint8_t>(*m.signature) : std::span<const std::uint8_t>();
-    if (Status a = admission_->admit_delta(scratch_, *m.payload, sig); !a.ok()) {
-      ++stats_.deltas_refused;
-      return reject(make_error(ErrorCode::kPermissionDenied, "delta " + interval(m.origin, m.lo, m.hi) +
-                                                                 " relayed by " + from.to_string() +
-                                                                 " refused: " + a.error().message));
-    }
-  }
+  if (Status a = admission_verdict(from, m); !a.ok()) return reject(a.error());
   g_.merge(scratch_);
   ++state_version_;
   applied_.add_range(m.origin, m.lo, m.hi);

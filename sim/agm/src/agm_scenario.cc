@@ -10,6 +10,7 @@
 #include "quiver/agents/agm/roles.h"
 #include "quiver/agents/agm/schema.h"
 #include "quiver/sim/agent_host.h"
+#include "quiver/sim/fault_schedule.h"
 #include "quiver/sim/simulator.h"
 
 namespace quiver::sim {
@@ -294,32 +295,7 @@ AgmResult run_agm_scenario(const AgmScenario& s, std::uint64_t seed,
   }
   std::map<int, std::int64_t> started_at;
   host.on_agent_started([&](int i) { started_at[i] = host.now(); });
-  for (const FaultEvent& f : s.faults) {
-    host.at(static_cast<std::int64_t>(f.at_s * 1e9), [&host, &r, f, log] {
-      if (log) log(host.now(), "fault: " + f.describe());
-      switch (f.kind) {
-        case FaultEvent::Kind::kPartition:
-          host.partition(f.groups);
-          ++r.partitions;
-          break;
-        case FaultEvent::Kind::kHeal:
-          host.heal();
-          break;
-        case FaultEvent::Kind::kKill:
-          if (int i = host.index(f.agent); i >= 0 && host.up(i)) {
-            host.kill(i);
-            ++r.kills;
-          }
-          break;
-        case FaultEvent::Kind::kRestart:
-          if (int i = host.index(f.agent); i >= 0 && !host.up(i)) host.restart(i);
-          break;
-        case FaultEvent::Kind::kLoss:
-          host.set_loss(f.loss);
-          break;
-      }
-    });
-  }
+  schedule_faults(host, s.faults, log, r.partitions, r.kills);
 
   const int nav = host.index("navigation"), grasping = host.index("grasping");
   const std::int64_t allowance = static_cast<std::int64_t>(s.checks.motion_allowance_ms * 1e6);

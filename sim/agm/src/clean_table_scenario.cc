@@ -11,6 +11,7 @@
 #include "quiver/agents/agm/schema.h"
 #include "quiver/agents/planner/planner_agent.h"
 #include "quiver/sim/agent_host.h"
+#include "quiver/sim/fault_schedule.h"
 #include "quiver/sim/agm_scenario.h"
 #include "quiver/sim/simulator.h"
 
@@ -157,32 +158,7 @@ AgmResult run_agm_clean_table(const AgmScenario& s, std::uint64_t seed,
     fail(st.error().to_string());
     return r;
   }
-  for (const FaultEvent& f : s.faults) {
-    host.at(static_cast<std::int64_t>(f.at_s * 1e9), [&host, &r, f, log] {
-      if (log) log(host.now(), "fault: " + f.describe());
-      switch (f.kind) {
-        case FaultEvent::Kind::kPartition:
-          host.partition(f.groups);
-          ++r.partitions;
-          break;
-        case FaultEvent::Kind::kHeal:
-          host.heal();
-          break;
-        case FaultEvent::Kind::kKill:
-          if (int i = host.index(f.agent); i >= 0 && host.up(i)) {
-            host.kill(i);
-            ++r.kills;
-          }
-          break;
-        case FaultEvent::Kind::kRestart:
-          if (int i = host.index(f.agent); i >= 0 && !host.up(i)) host.restart(i);
-          break;
-        case FaultEvent::Kind::kLoss:
-          host.set_loss(f.loss);
-          break;
-      }
-    });
-  }
+  schedule_faults(host, s.faults, log, r.partitions, r.kills);
 
   const int planner = host.index(agm::kPlannerRole), grasping = host.index("grasping");
   const std::int64_t allowance = static_cast<std::int64_t>(s.checks.motion_allowance_ms * 1e6);

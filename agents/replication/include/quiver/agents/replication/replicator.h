@@ -249,6 +249,7 @@ class Replicator {
   Status decode_delta(const PeerId& from, const DeltaMsg& m);
   void apply_delta(const PeerId& from, const DeltaMsg& m, std::uint64_t digest);
   bool admitted(const PeerId& from, const DeltaMsg& m, std::uint64_t digest);
+  Status admission_verdict(const PeerId& from, const DeltaMsg& m);
   void record(const PeerId& origin, std::uint64_t lo, std::uint64_t hi, std::uint64_t digest);
   const Seen* recorded(const PeerId& origin, std::uint64_t lo) const;
   Seen* recorded(const PeerId& origin, std::uint64_t lo) {
