@@ -4,6 +4,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <chrono>
 #include <memory>
 #include <nlohmann/json.hpp>
@@ -27,8 +28,8 @@ class AgentProcs {
  public:
   std::unique_ptr<AgentProc> start(const std::string& name, std::uint32_t domain, std::vector<std::string> extra = {},
                                    const std::string& stderr_path = "") {
-    std::vector<std::string> argv = {QUIVER_BIN, "agent", "--name", name, "--domain", std::to_string(domain),
-                                     "--status-ms", "100"};
+    std::vector<std::string> argv = {QUIVER_BIN, "agent", "--name", name, "--domain", std::to_string(domain)};
+    if (std::find(extra.begin(), extra.end(), "--status-ms") == extra.end()) argv.insert(argv.end(), {"--status-ms", "100"});
     argv.insert(argv.end(), extra.begin(), extra.end());
     auto p = Subprocess::spawn(argv, stderr_path);
     EXPECT_TRUE(p.has_value());

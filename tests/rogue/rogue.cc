@@ -55,8 +55,8 @@ class Rogue {
     agents::DdsConfig cfg;
     cfg.domain = domain;
     const std::string xml = agents::loopback_config_xml(cfg);
-    dds_entity_t dom = dds_create_domain(domain, xml.c_str());
-    if (dom < 0 && dom != DDS_RETCODE_PRECONDITION_NOT_MET) fail("dds_create_domain", dom);
+    dom_ = dds_create_domain(domain, xml.c_str());
+    if (dom_ < 0 && dom_ != DDS_RETCODE_PRECONDITION_NOT_MET) fail("dds_create_domain", dom_);
     dds_qos_t* pq = dds_create_qos();
     if (security)
       if (Status s = agents::set_security_qos(pq, *security); !s.ok()) {
@@ -89,7 +89,12 @@ class Rogue {
       if (types_[i] == nullptr) fail("probe_sertype", -1);
     }
   }
-  ~Rogue() { dds_delete(pp_); }
+  // The domain goes too: its threads (decrypting, with security) must stop before exit() runs
+  // OpenSSL's cleanup, or they crash in it.
+  ~Rogue() {
+    dds_delete(pp_);
+    if (dom_ > 0) dds_delete(dom_);
+  }
 
   void run(double seconds) {
     const auto end = std::chrono::steady_clock::now() + std::chrono::duration<double>(seconds);
@@ -307,6 +312,7 @@ class Rogue {
   std::map<PeerId, bool> forged_;
   std::map<std::string, std::uint64_t> sent_;
   std::uint64_t write_errors_ = 0;
+  dds_entity_t dom_ = 0;
 };
 
 }  // namespace

@@ -264,6 +264,12 @@ bool Replicator::all_peers_hold(const PeerId& origin, std::uint64_t lo, std::uin
   return true;
 }
 
+bool Replicator::peers_hold_all() const {
+  for (const auto& [id, p] : peers_)
+    if (counts(p) && !p.info.observer && !p.applied.includes(applied_)) return false;
+  return true;
+}
+
 // A live peer whose summaries are believed (not suspected of claiming what it never delivers).
 bool Replicator::counts(const Peer& p) const { return p.info.alive && p.suspect_until <= now_; }
 

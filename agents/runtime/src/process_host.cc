@@ -41,6 +41,7 @@ nlohmann::json status(Agent& agent, DdsReplica& r, const AgentRuntime& rt) {
   j["digest"] = r.graph().digest().hex();
   j["peers"] = r.replicator().live_peer_count();
   j["synced"] = r.replicator().synced();
+  j["published"] = r.replicator().last_seq();  // the last sequence number it published
   j["deltas_applied"] = st.deltas_applied;
   j["states_applied"] = st.states_applied;
   j["pulls_sent"] = st.pulls_sent;  // with states_applied: a state transfer is under way (crash tests)
@@ -102,6 +103,11 @@ void ProcessFlags::add_all(CLI::App* cmd) {
   cmd->add_option("--run-for", run_for_s, "exit after this many seconds (default 0: until SIGINT/SIGTERM)")
       ->check(CLI::Range(0.0, 1e7));
   cmd->add_option("--join-wait", join_wait_s, "before starting, wait this long to join the peers")
+      ->check(CLI::Range(0.0, 60.0))
+      ->capture_default_str();
+  cmd->add_option("--hand-over", hand_over_s,
+                  "on a clean stop, keep replicating up to this long until every live peer holds all this agent "
+                  "published (0: leave at once)")
       ->check(CLI::Range(0.0, 60.0))
       ->capture_default_str();
   cmd->add_option("--store", store,
@@ -251,6 +257,11 @@ int run_process(Agent& agent, const ProcessFlags& f) {
     }
   }
   rt.stop();
+  // A clean stop hands over: what this replica holds (its last commits, and whatever its peers
+  // missed while they were away) reaches them before it leaves; it could be the only holder.
+  const auto hand_over = static_cast<std::int64_t>(f.hand_over_s * 1e9);
+  if (hand_over > 0 && !r.spin_until([&] { return r.replicator().peers_hold_all(); }, hand_over))
+    log->warn("left before every peer held all this replica holds (--hand-over {} s)", f.hand_over_s);
   std::cout << status(agent, r, rt).dump() << std::endl;
   return 0;
 }

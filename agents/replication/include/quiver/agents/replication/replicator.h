@@ -180,6 +180,9 @@ class Replicator {
   }
   /// The same for every sequence number of origin in [lo, hi].
   bool all_peers_hold(const PeerId& origin, std::uint64_t lo, std::uint64_t hi) const;
+  /// True if every live agent peer (observers aside) whose summaries are believed has told us
+  /// that it holds everything this replica holds: what a clean stop waits for (hand-over).
+  bool peers_hold_all() const;
   /// The last sequence number this replica published.
   std::uint64_t last_seq() const { return seq_; }
   /// The (origin, seq) pairs whose effects this replica holds.

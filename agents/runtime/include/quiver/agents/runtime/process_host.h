@@ -34,6 +34,7 @@ struct ProcessFlags {
   int status_ms = 0;
   double run_for_s = 0;
   double join_wait_s = 1.5;
+  double hand_over_s = 2;  ///< on a clean stop, replicate up to this long until the peers hold all it published
   std::string store;                ///< durable store directory (empty: none)
   std::string durability = "batch";  ///< none | batch | always
   double store_compact_mb = 64;      ///< compact when the log holds this much (and more than the snapshot)
@@ -43,7 +44,7 @@ struct ProcessFlags {
 
   /// --domain, --dds-config, --loss-permille (the DDS ones) on `cmd`.
   void add_dds(CLI::App* cmd);
-  /// The DDS ones and --world, --seed, --status-ms, --run-for, --join-wait, --store, --durability.
+  /// The DDS ones and --world, --seed, --status-ms, --run-for, --join-wait, --hand-over, --store, --durability.
   void add_all(CLI::App* cmd);
   /// Sets the DDS configuration these flags choose (domain, source, loss) on `c`.
   Status apply_to(DdsConfig& c) const;
