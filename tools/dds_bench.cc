@@ -87,6 +87,7 @@ struct RoleFlags {
   bool with_viewer = false;
   bool viewer_every_delta = false;
   bool secure = false;  ///< make a temporary key directory for the roles (docs/security.md)
+  bool secure_transport = false;  ///< the same, DDS Security only: no signed deltas, no permissions
 };
 
 // ------------------------------------------------------------------ throughput / latency / join
@@ -424,7 +425,7 @@ std::optional<std::string> make_bench_keys(const RoleFlags& f) {
 int run_bench_dds(const RoleFlags& flags) {
   RoleFlags f = flags;
   std::shared_ptr<void> cleanup;
-  if (f.secure) {
+  if (f.secure || f.secure_transport) {
     if (f.with_viewer) {
       agents::named_logger("bench")->error("--secure with --with-viewer is not supported");
       return 2;
@@ -437,6 +438,7 @@ int run_bench_dds(const RoleFlags& flags) {
   std::vector<std::string> common = {"--updates", std::to_string(f.updates), "--batch", std::to_string(f.batch),
                                      "--readers", std::to_string(f.readers), "--latency-samples",
                                      std::to_string(f.latency_samples), "--join-nodes", std::to_string(f.join_nodes)};
+  if (f.secure_transport) common.push_back("--transport-only");
   auto readers = spawn_roles("reader", f.readers, f.dds, common);
   if (!readers) return 2;
   std::unique_ptr<AttachedViewer> viewer;
@@ -465,6 +467,7 @@ int run_bench_dds(const RoleFlags& flags) {
   const double secs = static_cast<double>(t_done - (*ready)["t0_ns"].get<std::int64_t>()) / 1e9;
   json out;
   out["bench"] = "dds";
+  out["security"] = f.secure ? "dds+signed-deltas" : f.secure_transport ? "dds" : "none";
   out["updates"] = f.updates;
   out["batch"] = f.batch;
   out["readers"] = f.readers;
@@ -534,6 +537,9 @@ void add_dds_bench_commands(CLI::App& app) {
   dds->add_flag("--secure", f->secure,
                 "DDS Security and signed, policy-checked deltas: every role gets an identity from a fresh CA in a "
                 "temporary directory (docs/security.md)");
+  dds->add_flag("--secure-transport", f->secure_transport,
+                "DDS Security alone, as --secure but without signed deltas and graph-level permissions: what each "
+                "layer costs");
   dds->callback([f] { set_exit_code(run_bench_dds(*f)); });
 
   auto* tr = bench->add_subcommand("dds-tracking",
@@ -558,7 +564,9 @@ void add_dds_bench_commands(CLI::App& app) {
   role->add_option("--join-nodes", r->join_nodes)->check(CLI::Range(0, 10'000'000));
   role->add_option("--agents", r->agents)->check(CLI::Range(2, 100));
   role->add_option("--seconds", r->seconds)->check(CLI::Range(0.1, 3600.0));
+  role->add_flag("--transport-only", r->secure_transport);
   role->callback([r] {
+    if (r->secure_transport) r->dds.graph_security = false;
     if (r->role == "writer") writer_role(*r);
     else if (r->role == "reader") reader_role(*r);
     else if (r->role == "joiner") joiner_role(*r);

@@ -17,12 +17,16 @@ namespace quiver::tools {
 
 /// The DDS flags of the agent process host, for commands that open a replica themselves.
 struct DdsFlags : agents::ProcessFlags {
+  /// With `security`: also sign deltas and check the graph-level permissions. Benchmarks turn it
+  /// off to measure what DDS Security alone costs.
+  bool graph_security = true;
   void add_to(CLI::App* cmd) { add_dds(cmd); }
   /// A replica on the chosen domain and configuration; the other options come from `o`.
   Result<std::unique_ptr<agents::DdsReplica>> create_agent(agents::DdsReplicaOptions o) const {
     if (Status s = apply_to(o.dds); !s.ok()) return s.error();
     if (!security.empty())
       if (Status s = agents::enable_security(o, security); !s.ok()) return make_error(s.error().code, "--security: " + s.error().message);
+    if (!graph_security) o.permissions = nullptr;
     return agents::DdsReplica::create(o);
   }
 };
