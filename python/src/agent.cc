@@ -86,6 +86,7 @@ void AgentCore::loop() {
     if (locks_) locks_->tick();
     if (guard_) guard_->tick();
   }
+  if (opt_.hand_over_ns > 0) replica_->hand_over(opt_.hand_over_ns);
   std::unique_ptr<agents::DdsReplica> leaving;
   {
     std::lock_guard<std::mutex> lock(mu_);
@@ -272,7 +273,7 @@ void bind_agent(py::module_& m) {
                       "Network safety: dds_config='loopback' (the default) binds 127.0.0.1 with multicast off.")
       .def(py::init([](const std::string& name, std::uint32_t domain, const std::string& dds_config,
                        std::optional<std::string> grammar, std::optional<std::string> grammar_text, bool locks,
-                       double lock_lease, bool frames, bool observer, double lease) {
+                       double lock_lease, bool frames, bool observer, double lease, double hand_over) {
              AgentOptions o;
              o.replica.name = name;
              o.replica.observer = observer;
@@ -286,6 +287,9 @@ void bind_agent(py::module_& m) {
              o.locks = locks;
              o.lock_options.lease_ns = static_cast<std::int64_t>(lock_lease * 1e9);
              o.frames = frames;
+             if (!(hand_over >= 0 && hand_over <= 60))
+               raise(make_error(ErrorCode::kInvalidArgument, "Agent(): hand_over must be 0..60 seconds"));
+             o.hand_over_ns = static_cast<std::int64_t>(hand_over * 1e9);
              Result<std::shared_ptr<AgentCore>> started = make_error(ErrorCode::kInternal, "");
              {
                py::gil_scoped_release release;
@@ -309,10 +313,11 @@ void bind_agent(py::module_& m) {
            py::arg("name"), py::kw_only(), py::arg("domain") = 0, py::arg("dds_config") = "loopback",
            py::arg("grammar") = py::none(), py::arg("grammar_text") = py::none(), py::arg("locks") = true,
            py::arg("lock_lease") = 2.0, py::arg("frames") = true, py::arg("observer") = false,
-           py::arg("lease") = 1.0,
+           py::arg("lease") = 1.0, py::arg("hand_over") = 2.0,
            "Starts an agent named `name` (its id derives from it) on DDS domain `domain`. `grammar` (a file) "
            "or `grammar_text` makes every local transaction follow that grammar; `locks` enables priority "
-           "locks; `frames` keeps a frame tree for RT lookups (frames()).")
+           "locks; `frames` keeps a frame tree for RT lookups (frames()). On stop() the agent keeps "
+           "replicating up to `hand_over` seconds until every live agent peer holds all it holds.")
       .def_readonly("name", &PyAgent::name)
       .def_property_readonly("id", [](PyAgent& a) { return a.on_thread([&]() -> graph::ReplicaId { return a.core->replica().id(); }); })
       .def_property_readonly("graph", [](PyAgent& a) { return a.graph; },
@@ -422,7 +427,9 @@ void bind_agent(py::module_& m) {
              });
            }, "A FrameReader for the calling thread: lock-free RT lookups (4x4 arrays) that never wait for the agent.")
       .def("check", &PyAgent::check, "Raises the first exception a callback raised (once).")
-      .def("stop", &PyAgent::stop, "Leaves the domain (peers see it go at once) and stops the thread; then check().")
+      .def("stop", &PyAgent::stop,
+           "Hands over (up to `hand_over` s), leaves the domain (peers see it go at once) and stops the thread; "
+           "then check().")
       .def("__enter__", [](py::object self) { return self; })
       .def("__exit__", [](PyAgent& a, py::handle, py::handle, py::handle) {
              a.stop();

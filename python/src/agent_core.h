@@ -27,6 +27,8 @@ struct AgentOptions {
   bool locks = true;
   agents::LockOptions lock_options;
   bool frames = true;
+  /// On stop: replicate up to this long until every live agent peer holds all this replica holds.
+  std::int64_t hand_over_ns = 2'000'000'000;
 };
 
 class AgentCore : public std::enable_shared_from_this<AgentCore> {

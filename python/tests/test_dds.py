@@ -87,3 +87,16 @@ def test_an_agent_with_a_grammar_refuses_other_changes(tmp_path):
         with pytest.raises(quiver.RefusedError):
             a.write(lambda t: t.create_node("robot", "robot"))  # creating nodes is no rule
         assert a.call(lambda g: g.node_count) == 0
+
+
+def test_the_last_write_before_stop_reaches_the_peer():
+    # stop() hands over (up to hand_over s): the C++ DdsProcessTest.AStoppedAgentHandsOver... shows
+    # it where it matters, a peer that restarted and is still pulling what it missed.
+    with pytest.raises(quiver.Error, match="hand_over"):
+        quiver.Agent("py-ho-bad", domain=89, hand_over=-1)
+    with quiver.Agent("py-ho-b", domain=89) as b:
+        a = quiver.Agent("py-ho-a", domain=89)
+        assert a.wait_until(lambda g: a.live_peer_count() == 1 and b.live_peer_count() == 1, timeout=10)
+        a.write(lambda t: t.create_node("thing", "last-words"))
+        a.stop()
+        assert b.call(lambda g: g.find_node("last-words") is not None)

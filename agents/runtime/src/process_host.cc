@@ -260,7 +260,7 @@ int run_process(Agent& agent, const ProcessFlags& f) {
   // A clean stop hands over: what this replica holds (its last commits, and whatever its peers
   // missed while they were away) reaches them before it leaves; it could be the only holder.
   const auto hand_over = static_cast<std::int64_t>(f.hand_over_s * 1e9);
-  if (hand_over > 0 && !r.spin_until([&] { return r.replicator().peers_hold_all(); }, hand_over))
+  if (hand_over > 0 && !r.hand_over(hand_over))
     log->warn("left before every peer held all this replica holds (--hand-over {} s)", f.hand_over_s);
   std::cout << status(agent, r, rt).dump() << std::endl;
   return 0;

@@ -75,6 +75,13 @@ class DdsReplica {
   /// Spins until `done()` holds (checked after every round) or `timeout_ns` passes.
   bool spin_until(const std::function<bool()>& done, std::int64_t timeout_ns);
   void spin_for(std::int64_t duration_ns);
+  /// Before leaving cleanly: spins until every live agent peer holds everything this replica
+  /// holds (Replicator::peers_hold_all), or `timeout_ns` passes. A peer that was away may still
+  /// be pulling what it missed from this replica, perhaps its only holder. @returns true when
+  /// handed over.
+  bool hand_over(std::int64_t timeout_ns) {
+    return spin_until([this] { return replicator_->peers_hold_all(); }, timeout_ns);
+  }
   /// Spins until stop() is called.
   void spin();
 
