@@ -5,7 +5,10 @@
 #
 # Agent "big" holds a large world in its store (batch); it is restarted from its store first, so
 # its relay buffer is empty and a newcomer's pull is answered with its whole state, in chunks.
-# Agent "joiner" starts with an empty store (always) and counts at 200 Hz, printing "acked N".
+# Agent "joinerR" (R: the round) starts with an empty store (always) and counts at 200 Hz,
+# printing "acked N". Each round's joiner has a name of its own: its counter node is
+# "joinerR.counter", and a joiner whose setup ran before big's state arrived would otherwise make
+# a second "joiner.counter" beside an earlier round's, and reload the wrong one.
 #
 #  1. The joiner is killed with SIGKILL while it receives the state (or, when the kill comes
 #     later, while its store compacts the state it just wrote: it compacts every 10 KiB), then
@@ -88,7 +91,7 @@ start_big
 # 1. The joiner killed during the transfer (or its compaction), restarted from its store.
 joiner_round() {  # ROUND
   local r=$1 log=$WORK/joiner-$1.log store=$WORK/joiner-$1
-  start joiner "$store" always "$log" --count-hz 200 --status-ms 20
+  start "joiner$r" "$store" always "$log" --count-hz 200 --status-ms 20
   local j=$started
   wait_until 20 pull_out "$log" || fail "round $r: the joiner sent no pull"
   sleep "$(delay 3000)"
@@ -99,7 +102,7 @@ joiner_round() {  # ROUND
   where=$(phase "$log")
   landed[$where]=$((landed[$where] + 1))
   acked=$(last_acked "$log")
-  start joiner "$store" always "$log" --count-hz 0.0001 --status-ms 50
+  start "joiner$r" "$store" always "$log" --count-hz 0.0001 --status-ms 50
   j=$started
   wait_until 20 bash -c "[ \$(grep -c '^loaded' '$log') -ge 2 ]" || fail "round $r: the joiner did not restart"
   grep -q 'set aside' "$log" && echo "  round $r: the joiner's store was set aside: $(grep 'set aside' "$log" | tail -1)"
@@ -117,7 +120,7 @@ sender_round() {  # ROUND
   local r=$1 log=$WORK/joiner-$1.log store=$WORK/joiner-$1
   local answers
   answers=$(field "$BIG_LOG" state_answers)
-  start joiner "$store" always "$log" --count-hz 200 --status-ms 20
+  start "joiner$r" "$store" always "$log" --count-hz 200 --status-ms 20
   local j=$started
   wait_until 20 answered_more "$BIG_LOG" "${answers:-0}" || fail "round $r: big answered no pull with its state"
   sleep "$(delay 300)"
@@ -146,7 +149,7 @@ sender_round() {  # ROUND
 # 3. Both at once during a transfer.
 power_cut_round() {  # ROUND
   local r=$1 log=$WORK/joiner-$1.log store=$WORK/joiner-$1
-  start joiner "$store" always "$log" --count-hz 200 --status-ms 20
+  start "joiner$r" "$store" always "$log" --count-hz 200 --status-ms 20
   local j=$started
   wait_until 20 pull_out "$log" || fail "round $r: the joiner sent no pull"
   sleep "$(delay 600)"
@@ -158,7 +161,7 @@ power_cut_round() {  # ROUND
   landed[both-$where]=$(( ${landed[both-$where]:-0} + 1 ))
   acked=$(last_acked "$log")
   start_big
-  start joiner "$store" always "$log" --count-hz 0.0001 --status-ms 50
+  start "joiner$r" "$store" always "$log" --count-hz 0.0001 --status-ms 50
   j=$started
   wait_until 30 bash -c "[ \$(grep -c '^loaded' '$log') -ge 2 ]" || fail "round $r: the joiner did not restart"
   local loaded
