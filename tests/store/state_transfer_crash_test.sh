@@ -44,6 +44,9 @@ wait_until() {
   return 1
 }
 pull_out() { [ "$(field "$1" pulls_sent)" -ge 1 ] 2>/dev/null; }
+state_applied() { [ "$(field "$1" states_applied)" -ge 1 ] 2>/dev/null; }
+has_digest() { [ "$(field "$1" digest)" = "$2" ]; }
+restarted() { [ "$(grep -c '^loaded' "$1")" -ge 2 ]; }
 answered_more() { [ "$(field "$1" state_answers)" -gt "$2" ] 2>/dev/null; }
 # equal LOG_A LOG_B: both synced with one peer and the same digest in their last status lines.
 equal() {
@@ -88,6 +91,23 @@ start_big() {
 : >"$BIG_LOG"
 start_big
 
+# restart_joiner ROUND WHAT ACKED: restarts round ROUND's joiner (killed as WHAT says) from its
+# store, checks that it reloaded at least ACKED and converges with big, then stops it.
+restart_joiner() {
+  local r=$1 what=$2 acked=${3:-0} log=$WORK/joiner-$1.log store=$WORK/joiner-$1
+  start "joiner$r" "$store" always "$log" --count-hz 0.0001 --status-ms 50
+  local j=$started
+  wait_until 30 restarted "$log" || fail "round $r: the joiner did not restart"
+  grep -q 'set aside' "$log" && echo "  round $r: the joiner's store was set aside: $(grep 'set aside' "$log" | tail -1)"
+  local loaded
+  loaded=$(last_loaded "$log")
+  [ "$loaded" -ge "$acked" ] || fail "round $r: acknowledged $acked, reloaded $loaded ($what)"
+  wait_until 60 equal "$log" "$BIG_LOG" || fail "round $r: the replicas did not converge after the restart ($what)"
+  echo "  round $r: $what; acknowledged $acked, reloaded $loaded; replicas equal ($(field "$log" digest))"
+  kill -TERM "$j"
+  wait "$j" 2>/dev/null
+}
+
 # 1. The joiner killed during the transfer (or its compaction), restarted from its store.
 joiner_round() {  # ROUND
   local r=$1 log=$WORK/joiner-$1.log store=$WORK/joiner-$1
@@ -102,17 +122,7 @@ joiner_round() {  # ROUND
   where=$(phase "$log")
   landed[$where]=$((landed[$where] + 1))
   acked=$(last_acked "$log")
-  start "joiner$r" "$store" always "$log" --count-hz 0.0001 --status-ms 50
-  j=$started
-  wait_until 20 bash -c "[ \$(grep -c '^loaded' '$log') -ge 2 ]" || fail "round $r: the joiner did not restart"
-  grep -q 'set aside' "$log" && echo "  round $r: the joiner's store was set aside: $(grep 'set aside' "$log" | tail -1)"
-  local loaded
-  loaded=$(last_loaded "$log")
-  [ "$loaded" -ge "${acked:-0}" ] || fail "round $r: acknowledged $acked, reloaded $loaded (joiner killed $where)"
-  wait_until 60 equal "$log" "$BIG_LOG" || fail "round $r: the replicas did not converge after the joiner's restart"
-  echo "  round $r: joiner killed $where; acknowledged ${acked:-0}, reloaded $loaded; replicas equal ($(field "$log" digest))"
-  kill -TERM "$j"
-  wait "$j" 2>/dev/null
+  restart_joiner "$r" "joiner killed $where" "$acked"
 }
 
 # 2. The sender killed during the transfer, restarted from its store.
@@ -132,8 +142,7 @@ sender_round() {  # ROUND
   [ "$where" = mid-transfer ] || where=after
   landed[sender-$where]=$(( ${landed[sender-$where]:-0} + 1 ))
   start_big
-  wait_until 60 bash -c "[ \"\$(grep '^{' '$log' | tail -1 | grep -o '\"states_applied\":[0-9]*' | cut -d: -f2)\" -ge 1 ]" ||
-    fail "round $r: the joiner never received the state after big's restart"
+  wait_until 60 state_applied "$log" || fail "round $r: the joiner never received the state after big's restart"
   # The joiner stops (its last status line is its final state); big must end equal to it.
   kill -TERM "$j"
   wait "$j" || fail "round $r: the joiner exited with an error"
@@ -141,8 +150,7 @@ sender_round() {  # ROUND
   d=$(field "$log" digest)
   acked=$(last_acked "$log")
   [ "$(field "$log" synced)" = true ] || fail "round $r: the joiner was not synced when it stopped"
-  wait_until 30 bash -c "[ \"\$(grep '^{' '$BIG_LOG' | tail -1 | grep -o '\"digest\":\"[0-9a-f]*\"' | cut -d'\"' -f4)\" = '$d' ]" ||
-    fail "round $r: big did not reach the joiner's final digest $d"
+  wait_until 30 has_digest "$BIG_LOG" "$d" || fail "round $r: big did not reach the joiner's final digest $d"
   echo "  round $r: sender killed $where; joiner acknowledged $acked; replicas equal ($d)"
 }
 
@@ -161,16 +169,7 @@ power_cut_round() {  # ROUND
   landed[both-$where]=$(( ${landed[both-$where]:-0} + 1 ))
   acked=$(last_acked "$log")
   start_big
-  start "joiner$r" "$store" always "$log" --count-hz 0.0001 --status-ms 50
-  j=$started
-  wait_until 30 bash -c "[ \$(grep -c '^loaded' '$log') -ge 2 ]" || fail "round $r: the joiner did not restart"
-  local loaded
-  loaded=$(last_loaded "$log")
-  [ "$loaded" -ge "${acked:-0}" ] || fail "round $r: acknowledged $acked, reloaded $loaded (both killed, joiner $where)"
-  wait_until 60 equal "$log" "$BIG_LOG" || fail "round $r: the replicas did not converge after the power cut"
-  echo "  round $r: both killed (joiner $where); acknowledged ${acked:-0}, reloaded $loaded; replicas equal ($(field "$log" digest))"
-  kill -TERM "$j"
-  wait "$j" 2>/dev/null
+  restart_joiner "$r" "both killed (joiner $where)" "$acked"
 }
 
 round=0

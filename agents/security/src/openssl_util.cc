@@ -97,31 +97,20 @@ Result<std::string> mem_text(BIO* bio) {
   if (n < 0) return ssl_error(ErrorCode::kInternal, "BIO_get_mem_data");
   return std::string(data, static_cast<std::size_t>(n));
 }
+// One PEM object of the file at `path`, read by OpenSSL's `read` (e.g. PEM_read_bio_X509).
+template <class Owned, class Read>
+Result<Owned> load_pem(const std::string& path, Read read, const char* what) {
+  auto bio = file_bio(path);
+  if (!bio.ok()) return bio.error();
+  Owned object(read(bio->get(), nullptr, nullptr, nullptr));
+  if (!object) return ssl_error(ErrorCode::kMalformed, "'" + path + "' holds no PEM " + what);
+  return object;
+}
 }  // namespace
 
-Result<Pkey> load_key(const std::string& path) {
-  auto bio = file_bio(path);
-  if (!bio.ok()) return bio.error();
-  Pkey key(PEM_read_bio_PrivateKey(bio->get(), nullptr, nullptr, nullptr));
-  if (!key) return ssl_error(ErrorCode::kMalformed, "'" + path + "' holds no PEM private key");
-  return key;
-}
-
-Result<Cert> load_cert(const std::string& path) {
-  auto bio = file_bio(path);
-  if (!bio.ok()) return bio.error();
-  Cert cert(PEM_read_bio_X509(bio->get(), nullptr, nullptr, nullptr));
-  if (!cert) return ssl_error(ErrorCode::kMalformed, "'" + path + "' holds no PEM certificate");
-  return cert;
-}
-
-Result<Crl> load_crl(const std::string& path) {
-  auto bio = file_bio(path);
-  if (!bio.ok()) return bio.error();
-  Crl crl(PEM_read_bio_X509_CRL(bio->get(), nullptr, nullptr, nullptr));
-  if (!crl) return ssl_error(ErrorCode::kMalformed, "'" + path + "' holds no PEM CRL");
-  return crl;
-}
+Result<Pkey> load_key(const std::string& path) { return load_pem<Pkey>(path, PEM_read_bio_PrivateKey, "private key"); }
+Result<Cert> load_cert(const std::string& path) { return load_pem<Cert>(path, PEM_read_bio_X509, "certificate"); }
+Result<Crl> load_crl(const std::string& path) { return load_pem<Crl>(path, PEM_read_bio_X509_CRL, "CRL"); }
 
 Result<std::string> key_pem(EVP_PKEY* key) {
   Bio bio(BIO_new(BIO_s_mem()));
