@@ -5,12 +5,12 @@
 #include <nlohmann/json.hpp>
 
 #include "commands.h"
-#include "quiver/agents/runtime/logging.h"
+#include "quiver/agents/runtime/process/logging.h"
 #include "dds_options.h"
 #include "observer.h"
-#include "quiver/agents/dds/dds_replica.h"
+#include "quiver/agents/runtime/process/dds_replica.h"
 #include "quiver/graph/world_file.h"
-#include "quiver/rng.h"
+#include "quiver/base/rng.h"
 #include "quiver/sim/workload.h"
 
 namespace quiver::tools {

@@ -10,11 +10,11 @@
 
 #include "bench_stats.h"
 #include "commands.h"
-#include "quiver/agents/runtime/logging.h"
-#include "quiver/agents/dds/dds_replica.h"
-#include "quiver/agents/grammar/grammar.h"
-#include "quiver/agents/locks/locks.h"
-#include "quiver/rng.h"
+#include "quiver/agents/runtime/process/logging.h"
+#include "quiver/agents/runtime/process/dds_replica.h"
+#include "quiver/agents/rules/grammar/grammar.h"
+#include "quiver/agents/rules/locks/locks.h"
+#include "quiver/base/rng.h"
 #include "quiver/sim/simulator.h"
 
 namespace quiver::tools {

@@ -14,10 +14,10 @@
 #include "bench_stats.h"
 #include "commands.h"
 #include "dds_options.h"
-#include "quiver/agents/agm/clean_table.h"
-#include "quiver/agents/agm/roles.h"
-#include "quiver/agents/agm/schema.h"
-#include "quiver/agents/runtime/logging.h"
+#include "quiver/agents/apps/agm/clean_table.h"
+#include "quiver/agents/apps/agm/agm_roles.h"
+#include "quiver/agents/apps/agm/agm_schema.h"
+#include "quiver/agents/runtime/process/logging.h"
 #include "subprocess.h"
 
 namespace quiver::tools {

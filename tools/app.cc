@@ -5,7 +5,7 @@
 #include <vector>
 
 #include "commands.h"
-#include "quiver/agents/runtime/logging.h"
+#include "quiver/agents/runtime/process/logging.h"
 
 namespace quiver::tools {
 namespace {

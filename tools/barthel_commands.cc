@@ -12,14 +12,14 @@
 #include <nlohmann/json.hpp>
 
 #include "commands.h"
-#include "quiver/agents/runtime/logging.h"
+#include "quiver/agents/runtime/process/logging.h"
 #include "dds_options.h"
-#include "quiver/agents/agm/roles.h"
-#include "quiver/agents/agm/schema.h"
-#include "quiver/agents/barthel/checks.h"
-#include "quiver/agents/barthel/grammars.h"
-#include "quiver/agents/barthel/roles.h"
-#include "quiver/agents/barthel/transcript.h"
+#include "quiver/agents/apps/agm/agm_roles.h"
+#include "quiver/agents/apps/agm/agm_schema.h"
+#include "quiver/agents/apps/barthel/checks.h"
+#include "quiver/agents/apps/barthel/grammars.h"
+#include "quiver/agents/apps/barthel/barthel_roles.h"
+#include "quiver/agents/apps/barthel/transcript.h"
 #include "quiver/agents/devices/json_result_store.h"
 #include "barthel_processes.h"
 
@@ -53,7 +53,7 @@ Result<barthel::PatientScript> load_script(const std::string& path) {
   }
 }
 
-// One agent of the AGM scenarios (agents/agm), on the AGM world unless told otherwise.
+// One agent of the AGM scenarios (agents/apps/agm), on the AGM world unless told otherwise.
 int run_agm_role(RunFlags f) {
   agents::agm::AgmRoleOptions ro;
   ro.name = f.name;

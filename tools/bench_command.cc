@@ -8,11 +8,11 @@
 #include "bench_stats.h"
 #include "bench_util.h"
 #include "commands.h"
-#include "quiver/agents/runtime/logging.h"
+#include "quiver/agents/runtime/process/logging.h"
 #include "quiver/graph/codec.h"
 #include "quiver/graph/graph.h"
 #include "quiver/graph/world_file.h"
-#include "quiver/rng.h"
+#include "quiver/base/rng.h"
 
 namespace quiver::tools {
 namespace {

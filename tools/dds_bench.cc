@@ -22,12 +22,12 @@
 
 #include "bench_stats.h"
 #include "commands.h"
-#include "quiver/agents/runtime/logging.h"
+#include "quiver/agents/runtime/process/logging.h"
 #include "dds_options.h"
-#include "quiver/agents/dds/dds_replica.h"
-#include "quiver/agents/security/keys.h"
+#include "quiver/agents/runtime/process/dds_replica.h"
+#include "quiver/agents/replica/security/keys.h"
 #include "quiver/graph/graph.h"
-#include "quiver/rng.h"
+#include "quiver/base/rng.h"
 #include "subprocess.h"
 
 namespace quiver::tools {

@@ -7,11 +7,11 @@
 #include <sstream>
 #include <string>
 
-#include "quiver/agents/dds/dds_replica.h"
-#include "quiver/agents/dds/dds_transport.h"
-#include "quiver/agents/dds/security_setup.h"
-#include "quiver/agents/runtime/process_host.h"
-#include "quiver/result.h"
+#include "quiver/agents/runtime/process/dds_replica.h"
+#include "quiver/agents/transport/dds/dds_transport.h"
+#include "quiver/agents/runtime/process/security_setup.h"
+#include "quiver/agents/runtime/process/process_host.h"
+#include "quiver/base/result.h"
 
 namespace quiver::tools {
 

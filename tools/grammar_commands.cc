@@ -7,7 +7,7 @@
 #include <vector>
 
 #include "commands.h"
-#include "quiver/agents/grammar/grammar.h"
+#include "quiver/agents/rules/grammar/grammar.h"
 
 namespace quiver::tools {
 namespace {

@@ -7,9 +7,9 @@
 #include "commands.h"
 #include "dds_options.h"
 #include "observer.h"
-#include "quiver/agents/runtime/logging.h"
+#include "quiver/agents/runtime/process/logging.h"
 #include "quiver/graph/world_file.h"
-#include "quiver/hash.h"
+#include "quiver/base/hash.h"
 #include "quiver/interop/agm.h"
 #include "quiver/interop/dsr.h"
 

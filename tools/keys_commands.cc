@@ -5,8 +5,8 @@
 #include <string>
 
 #include "commands.h"
-#include "quiver/agents/runtime/logging.h"
-#include "quiver/agents/security/keys.h"
+#include "quiver/agents/runtime/process/logging.h"
+#include "quiver/agents/replica/security/keys.h"
 
 namespace quiver::tools {
 namespace {

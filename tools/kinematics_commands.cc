@@ -19,14 +19,14 @@
 #include "bench_stats.h"
 #include "bench_util.h"
 #include "commands.h"
-#include "quiver/agents/runtime/logging.h"
+#include "quiver/agents/runtime/process/logging.h"
 #include "quiver/graph/graph.h"
 #include "quiver/graph/world_file.h"
 #include "quiver/kinematics/collision_scene.h"
 #include "quiver/kinematics/frames.h"
 #include "quiver/kinematics/shape.h"
 #include "quiver/kinematics/urdf_import.h"
-#include "quiver/rng.h"
+#include "quiver/base/rng.h"
 
 namespace quiver::tools {
 namespace {

@@ -6,8 +6,8 @@
 #include <string>
 
 #include "dds_options.h"
-#include "quiver/agents/dds/dds_replica.h"
-#include "quiver/result.h"
+#include "quiver/agents/runtime/process/dds_replica.h"
+#include "quiver/base/result.h"
 
 namespace quiver::tools {
 

@@ -13,10 +13,10 @@
 #include <vector>
 
 #include "commands.h"
-#include "quiver/agents/grammar/grammar.h"
-#include "quiver/agents/mission/mission.h"
-#include "quiver/agents/planner/planner.h"
-#include "quiver/agents/planner/replay.h"
+#include "quiver/agents/rules/grammar/grammar.h"
+#include "quiver/agents/rules/mission/mission.h"
+#include "quiver/agents/rules/planner/planner.h"
+#include "quiver/agents/rules/planner/plan_replay.h"
 #include "quiver/graph/world_file.h"
 #include "quiver/interop/agm.h"
 #include "quiver/interop/dsr.h"

@@ -18,11 +18,11 @@
 #include "barthel_processes.h"
 #include "bench_stats.h"
 #include "commands.h"
-#include "quiver/agents/runtime/logging.h"
+#include "quiver/agents/runtime/process/logging.h"
 #include "dds_options.h"
-#include "quiver/agents/barthel/patient_script.h"
-#include "quiver/agents/barthel/roles.h"
-#include "quiver/agents/barthel/schema.h"
+#include "quiver/agents/apps/barthel/patient_script.h"
+#include "quiver/agents/apps/barthel/barthel_roles.h"
+#include "quiver/agents/apps/barthel/barthel_schema.h"
 
 namespace quiver::tools {
 namespace {

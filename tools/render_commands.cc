@@ -1,5 +1,5 @@
 // quiver render: a picture (PNG, SVG, DOT) of a world file, a recording's state or a live
-// domain. quiver timeline: a recording's evolution as PNG frames or an MP4.
+// domain. quiver timeline: a recording's evolution as PNG pictures or an MP4.
 
 #include <cctype>
 #include <chrono>
@@ -11,13 +11,13 @@
 #include "commands.h"
 #include "dds_options.h"
 #include "observer.h"
-#include "quiver/agents/recording/record_file.h"
-#include "quiver/agents/render/render.h"
-#include "quiver/agents/render/replay.h"
-#include "quiver/agents/render/timeline.h"
-#include "quiver/agents/runtime/logging.h"
+#include "quiver/agents/view/recording/record_file.h"
+#include "quiver/agents/view/render/render.h"
+#include "quiver/agents/view/render/render_replay.h"
+#include "quiver/agents/view/render/timeline_video.h"
+#include "quiver/agents/runtime/process/logging.h"
 #include "quiver/graph/world_file.h"
-#include "quiver/hash.h"
+#include "quiver/base/hash.h"
 
 namespace quiver::tools {
 namespace {
@@ -37,7 +37,7 @@ double seconds_since(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
 
-// Reads a recording and says what was left out of it (a frame cut short at the end).
+// Reads a recording and says what was left out of it (a change cut short at the end).
 Result<recording::Recording> read_recording_noting(const std::string& path, const char* command) {
   auto rec = recording::read_recording(path);
   if (rec.ok() && !rec->note.empty())
@@ -65,7 +65,7 @@ struct RenderArgs {
 struct Source {
   std::unique_ptr<graph::Graph> owned;
   std::unique_ptr<agents::DdsReplica> replica;
-  std::vector<recording::Frame> frames;
+  std::vector<recording::RecordedChange> changes;
   std::unique_ptr<render::Replay> replay;
   const graph::Graph* graph = nullptr;
   std::string name;  // for messages
@@ -86,16 +86,16 @@ Result<Source> open_source(const RenderArgs& a) {
   if (ext == ".qrec") {
     auto rec = read_recording_noting(a.input, "quiver render");
     if (!rec.ok()) return rec.error();
-    s.frames = std::move(rec->frames);
-    if (s.frames.empty())
+    s.changes = std::move(rec->changes);
+    if (s.changes.empty())
       return make_error(ErrorCode::kInvalidArgument,
                         "the recording '" + a.input + "' holds no frames");
-    const std::uint64_t last = s.frames.size() - 1;
+    const std::uint64_t last = s.changes.size() - 1;
     if (a.at && *a.at > last)
       return make_error(ErrorCode::kInvalidArgument,
                         "--at " + std::to_string(*a.at) + ": the recording '" + a.input +
                             "' holds frames 0.." + std::to_string(last));
-    s.replay = std::make_unique<render::Replay>(s.frames);
+    s.replay = std::make_unique<render::Replay>(s.changes);
     s.replay->run_through(a.at.value_or(last));
     s.graph = &s.replay->graph();
     return s;
@@ -184,11 +184,11 @@ int run_timeline(TimelineArgs a) {
     log->error("{}", rec.error().message);
     return 1;
   }
-  if (rec->frames.empty()) {
+  if (rec->changes.empty()) {
     log->error("the recording '{}' holds no frames", a.input);
     return 1;
   }
-  auto info = render::render_timeline(rec->frames, a.options, a.out);
+  auto info = render::render_timeline(rec->changes, a.options, a.out);
   if (!info.ok()) {
     log->error("{}", info.error().message);
     return 1;
@@ -248,7 +248,7 @@ void add_render_commands(CLI::App& app) {
   t->add_flag("--hide-geometry", ta->options.hide_geometry,
               "leave out RT edges and the nodes that take part in no other edge, and the frames "
               "that only change them");
-  t->add_flag("--every-frame", ta->options.every_frame,
+  t->add_flag("--every-frame", ta->options.every_change,
               "also draw frames that change nothing drawn");
   t->add_flag(
       "--structure-only", ta->options.structure_only,
@@ -256,7 +256,7 @@ void add_render_commands(CLI::App& app) {
   t->add_option("--fps", ta->options.fps, "frames per second of an MP4")
       ->check(CLI::Range(0.1, 120.0))
       ->capture_default_str();
-  t->add_option("--max-frames", ta->options.max_frames,
+  t->add_option("--max-frames", ta->options.max_changes,
                 "draw at most this many pictures, the first ones (0: all)")
       ->check(CLI::Range(std::size_t{0}, std::size_t{1} << 32))
       ->capture_default_str();

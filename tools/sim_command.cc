@@ -4,10 +4,10 @@
 
 #include "commands.h"
 #include "progress.h"
-#include "quiver/agents/runtime/logging.h"
+#include "quiver/agents/runtime/process/logging.h"
 #include <nlohmann/json.hpp>
 
-#include "quiver/sim/agm_scenario.h"
+#include "quiver/agents/apps/agm/sim/agm_scenario.h"
 #include "quiver/sim/scenario.h"
 #include "quiver/sim/simulator.h"
 
@@ -56,13 +56,13 @@ void add_sim_command(CLI::App& app) {
       ProgressLine progress("schedules", n);
       for (int k = 0; k < n; ++k) {
         const std::uint64_t seed = cfg->seed + static_cast<std::uint64_t>(k);
-        sim::AgmScenario s = *schedules > 0 ? sim::AgmScenario::random_faults(seed, *mission) : sim::AgmScenario{};
+        agents::agm::AgmScenario s = *schedules > 0 ? agents::agm::AgmScenario::random_faults(seed, *mission) : agents::agm::AgmScenario{};
         if (*schedules == 0 && !mission->empty()) {
           s.name = *mission;
           s.mission = *mission;
         }
         if (!scenario->empty()) {
-          auto loaded = sim::AgmScenario::load(*scenario);
+          auto loaded = agents::agm::AgmScenario::load(*scenario);
           if (!loaded.ok()) {
             log->error("{}", loaded.error().to_string());
             set_exit_code(2);
@@ -71,7 +71,7 @@ void add_sim_command(CLI::App& app) {
           s = *loaded;
         }
         if (*verbose) log->info("AGM scenario {}, seed {}", s.name, seed);
-        sim::AgmResult r = sim::run_agm_scenario(s, seed, *verbose ? narrate : std::function<void(std::int64_t, const std::string&)>{});
+        agents::agm::AgmResult r = agents::agm::run_agm_scenario(s, seed, *verbose ? narrate : std::function<void(std::int64_t, const std::string&)>{});
         if (!r.passed) ++failed;
         progress.update(k + 1, std::to_string(failed) + " failed");
         if (!r.passed || n == 1) {

@@ -15,12 +15,12 @@
 #include "bench_stats.h"
 #include "bench_util.h"
 #include "commands.h"
-#include "quiver/agents/runtime/logging.h"
-#include "quiver/agents/store/store.h"
+#include "quiver/agents/runtime/process/logging.h"
+#include "quiver/agents/replica/store/store.h"
 #include "quiver/graph/codec.h"
 #include "quiver/graph/graph.h"
-#include "quiver/hash.h"
-#include "quiver/rng.h"
+#include "quiver/base/hash.h"
+#include "quiver/base/rng.h"
 
 namespace quiver::tools {
 namespace {

@@ -18,12 +18,12 @@
 #include "commands.h"
 #include "dds_options.h"
 #include "observer.h"
-#include "quiver/agents/grammar/grammar_guard.h"
-#include "quiver/agents/locks/locks.h"
-#include "quiver/agents/recording/graph_recorder.h"
-#include "quiver/agents/recording/record_file.h"
-#include "quiver/agents/runtime/logging.h"
-#include "quiver/agents/viewer/viewer.h"
+#include "quiver/agents/rules/grammar/grammar_guard.h"
+#include "quiver/agents/rules/locks/locks.h"
+#include "quiver/agents/view/recording/graph_recorder.h"
+#include "quiver/agents/view/recording/record_file.h"
+#include "quiver/agents/runtime/process/logging.h"
+#include "quiver/agents/view/viewer/viewer.h"
 #include "quiver/graph/world_file.h"
 
 namespace quiver::tools {
@@ -120,14 +120,14 @@ int view_static(const ViewFlags& f, agents::viewer::ViewerOptions vo) {
         return 2;
       }
       if (!rec->note.empty()) log->warn("{}: {}", f.replay, rec->note);
-      for (const auto& fr : rec->frames) {
+      for (const auto& fr : rec->changes) {
         now = fr.t_ns;
         if (!fr.origin.empty()) names[fr.delta.origin] = fr.origin;
         g.merge(fr.delta);
       }
       log->info("{}: {} frames, {:.1f} s; {} nodes, {} edges at the end", f.replay,
-                rec->frames.size(),
-                rec->frames.empty() ? 0.0 : static_cast<double>(rec->frames.back().t_ns) / 1e9,
+                rec->changes.size(),
+                rec->changes.empty() ? 0.0 : static_cast<double>(rec->changes.back().t_ns) / 1e9,
                 g.node_count(), g.edge_count());
     } else {
       auto seed = graph::world_seed_file(f.world);
@@ -269,7 +269,7 @@ int run_record(const RecordFlags& f) {
   agents::recording::GraphRecorder rec(
       a.graph(), [start] { return agents::monotonic_ns() - start; },
       [&a](const graph::ReplicaId& r) { return a.replicator().name_of(r); },
-      [&](agents::recording::Frame&& fr) {
+      [&](agents::recording::RecordedChange&& fr) {
         if (!failed.ok()) return;
         failed = (*writer)->append(fr, [&a] { return a.graph().state(); });
         if (!failed.ok()) g_stop.store(true);
@@ -283,7 +283,7 @@ int run_record(const RecordFlags& f) {
     log->error("{}", (!failed.ok() ? failed : flushed).error().message);
     return 1;
   }
-  std::cout << "quiver record: " << (*writer)->frames_written() << " frames, " << (*writer)->bytes()
+  std::cout << "quiver record: " << (*writer)->changes_written() << " frames, " << (*writer)->bytes()
             << " bytes in " << f.out
             << ((*writer)->rotations() > 0 ? " (older part in " + f.out + ".1)" : std::string())
             << std::endl;

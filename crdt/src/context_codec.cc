@@ -2,19 +2,19 @@
 
 namespace quiver::crdt {
 
-void encode_replica(const ReplicaId& id, wire::Writer& w) {
+void encode_replica(const ReplicaId& id, bytes::Writer& w) {
   w.fixed64(id.agent);
   w.varint(id.incarnation);
 }
 
-ReplicaId decode_replica(wire::Reader& r, const char* field) {
+ReplicaId decode_replica(bytes::Reader& r, const char* field) {
   ReplicaId id;
   id.agent = r.fixed64(field);
   id.incarnation = r.varint(field);
   return id;
 }
 
-void encode_context(const CausalContext& c, wire::Writer& w) {
+void encode_context(const CausalContext& c, bytes::Writer& w) {
   std::vector<ReplicaId> reps = c.replicas();
   w.varint(reps.size());
   // Ranges come out grouped by replica in ascending order: emit them per replica.
@@ -41,7 +41,7 @@ void encode_context(const CausalContext& c, wire::Writer& w) {
   if (!ranges.empty()) flush(reps[i]);
 }
 
-void decode_context(wire::Reader& r, CausalContext& out, std::uint64_t max_replicas, std::uint64_t max_ranges) {
+void decode_context(bytes::Reader& r, CausalContext& out, std::uint64_t max_replicas, std::uint64_t max_ranges) {
   out.clear();
   std::uint64_t n = r.count("context replica count", max_replicas, 10);
   std::uint64_t total = 0;

@@ -4,7 +4,7 @@
 #include <cstdio>
 #include <string>
 
-#include "quiver/agents/dds/dds_replica.h"
+#include "quiver/agents/runtime/process/dds_replica.h"
 
 int main(int argc, char** argv) {
   quiver::agents::DdsReplicaOptions o;

@@ -4,9 +4,9 @@
 #include <cstdio>
 #include <string>
 
-#include "quiver/agents/dds/dds_replica.h"
-#include "quiver/agents/grammar/grammar_guard.h"
-#include "quiver/agents/locks/locks.h"
+#include "quiver/agents/runtime/process/dds_replica.h"
+#include "quiver/agents/rules/grammar/grammar_guard.h"
+#include "quiver/agents/rules/locks/locks.h"
 #include "quiver/graph/world_file.h"
 using namespace quiver;
 

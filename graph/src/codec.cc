@@ -20,7 +20,7 @@
 #include <algorithm>
 #include <unordered_map>
 
-#include "quiver/wire.h"
+#include "quiver/base/byte_codec.h"
 
 namespace quiver::graph {
 namespace {
@@ -381,7 +381,7 @@ class Encoder {
   }
 
   const GraphDelta& d_;
-  wire::Writer w_;
+  bytes::Writer w_;
   std::uint64_t seq_lo_, seq_hi_;
   std::vector<ReplicaId> replicas_;
   std::unordered_map<ReplicaId, std::uint64_t> rmap_;
@@ -835,7 +835,7 @@ class Decoder {
     return {};
   }
 
-  wire::Reader r_;
+  bytes::Reader r_;
   GraphDelta& d_;
   const DecodeLimits& lim_;
   std::vector<ReplicaId> replicas_;

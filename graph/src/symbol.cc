@@ -10,7 +10,7 @@
 #include <unordered_map>
 
 #include "quiver/graph/limits.h"
-#include "quiver/hash.h"
+#include "quiver/base/hash.h"
 
 namespace quiver::graph {
 namespace {

@@ -11,7 +11,7 @@ constexpr const char* kTypeNames[kValueTypeCount] = {
     "float_vec", "double_vec", "uint64_vec", "vec2f", "vec3f", "vec4f", "vec6f", "mat4d"};
 
 template <class T>
-void encode_vec(wire::Writer& w, const std::vector<T>& v) {
+void encode_vec(bytes::Writer& w, const std::vector<T>& v) {
   w.varint(v.size());
   for (const T& x : v) {
     if constexpr (std::is_same_v<T, float>) w.f32(x);
@@ -21,7 +21,7 @@ void encode_vec(wire::Writer& w, const std::vector<T>& v) {
 }
 
 template <class T>
-std::vector<T> decode_vec(wire::Reader& r, std::uint64_t max_bytes) {
+std::vector<T> decode_vec(bytes::Reader& r, std::uint64_t max_bytes) {
   std::vector<T> out;
   std::uint64_t n = r.count("vector length", max_bytes / sizeof(T), sizeof(T));
   out.reserve(n);
@@ -34,7 +34,7 @@ std::vector<T> decode_vec(wire::Reader& r, std::uint64_t max_bytes) {
 }
 
 template <std::size_t N>
-std::array<float, N> decode_arr(wire::Reader& r) {
+std::array<float, N> decode_arr(bytes::Reader& r) {
   std::array<float, N> a{};
   for (auto& x : a) x = r.f32("array element");
   return a;
@@ -156,7 +156,7 @@ std::string Value::to_string() const {
       v_);
 }
 
-void Value::encode(wire::Writer& w) const {
+void Value::encode(bytes::Writer& w) const {
   w.u8(static_cast<std::uint8_t>(type()));
   std::visit(
       [&](const auto& x) {
@@ -179,7 +179,7 @@ void Value::encode(wire::Writer& w) const {
       v_);
 }
 
-Value Value::decode(wire::Reader& r, std::uint64_t max_value_bytes) {
+Value Value::decode(bytes::Reader& r, std::uint64_t max_value_bytes) {
   std::uint8_t tag = r.u8("value type");
   if (!r.ok()) return Value();
   switch (static_cast<ValueType>(tag)) {

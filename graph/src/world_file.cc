@@ -1,7 +1,7 @@
 #include "quiver/graph/world_file.h"
 
 #include "quiver/graph/limits.h"
-#include "quiver/text_position.h"
+#include "quiver/base/text_position.h"
 
 #include <cmath>
 #include <fstream>

@@ -12,7 +12,7 @@
 
 #include "frame_store.h"
 #include "pose_math.h"
-#include "quiver/hash.h"
+#include "quiver/base/hash.h"
 
 namespace quiver::kinematics {
 

@@ -3,7 +3,7 @@
 // forwards every call to it.
 
 #include "common.h"
-#include "quiver/agents/runtime/action.h"
+#include "quiver/agents/runtime/api/action.h"
 
 namespace quiver::python {
 

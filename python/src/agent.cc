@@ -6,8 +6,8 @@
 #include <future>
 
 #include "agent_core.h"
-#include "quiver/agents/grammar/grammar.h"
-#include "quiver/agents/runtime/process_host.h"
+#include "quiver/agents/rules/grammar/grammar.h"
+#include "quiver/agents/runtime/process/process_host.h"
 
 namespace quiver::python {
 

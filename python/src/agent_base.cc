@@ -7,7 +7,7 @@
 
 #include "action_forward.h"
 #include "agent_run.h"
-#include "quiver/agents/runtime/process_host.h"
+#include "quiver/agents/runtime/process/process_host.h"
 
 namespace quiver::python {
 namespace {

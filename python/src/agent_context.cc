@@ -2,8 +2,8 @@
 // timers, locks, random source, log). Valid while run_agent() runs, on its thread.
 
 #include "agent_run.h"
-#include "quiver/agents/locks/locks.h"
-#include "quiver/agents/runtime/process_host.h"
+#include "quiver/agents/rules/locks/locks.h"
+#include "quiver/agents/runtime/process/process_host.h"
 
 namespace quiver::python {
 namespace {

@@ -13,9 +13,9 @@
 #include <thread>
 
 #include "common.h"
-#include "quiver/agents/dds/dds_replica.h"
-#include "quiver/agents/grammar/grammar_guard.h"
-#include "quiver/agents/locks/locks.h"
+#include "quiver/agents/runtime/process/dds_replica.h"
+#include "quiver/agents/rules/grammar/grammar_guard.h"
+#include "quiver/agents/rules/locks/locks.h"
 #include "quiver/kinematics/frames.h"
 
 namespace quiver::python {

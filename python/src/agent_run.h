@@ -6,7 +6,7 @@
 #include <stdexcept>
 
 #include "common.h"
-#include "quiver/agents/runtime/agent.h"
+#include "quiver/agents/runtime/api/agent.h"
 
 namespace quiver::python {
 

@@ -5,7 +5,7 @@
 #include <chrono>
 
 #include "common.h"
-#include "quiver/rng.h"
+#include "quiver/base/rng.h"
 
 namespace quiver::python {
 

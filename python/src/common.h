@@ -12,7 +12,7 @@
 #include <thread>
 
 #include "quiver/graph/graph.h"
-#include "quiver/result.h"
+#include "quiver/base/result.h"
 
 namespace quiver::python {
 

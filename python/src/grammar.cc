@@ -3,8 +3,8 @@
 // construction (Agent(grammar=...)).
 
 #include "common.h"
-#include "quiver/agents/grammar/grammar.h"
-#include "quiver/agents/grammar/grammar_guard.h"
+#include "quiver/agents/rules/grammar/grammar.h"
+#include "quiver/agents/rules/grammar/grammar_guard.h"
 
 namespace quiver::python {
 namespace {

@@ -4,7 +4,7 @@
 #include <cmath>
 
 #include "common.h"
-#include "quiver/hash.h"
+#include "quiver/base/hash.h"
 
 namespace quiver::python {
 namespace {

@@ -1,7 +1,7 @@
 #include "quiver/sim/agent_host.h"
 
 #include "quiver/graph/world_file.h"
-#include "quiver/hash.h"
+#include "quiver/base/hash.h"
 #include "quiver/sim/simulator.h"
 
 namespace quiver::sim {

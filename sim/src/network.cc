@@ -2,7 +2,7 @@
 
 #include <algorithm>
 
-#include "quiver/agents/replication/packet_codec.h"
+#include "quiver/agents/replica/replication/packet_codec.h"
 
 namespace quiver::sim {
 

@@ -4,10 +4,10 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
-#include "quiver/agents/barthel/checks.h"
-#include "quiver/agents/barthel/grammars.h"
-#include "quiver/agents/barthel/roles.h"
-#include "quiver/agents/barthel/schema.h"
+#include "quiver/agents/apps/barthel/checks.h"
+#include "quiver/agents/apps/barthel/grammars.h"
+#include "quiver/agents/apps/barthel/barthel_roles.h"
+#include "quiver/agents/apps/barthel/barthel_schema.h"
 #include "quiver/agents/devices/memory_pager.h"
 #include "quiver/agents/devices/memory_result_store.h"
 #include "quiver/sim/agent_host.h"

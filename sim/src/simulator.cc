@@ -9,11 +9,11 @@
 #include <optional>
 #include <queue>
 
-#include "quiver/agents/replication/packet_codec.h"
-#include "quiver/agents/grammar/grammar_guard.h"
-#include "quiver/agents/locks/locks.h"
-#include "quiver/hash.h"
-#include "quiver/rng.h"
+#include "quiver/agents/replica/replication/packet_codec.h"
+#include "quiver/agents/rules/grammar/grammar_guard.h"
+#include "quiver/agents/rules/locks/locks.h"
+#include "quiver/base/hash.h"
+#include "quiver/base/rng.h"
 
 namespace quiver::sim {
 namespace {

@@ -1,5 +1,5 @@
 #pragma once
-// A hand-driven network of replicators for protocol tests: frames (real encoded bytes) wait in
+// A hand-driven network of replicators for protocol tests: packets (real encoded bytes) wait in
 // a queue until the test delivers them, drops them, or advances time.
 
 #include <deque>
@@ -8,8 +8,8 @@
 #include <string>
 #include <vector>
 
-#include "quiver/agents/replication/packet_codec.h"
-#include "quiver/agents/replication/replicator.h"
+#include "quiver/agents/replica/replication/packet_codec.h"
+#include "quiver/agents/replica/replication/replicator.h"
 
 namespace quiver::agents {
 
@@ -29,15 +29,15 @@ struct Node {
   std::vector<std::pair<Membership, PeerInfo>> membership;
   std::vector<Error> errors;
 };
-struct Frame {
+struct Packet {
   int from, to;
   std::vector<std::uint8_t> bytes;
 };
 struct Net {
   std::vector<Node> nodes;
-  std::deque<Frame> inflight;
+  std::deque<Packet> inflight;
   std::int64_t now = 0;
-  std::function<bool(const Frame&)> drop;  // return true to lose a frame
+  std::function<bool(const Packet&)> drop;  // return true to lose a packet
 
   int add(std::uint64_t agent, ReplicatorOptions opt = {}) {
     Node n;
@@ -63,7 +63,7 @@ struct Net {
   // Delivers everything in flight (and whatever that triggers), in order.
   void pump(int max = 100000) {
     while (!inflight.empty() && max-- > 0) {
-      Frame f = std::move(inflight.front());
+      Packet f = std::move(inflight.front());
       inflight.pop_front();
       if (drop && drop(f)) continue;
       if (nodes[f.to].rep) nodes[f.to].rep->on_packet(f.bytes, now);
@@ -82,11 +82,11 @@ inline void Port::send(const Envelope& e) {
   std::vector<std::uint8_t> f = encode_packet(e);
   if (e.to.is_null()) {
     for (std::size_t i = 0; i < net->nodes.size(); ++i)
-      if (static_cast<int>(i) != index) net->inflight.push_back(Frame{index, static_cast<int>(i), f});
+      if (static_cast<int>(i) != index) net->inflight.push_back(Packet{index, static_cast<int>(i), f});
     return;
   }
   int d = net->index_of(e.to);
-  if (d >= 0) net->inflight.push_back(Frame{index, d, f});
+  if (d >= 0) net->inflight.push_back(Packet{index, d, f});
 }
 
 

@@ -4,7 +4,7 @@
 
 #include <set>
 
-#include "quiver/rng.h"
+#include "quiver/base/rng.h"
 #include "test_seed.h"
 
 namespace quiver::crdt {

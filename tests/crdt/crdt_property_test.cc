@@ -9,7 +9,7 @@
 #include <string>
 
 #include "quiver/crdt/types.h"
-#include "quiver/rng.h"
+#include "quiver/base/rng.h"
 #include "test_seed.h"
 
 namespace quiver::crdt {

@@ -11,14 +11,14 @@
 #include <iterator>
 
 #include "fuzz_targets.h"
-#include "quiver/agents/store/records.h"
-#include "quiver/agents/recording/record_file.h"
+#include "quiver/agents/replica/store/records.h"
+#include "quiver/agents/view/recording/record_file.h"
 #include "quiver/graph/graph.h"
-#include "quiver/agents/dds/cdr.h"
-#include "quiver/agents/replication/packet_codec.h"
-#include "quiver/agents/replication/replicator.h"
+#include "quiver/agents/transport/wire/cdr_sample.h"
+#include "quiver/agents/replica/replication/packet_codec.h"
+#include "quiver/agents/replica/replication/replicator.h"
 #include "quiver/graph/codec.h"
-#include "quiver/rng.h"
+#include "quiver/base/rng.h"
 #include "quiver/sim/workload.h"
 #include "test_seed.h"
 
@@ -419,15 +419,15 @@ TEST(FuzzSmokeTest, ForeignWorldFiles) {
 TEST(FuzzSmokeTest, RecordingFiles) {
   const auto base = quiver::testing::base_seed("FuzzSmokeTest.RecordingFiles", 83);
   Rng rng(base);
-  // A real recording: a state frame, then deltas of two writers (nodes, an edge, attributes, RT).
+  // A real recording: a state change, then deltas of two writers (nodes, an edge, attributes, RT).
   graph::Graph a(graph::ReplicaId{11, 1}), b(graph::ReplicaId{12, 1});
   std::vector<std::uint8_t> seed;
   agents::recording::encode_header(0, seed);
-  auto frame = [&](std::int64_t t, const char* origin, const graph::GraphDelta& d) {
-    agents::recording::encode_frame({t, origin, d}, seed);
+  auto change = [&](std::int64_t t, const char* origin, const graph::GraphDelta& d) {
+    agents::recording::encode_change({t, origin, d}, seed);
   };
-  a.set_delta_sink([&](const graph::GraphDelta& d) { frame(1, "a", d); });
-  b.set_delta_sink([&](const graph::GraphDelta& d) { frame(2, "b", d); });
+  a.set_delta_sink([&](const graph::GraphDelta& d) { change(1, "a", d); });
+  b.set_delta_sink([&](const graph::GraphDelta& d) { change(2, "b", d); });
   {
     auto tx = a.begin();
     auto w = *tx.create_node("world", "world");

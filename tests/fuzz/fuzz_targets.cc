@@ -4,23 +4,23 @@
 #include <cstdlib>
 #include <string_view>
 
-#include "quiver/agents/grammar/grammar.h"
-#include "quiver/agents/grammar/retype.h"
-#include "quiver/agents/mission/mission.h"
-#include "quiver/agents/planner/planner.h"
-#include "quiver/agents/planner/replay.h"
-#include "quiver/agents/dds/cdr.h"
-#include "quiver/agents/replication/replicator.h"
-#include "quiver/agents/store/records.h"
-#include "quiver/wire.h"
+#include "quiver/agents/rules/grammar/grammar.h"
+#include "quiver/agents/rules/grammar/retype.h"
+#include "quiver/agents/rules/mission/mission.h"
+#include "quiver/agents/rules/planner/planner.h"
+#include "quiver/agents/rules/planner/plan_replay.h"
+#include "quiver/agents/transport/wire/cdr_sample.h"
+#include "quiver/agents/replica/replication/replicator.h"
+#include "quiver/agents/replica/store/records.h"
+#include "quiver/base/byte_codec.h"
 #include "quiver/graph/codec.h"
 #include "quiver/graph/graph.h"
 #include "quiver/graph/world_file.h"
-#include "quiver/agents/recording/history.h"
-#include "quiver/agents/recording/record_file.h"
+#include "quiver/agents/view/recording/history.h"
+#include "quiver/agents/view/recording/record_file.h"
 #include "quiver/interop/agm.h"
 #include "quiver/interop/dsr.h"
-#include "../interop/world_compare.h"
+#include "graph/interop/world_compare.h"
 
 namespace quiver::fuzz {
 namespace {
@@ -186,7 +186,7 @@ bool recording_file(const std::uint8_t* data, std::size_t size) {
   }
   agents::recording::History h;
   Graph g(agents::recording::replay_replica_id());
-  for (auto& f : rec->frames) {
+  for (auto& f : rec->changes) {
     g.merge(f.delta);
     h.add(std::move(f));
   }
@@ -282,7 +282,7 @@ bool store_record(const std::uint8_t* data, std::size_t size) {
   std::vector<std::uint8_t> sealed(data, data + size);
   {
     const std::uint64_t c = record_checksum(raw);
-    wire::Writer(sealed).fixed64(c);
+    bytes::Writer(sealed).fixed64(c);
   }
   bool any = false;
   for (std::span<const std::uint8_t> in : {raw, std::span<const std::uint8_t>(sealed)}) {

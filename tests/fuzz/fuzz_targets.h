@@ -26,7 +26,7 @@ bool mission_file(const std::uint8_t* data, std::size_t size);
 bool dsr_file(const std::uint8_t* data, std::size_t size);
 /// An AGM XML world, the same way.
 bool agm_file(const std::uint8_t* data, std::size_t size);
-/// A durable store's log record or snapshot (agents/store/records.h), raw and with a valid checksum.
+/// A durable store's log record or snapshot (agents/replica/store/records.h), raw and with a valid checksum.
 bool store_record(const std::uint8_t* data, std::size_t size);
 /// A .qrec recording: refused with a message, or every frame replays into a graph.
 bool recording_file(const std::uint8_t* data, std::size_t size);

@@ -3,7 +3,7 @@
 #include <gtest/gtest.h>
 
 #include "graph_test_util.h"
-#include "quiver/rng.h"
+#include "quiver/base/rng.h"
 #include "quiver/sim/workload.h"
 #include "test_seed.h"
 

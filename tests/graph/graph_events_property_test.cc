@@ -14,7 +14,7 @@
 #include <sstream>
 
 #include "graph_test_util.h"
-#include "quiver/rng.h"
+#include "quiver/base/rng.h"
 #include "quiver/sim/workload.h"
 #include "test_seed.h"
 

@@ -8,7 +8,7 @@
 
 #include "graph_test_util.h"
 #include "quiver/graph/limits.h"
-#include "quiver/rng.h"
+#include "quiver/base/rng.h"
 #include "test_seed.h"
 
 namespace quiver::graph {

@@ -5,7 +5,7 @@
 #include <gtest/gtest.h>
 
 #include "graph_test_util.h"
-#include "quiver/rng.h"
+#include "quiver/base/rng.h"
 #include "test_seed.h"
 
 namespace quiver::graph {

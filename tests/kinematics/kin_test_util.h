@@ -11,7 +11,7 @@
 #include <vector>
 
 #include "quiver/graph/graph.h"
-#include "quiver/rng.h"
+#include "quiver/base/rng.h"
 
 namespace quiver::kinematics::testing {
 

@@ -76,7 +76,7 @@ mkdir -p "$work/images"
 cat >"$work/images/images.cc" <<'CPP'
 #include <cstdio>
 
-#include "quiver/agents/images/image_attrs.h"
+#include "quiver/agents/view/images/image_attrs.h"
 using namespace quiver;
 
 int main() {

@@ -3,7 +3,7 @@
 
 #include <gtest/gtest.h>
 
-#include "quiver/agents/grammar/grammar.h"
+#include "quiver/agents/rules/grammar/grammar.h"
 #include "quiver/sim/simulator.h"
 #include "test_seed.h"
 

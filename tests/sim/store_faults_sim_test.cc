@@ -11,7 +11,7 @@
 #include <cstdlib>
 #include <string>
 
-#include "quiver/rng.h"
+#include "quiver/base/rng.h"
 #include "quiver/sim/simulator.h"
 
 namespace quiver::sim {

@@ -1,6 +1,6 @@
 #!/bin/sh
 # quiver render and quiver timeline from the command line: world files, recordings (the sample
-# recording of tests/render/sample_world.h, made by make_sample_recording), a live domain, and
+# recording of tests/agents/view/render/sample_world.h, made by make_sample_recording), a live domain, and
 # the messages of every error, each naming the file. DDS only on loopback (ctest runs in a
 # network namespace of its own).
 # usage: render_cli_test.sh QUIVER MAKE_SAMPLE_RECORDING SOURCE_DIR

@@ -12,7 +12,7 @@
 #include "export_view.h"
 #include "plan.h"
 #include "quiver/graph/limits.h"
-#include "quiver/text_position.h"
+#include "quiver/base/text_position.h"
 #include "text_values.h"
 
 namespace quiver::interop {

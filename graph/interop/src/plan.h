@@ -12,7 +12,7 @@
 
 #include "quiver/graph/graph.h"
 #include "quiver/interop/interop.h"
-#include "quiver/result.h"
+#include "quiver/base/result.h"
 
 namespace quiver::interop::internal {
 

@@ -9,7 +9,7 @@
 #include <vector>
 
 #include "quiver/crdt/dot.h"
-#include "quiver/hash.h"
+#include "quiver/base/hash.h"
 
 namespace quiver::crdt {
 

@@ -7,7 +7,7 @@
 #include <functional>
 #include <string>
 
-#include "quiver/hash.h"
+#include "quiver/base/hash.h"
 
 namespace quiver::crdt {
 

@@ -26,7 +26,7 @@
 
 #include "quiver/graph/delta.h"
 #include "quiver/graph/limits.h"
-#include "quiver/result.h"
+#include "quiver/base/result.h"
 
 namespace quiver::graph {
 

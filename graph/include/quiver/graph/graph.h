@@ -34,8 +34,8 @@
 #include "quiver/graph/ids.h"
 #include "quiver/graph/symbol.h"
 #include "quiver/graph/value.h"
-#include "quiver/hash.h"
-#include "quiver/result.h"
+#include "quiver/base/hash.h"
+#include "quiver/base/result.h"
 
 namespace quiver::graph {
 
@@ -345,7 +345,7 @@ class Graph {
   using CommitValidator = std::function<Status(const Graph&, const std::vector<TxnOp>&)>;
   void set_commit_validator(CommitValidator v);
   /// A second check, run before the validator on every commit, that the grammar guard and the
-  /// locks never replace: the agent's graph-level permissions (agents/permissions). Null: none.
+  /// locks never replace: the agent's graph-level permissions (agents/rules/permissions). Null: none.
   void set_permission_check(CommitValidator v);
   /// Attaches a rule claim to the delta of the next (or in-progress) commit; typically called by
   /// a commit validator that matched the transaction to a rule.

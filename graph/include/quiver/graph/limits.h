@@ -7,7 +7,7 @@
 #include <cstdint>
 #include <string_view>
 
-#include "quiver/result.h"
+#include "quiver/base/result.h"
 
 namespace quiver::graph {
 

@@ -10,7 +10,7 @@
 #include <string>
 #include <string_view>
 
-#include "quiver/result.h"
+#include "quiver/base/result.h"
 
 namespace quiver::graph {
 

@@ -12,9 +12,9 @@
 #include <variant>
 #include <vector>
 
-#include "quiver/hash.h"
-#include "quiver/result.h"
-#include "quiver/wire.h"
+#include "quiver/base/hash.h"
+#include "quiver/base/result.h"
+#include "quiver/base/byte_codec.h"
 
 namespace quiver::graph {
 
@@ -155,9 +155,9 @@ class Value {
   std::size_t payload_bytes() const;
 
   /// Binary codec: a type tag byte, then the payload.
-  void encode(wire::Writer& w) const;
+  void encode(bytes::Writer& w) const;
   /// Decodes a value; on failure the reader records why.
-  static Value decode(wire::Reader& r, std::uint64_t max_value_bytes);
+  static Value decode(bytes::Reader& r, std::uint64_t max_value_bytes);
 
  private:
   template <class T>

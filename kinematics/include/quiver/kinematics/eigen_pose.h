@@ -11,7 +11,7 @@
 #include <Eigen/Geometry>
 
 #include "quiver/graph/graph.h"
-#include "quiver/result.h"
+#include "quiver/base/result.h"
 
 namespace quiver::kinematics {
 

@@ -23,7 +23,7 @@
 #include <vector>
 
 #include "quiver/graph/graph.h"
-#include "quiver/result.h"
+#include "quiver/base/result.h"
 
 namespace quiver::kinematics {
 

@@ -13,9 +13,9 @@
 #include <string_view>
 #include <vector>
 
-#include "quiver/agents/locks/locks.h"
-#include "quiver/agents/replication/replicator.h"
-#include "quiver/agents/runtime/runtime.h"
+#include "quiver/agents/rules/locks/locks.h"
+#include "quiver/agents/replica/replication/replicator.h"
+#include "quiver/agents/runtime/engine/agent_runtime.h"
 #include "quiver/sim/network.h"
 
 namespace quiver::sim {

@@ -13,8 +13,8 @@
 #include <span>
 #include <vector>
 
-#include "quiver/agents/replication/transport.h"
-#include "quiver/rng.h"
+#include "quiver/agents/replica/replication/transport.h"
+#include "quiver/base/rng.h"
 
 namespace quiver::sim {
 

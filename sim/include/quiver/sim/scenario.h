@@ -21,8 +21,8 @@
 #include <string>
 #include <vector>
 
-#include "quiver/agents/barthel/patient_script.h"
-#include "quiver/result.h"
+#include "quiver/agents/apps/barthel/patient_script.h"
+#include "quiver/base/result.h"
 
 namespace quiver::sim {
 

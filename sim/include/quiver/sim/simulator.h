@@ -15,8 +15,8 @@
 #include <string>
 #include <vector>
 
-#include "quiver/agents/replication/replicator.h"
-#include "quiver/agents/store/store.h"
+#include "quiver/agents/replica/replication/replicator.h"
+#include "quiver/agents/replica/store/store.h"
 #include "quiver/sim/network.h"
 #include "quiver/sim/workload.h"
 
@@ -39,7 +39,7 @@ struct RoomsWorkload {
   bool repair = true;
 };
 
-/// Agents keep their replicas in durable stores (agents/store: LMDB, in a temporary directory)
+/// Agents keep their replicas in durable stores (agents/replica/store: LMDB, in a temporary directory)
 /// on simulated disks driven in virtual time (docs/persistence.md). A crash becomes a power cut:
 /// the store loses what it had not written, and the agent restarts from it (reopen, load,
 /// restore) instead of empty. Disks fill up for a while, power cuts tear the write in progress,

@@ -7,7 +7,7 @@
 #include <string>
 
 #include "quiver/graph/graph.h"
-#include "quiver/rng.h"
+#include "quiver/base/rng.h"
 
 namespace quiver::sim {
 

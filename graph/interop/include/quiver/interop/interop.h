@@ -24,7 +24,7 @@
 #include <string_view>
 #include <vector>
 
-#include "quiver/result.h"
+#include "quiver/base/result.h"
 
 namespace quiver::interop {
 

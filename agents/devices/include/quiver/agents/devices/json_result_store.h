@@ -6,7 +6,7 @@
 #include <string>
 
 #include "quiver/agents/devices/result_store.h"
-#include "quiver/result.h"
+#include "quiver/base/result.h"
 
 namespace quiver::agents::devices {
 

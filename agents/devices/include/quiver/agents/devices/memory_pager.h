@@ -8,7 +8,7 @@
 #include <vector>
 
 #include "quiver/agents/devices/pager.h"
-#include "quiver/result.h"
+#include "quiver/base/result.h"
 
 namespace quiver::agents::devices {
 

@@ -10,7 +10,7 @@
 #include <vector>
 
 #include "quiver/agents/devices/screen.h"
-#include "quiver/result.h"
+#include "quiver/base/result.h"
 
 namespace quiver::agents::devices {
 

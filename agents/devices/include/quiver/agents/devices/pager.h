@@ -8,7 +8,7 @@
 #include <string_view>
 #include <vector>
 
-#include "quiver/result.h"
+#include "quiver/base/result.h"
 
 namespace quiver::agents::devices {
 

@@ -11,7 +11,7 @@
 #include <string>
 #include <vector>
 
-#include "quiver/result.h"
+#include "quiver/base/result.h"
 
 namespace quiver::agents::devices {
 

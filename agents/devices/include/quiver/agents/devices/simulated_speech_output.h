@@ -9,7 +9,7 @@
 
 #include "quiver/agents/devices/playback.h"
 #include "quiver/agents/devices/speech_output.h"
-#include "quiver/result.h"
+#include "quiver/base/result.h"
 
 namespace quiver::agents::devices {
 

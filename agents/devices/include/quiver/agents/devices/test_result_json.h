@@ -15,7 +15,7 @@
 #include <string_view>
 
 #include "quiver/agents/devices/result_store.h"
-#include "quiver/result.h"
+#include "quiver/base/result.h"
 
 namespace quiver::agents::devices {
 

@@ -5,7 +5,7 @@
 #include <cstdint>
 #include <string>
 
-#include "quiver/result.h"
+#include "quiver/base/result.h"
 
 namespace quiver::agents::devices {
 

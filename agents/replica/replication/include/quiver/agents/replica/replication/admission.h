@@ -1,0 +1,34 @@
+#pragma once
+/// @file
+/// Which changes a replica admits, by who made them. Without an Admission a Replicator joins
+/// every well-formed delta and state (the protocol alone, docs/protocol.md); with one, every
+/// delta is signed by its origin when published and checked on arrival against the origin's
+/// identity and its graph-level permissions (agents/rules/permissions, docs/security.md).
+///
+/// The decision must depend on the delta and the policy only, never on what the receiving
+/// replica holds, so that every replica decides alike and replicas that refuse a delta stay equal.
+
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "quiver/agents/replica/replication/transport.h"
+#include "quiver/graph/delta.h"
+#include "quiver/base/result.h"
+
+namespace quiver::agents::inline replica {
+
+class Admission {
+ public:
+  virtual ~Admission() = default;
+  /// The signature this replica attaches to a delta it publishes (codec bytes); empty: none.
+  virtual std::vector<std::uint8_t> sign(std::span<const std::uint8_t> payload) = 0;
+  /// Ok, or why the delta `d` (decoded from `payload`; its origin is d.origin) must not be
+  /// applied. `signature` is what came with it (empty: none).
+  virtual Status admit_delta(const graph::GraphDelta& d, std::span<const std::uint8_t> payload,
+                             std::span<const std::uint8_t> signature) = 0;
+  /// Ok, or why the state fragment `state` that `from` sent must not be joined.
+  virtual Status admit_state(const PeerId& from, const graph::GraphDelta& state) = 0;
+};
+
+}  // namespace quiver::agents

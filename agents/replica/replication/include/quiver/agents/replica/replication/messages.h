@@ -1,0 +1,96 @@
+#pragma once
+/// @file
+/// The replication protocol's messages, independent of how a transport carries them: the
+/// simulator encodes them as byte packets (packet_codec.h), the DDS transport as IDL types in CDR.
+///
+/// Messages hold what arrived, unchecked: transports fill them and hand them to
+/// Replicator::on_envelope(), which checks every envelope in one place (validate.h) before any
+/// of it is used. Sets of (replica, counter) pairs travel as range lists for that reason: a
+/// CausalContext would normalise away what was wrong with them.
+
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <variant>
+#include <vector>
+
+#include "quiver/agents/replica/replication/transport.h"
+#include "quiver/crdt/causal_context.h"
+
+namespace quiver::agents::inline replica {
+
+/// One range [lo, hi] of counters (or sequence numbers) of one replica.
+struct Range {
+  PeerId replica;
+  std::uint64_t lo = 0;
+  std::uint64_t hi = 0;
+  friend bool operator==(const Range&, const Range&) = default;
+};
+/// A set of (replica, counter) pairs as ranges, as a transport carried it.
+using RangeList = std::vector<Range>;
+
+/// The canonical ranges of a context (replicas ascending, ranges ascending and disjoint).
+RangeList to_ranges(const crdt::CausalContext& c);
+/// The context of checked ranges (validate() first: lo >= 1, lo <= hi).
+crdt::CausalContext to_context(const RangeList& r);
+
+/// Heartbeat: who I am and which (origin, seq) I hold. Acknowledgement and liveness at once.
+struct SummaryMsg {
+  std::string name;
+  bool observer = false;
+  RangeList applied;
+  /// The sender's graph digest (64 of its 128 bits) when it holds exactly `applied`; 0: not sent.
+  /// Equal `applied` sets with different digests mean the replicas joined different payloads
+  /// under the same numbers (an equivocation): they repair by exchanging whole states.
+  std::uint64_t digest = 0;
+};
+
+/// One delta interval of one origin: sequence numbers [lo, hi], encoded graph delta (whose
+/// payload names the same interval).
+struct DeltaMsg {
+  PeerId origin;
+  std::uint64_t lo = 0;
+  std::uint64_t hi = 0;
+  std::shared_ptr<const std::vector<std::uint8_t>> payload;
+  /// The origin's signature of `payload` when the replicas run with identities (admission.h);
+  /// null or empty: unsigned. Relays pass it on unchanged.
+  std::shared_ptr<const std::vector<std::uint8_t>> signature;
+};
+
+/// "Send me what I lack": my (origin, seq) set and my causal context (for a context diff).
+struct PullMsg {
+  std::uint64_t request = 0;
+  RangeList applied;
+  RangeList context;
+  bool whole_state = false;  ///< answer with the whole state, not deltas or a context diff
+  bool as_state = false;     ///< answer with a context diff even if recent deltas would do
+};
+
+/// One chunk of a state transfer (an encoded context diff split into `count` chunks), answering
+/// the pull `request`.
+struct StateMsg {
+  std::uint64_t request = 0;
+  std::uint64_t index = 0;
+  std::uint64_t count = 1;
+  RangeList applied;  ///< the sender's (origin, seq) set; meaningful in chunk 0
+  std::shared_ptr<const std::vector<std::uint8_t>> chunk;
+};
+
+/// The sender leaves cleanly.
+struct ByeMsg {};
+
+using Message = std::variant<SummaryMsg, DeltaMsg, PullMsg, StateMsg, ByeMsg>;
+
+/// Messages from one replica to one (or every, when `to` is null) other.
+struct Envelope {
+  PeerId from;
+  PeerId to;
+  std::vector<Message> messages;
+};
+
+/// Approximate wire size of a message (for batching decisions).
+std::size_t approx_size(const Message& m);
+/// "summary", "delta", "pull", "state", "bye".
+const char* message_kind(const Message& m);
+
+}  // namespace quiver::agents

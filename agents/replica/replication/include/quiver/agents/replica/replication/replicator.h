@@ -1,0 +1,337 @@
+#pragma once
+/// @file
+/// The replication protocol: keeps one graph replica in step with its peers over any Transport.
+///
+///  - Every local commit becomes a delta numbered by a per-origin sequence number and is
+///    broadcast at once (or coalesced into delta intervals when `coalesce` is set).
+///  - Receivers join deltas in any order; they track which (origin, seq) they hold, and every
+///    heartbeat broadcasts that set (a summary): it is both the acknowledgement and the
+///    liveness signal.
+///  - A replica that sees a peer holding changes it lacks (from a summary, or a gap in the
+///    sequence numbers) pulls from that peer - any peer, not only the origin. The peer answers
+///    with the missing deltas from its bounded relay buffer, or, if they were evicted, with a
+///    context diff of its whole state (chunked). A pull that times out is retried elsewhere.
+///  - Nothing blocks; time comes in through `now` arguments, so the simulator runs this exactly.
+///
+/// Hostile or broken peers (docs/protocol.md, "Bad input"): every envelope is checked once
+/// (validate.h) before use; a delta's payload must name the interval it claims and carry only its
+/// origin's dots; the same (origin, seq) arriving with another payload is reported as an
+/// equivocation (kEquivocation), and both payloads are joined (so replicas that got them in
+/// either order converge), and so is a delta published under this replica's own name that it
+/// never published (this replica's later deltas then take sequence numbers beyond it); state chunks are
+/// accepted only in answer to this replica's own pull; the peer table, what each peer's summary
+/// may hold, the relay buffer and the equivocation record are bounded; a peer whose summaries
+/// claim changes it never delivers is ignored for a while; full-state answers to one peer are
+/// rate-limited.
+///
+/// Threading: a Replicator and its Graph belong to one thread.
+
+#include <cstdint>
+#include <algorithm>
+#include <functional>
+#include <list>
+#include <map>
+#include <memory>
+#include <span>
+#include <string>
+#include <unordered_map>
+#include <vector>
+
+#include "quiver/agents/replica/replication/admission.h"
+#include "quiver/agents/replica/replication/journal.h"
+#include "quiver/agents/replica/replication/messages.h"
+#include "quiver/agents/replica/replication/transport.h"
+#include "quiver/agents/replica/replication/validate.h"
+#include "quiver/crdt/causal_context.h"
+#include "quiver/graph/graph.h"
+#include "quiver/base/hash.h"
+#include "quiver/base/result.h"
+
+namespace quiver::agents::inline replica {
+
+struct ReplicatorOptions {
+  std::string name;                          ///< the agent's name, announced to peers
+  bool observer = false;                     ///< announce as a read-only observer
+  std::int64_t heartbeat_ns = 100'000'000;   ///< summary period
+  std::int64_t lease_ns = 1'000'000'000;     ///< a peer silent this long has left
+  std::int64_t pull_timeout_ns = 400'000'000;  ///< longest silence a pull waits (first tries wait less)
+  std::int64_t pull_first_timeout_ns = 50'000'000;  ///< the first try's patience; doubles per timeout
+  std::int64_t gap_grace_ns = 30'000'000;    ///< reordering tolerated before a gap is pulled
+  std::size_t buffer_bytes = 16u << 20;      ///< relay buffer of recent deltas (all origins)
+  std::size_t chunk_bytes = 256u << 10;      ///< state transfer chunk size
+  std::size_t max_state_bytes = 1u << 30;    ///< a state transfer larger than this is refused
+  std::size_t max_packet_bytes = 60u << 10;   ///< messages are batched into packets up to this
+  bool coalesce = false;                     ///< hold local deltas until flush() or tick()
+  EnvelopeLimits limits;                     ///< what one envelope may hold (validate.h)
+  std::size_t max_peers = 256;               ///< peers remembered at once (live or recently gone)
+  std::size_t max_peer_ranges = 1u << 20;    ///< ranges of all peers' summaries kept together
+  std::size_t equivocation_window = 1u << 16;  ///< (origin, seq) digests kept to detect equivocation
+  /// Versions of one (origin, seq) remembered and relayed; later ones are joined but not relayed
+  /// (the periodic state digest repairs replicas that missed them).
+  std::size_t max_versions = 64;
+  int suspect_after_timeouts = 6;            ///< pulls in a row a talking peer leaves unanswered before...
+  std::int64_t suspect_ns = 3'000'000'000;   ///< ...its summaries are ignored this long
+  /// A summary carries the state digest this often (0: never). A peer that holds the same
+  /// (origin, seq) set with another digest twice in a row is asked for its whole state.
+  std::int64_t digest_every_ns = 1'000'000'000;
+  /// A sampling observer (0: off): it reads no deltas (its transport subscribes to none, so no
+  /// writer sends it any) and instead pulls what it lacks as one context diff, at most this often.
+  /// For a viewer: writers pay nothing per change for it.
+  std::int64_t sample_ns = 0;
+  /// A sampling observer's demand on the peers that answer it (0: none): after a diff of B
+  /// bytes it waits at least B / sample_bytes_per_s before its next pull, so that a viewer of a
+  /// busy graph samples less often instead of making the writers serialise more.
+  std::size_t sample_bytes_per_s = 0;
+};
+
+struct PeerInfo {
+  PeerId id;
+  std::string name;
+  bool observer = false;
+  bool alive = false;
+  std::int64_t last_heard_ns = 0;
+  bool suspect = false;  ///< it claimed changes it did not deliver: its summaries are ignored for now
+};
+
+enum class Membership : std::uint8_t { kJoined, kLeft };
+
+struct ReplicatorStats {
+  std::uint64_t envelopes_sent = 0, envelopes_received = 0, bytes_sent_estimate = 0;
+  std::uint64_t deltas_published = 0, deltas_applied = 0, deltas_duplicate = 0, deltas_relayed = 0;
+  std::uint64_t pulls_sent = 0, pulls_timed_out = 0, pulls_answered_with_deltas = 0, pulls_answered_with_state = 0;
+  std::uint64_t states_applied = 0, state_bytes_received = 0;
+  std::uint64_t rejected_packets = 0, buffer_evictions = 0;
+  std::uint64_t equivocations = 0;        ///< (origin, seq) seen with two payloads, or forged under our name
+  std::uint64_t states_unrequested = 0;   ///< state chunks that answered no pull of ours (dropped)
+  std::uint64_t state_answers_throttled = 0;
+  std::uint64_t peers_refused = 0;        ///< envelopes from new peers while the table was full
+  std::uint64_t suspects = 0;             ///< peers found claiming what they did not deliver
+  std::uint64_t divergences = 0;          ///< same (origin, seq) set, other digest: whole state pulled
+  std::uint64_t versions_not_relayed = 0;  ///< versions of one (origin, seq) beyond max_versions: joined only
+  std::uint64_t deltas_refused = 0;        ///< deltas the Admission refused (never applied; relayed)
+  std::uint64_t states_refused = 0;        ///< state transfers the Admission refused (never joined)
+};
+
+class Replicator {
+ public:
+  /// Installs itself as `g`'s delta sink. `g` and `t` must outlive the replicator.
+  Replicator(graph::Graph& g, Transport& t, ReplicatorOptions options = {});
+  ~Replicator();
+  Replicator(const Replicator&) = delete;
+  Replicator& operator=(const Replicator&) = delete;
+
+  /// Announces this replica (a summary) and starts the heartbeat clock.
+  void start(std::int64_t now_ns);
+  /// Before start(): the (origin, seq) set of a replica rebuilt from a store (its graph already
+  /// holds those changes). Numbers of this replica in it are not published again: a replica that
+  /// kept its incarnation goes on after the greatest.
+  void restore(const crdt::CausalContext& applied);
+  /// Tells `journal` (owned by the caller, outliving this) every change joined from now on.
+  void set_journal(Journal* journal) { journal_ = journal; }
+  /// Before start(): signs what this replica publishes and checks what it receives (owned by
+  /// the caller, outliving this). Refused deltas are reported (kPermissionDenied), counted and
+  /// never applied; their interval counts as received (every replica refuses them alike).
+  void set_admission(Admission* admission) { admission_ = admission; }
+  /// Handles one received envelope, from any transport: checked whole first (validate.h); then
+  /// messages that do not hold (e.g. a delta whose payload does not decode) are counted,
+  /// reported and dropped; the replica is unchanged by them.
+  void on_envelope(const Envelope& e, std::int64_t now_ns);
+  /// Decodes a byte packet (packet_codec.h) and handles it; a malformed packet is rejected whole.
+  void on_packet(std::span<const std::uint8_t> packet, std::int64_t now_ns);
+  /// A transport that detects departures itself (e.g. DDS liveliness) reports them here.
+  /// `gone`: it left for good (its participant said so: a clean exit), so late packets of that
+  /// incarnation are ignored; otherwise it may come back (a lease that ran out in a partition).
+  void on_peer_lost(const PeerId& peer, bool gone = false);
+  /// Timers: heartbeats, pull timeouts, gaps, liveness, buffer trimming; flushes coalesced deltas.
+  void tick(std::int64_t now_ns);
+  /// Sends coalesced local deltas now.
+  void flush();
+  /// Applies and publishes a delta that originates elsewhere, under its own origin and sequence
+  /// interval (its seq_lo/seq_hi): a world seed (graph::world_seed()). Idempotent: a delta this
+  /// replica already holds is neither applied nor sent again.
+  /// @returns true if it was new here; kInvalidArgument if it names no interval or is ours.
+  Result<bool> seed(const graph::GraphDelta& d);
+  /// Says goodbye so that peers drop this replica at once instead of after the lease.
+  void leave();
+  /// Sends a summary now (e.g. when the transport saw a newcomer appear).
+  void announce();
+  /// Sends a summary as soon as the message being handled is fully applied (e.g. to acknowledge
+  /// a lock claim promptly). Safe to call from change callbacks.
+  void announce_soon() { announce_soon_ = true; }
+
+  /// True when this replica holds every change any live peer has told it about, and at least
+  /// one peer is known.
+  bool synced() const;
+  std::vector<PeerInfo> peers() const;
+  /// The name of the agent behind a replica id: this replica's own name, a peer's announced one
+  /// (also after it left, if its name hashes to its id), or id.to_string() when unknown. The
+  /// graph's change batches carry it (ChangeBatch::origin_name).
+  std::string name_of(const PeerId& id) const;
+  std::size_t live_peer_count() const;
+  void on_membership(std::function<void(Membership, const PeerInfo&)> cb) { membership_cb_ = std::move(cb); }
+  /// Called with a description of every rejected packet or message (malformed, oversized,
+  /// equivocation, ...). The code tells the kind (kEquivocation for a forgery).
+  void on_error(std::function<void(const Error&)> cb) { error_cb_ = std::move(cb); }
+  /// True if `peer` is currently heard from.
+  bool peer_alive(const PeerId& peer) const;
+  /// True if every live peer has told us (in its last summary) that it holds (origin, seq).
+  bool all_peers_hold(const PeerId& origin, std::uint64_t seq) const {
+    return all_peers_hold(origin, seq, seq);
+  }
+  /// The same for every sequence number of origin in [lo, hi].
+  bool all_peers_hold(const PeerId& origin, std::uint64_t lo, std::uint64_t hi) const;
+  /// True if every live agent peer (observers aside) whose summaries are believed has told us
+  /// that it holds everything this replica holds: what a clean stop waits for (hand-over).
+  bool peers_hold_all() const;
+  /// The last sequence number this replica published.
+  std::uint64_t last_seq() const { return seq_; }
+  /// The (origin, seq) pairs whose effects this replica holds.
+  const crdt::CausalContext& applied() const { return applied_; }
+  const ReplicatorStats& stats() const { return stats_; }
+  const ReplicatorOptions& options() const { return opt_; }
+  /// A sampling observer may change its period as it goes (e.g. to stay within a CPU budget).
+  void set_sample_ns(std::int64_t ns) {
+    if (opt_.sample_ns > 0 && ns > 0) opt_.sample_ns = ns;
+  }
+  graph::Graph& graph() { return g_; }
+
+ private:
+  struct Buffered {
+    PeerId origin;
+    std::uint64_t lo, hi;
+    std::shared_ptr<const std::vector<std::uint8_t>> bytes;
+    std::shared_ptr<const std::vector<std::uint8_t>> signature;
+  };
+  using Bytes = std::shared_ptr<const std::vector<std::uint8_t>>;
+  struct Peer {
+    PeerInfo info;
+    crdt::CausalContext applied;
+    bool announced = false;     // kJoined was reported (once its summary named it)
+    bool said_bye = false;      // it left cleanly: late messages of this incarnation are ignored
+    bool state_refused = false;  // it sent a state the Admission refused: no digest repair with it
+    int pull_failures = 0;      // pulls in a row it left unanswered
+    std::int64_t suspect_until = 0;
+    std::int64_t last_state_answer_ns = -1;
+    int digest_mismatches = 0;  // summaries in a row with our (origin, seq) set but another digest
+  };
+  // The state transfer answering our outstanding pull (one at a time).
+  struct Reassembly {
+    bool active = false;
+    std::uint64_t count = 0;
+    std::int64_t started_ns = 0;
+    std::vector<Bytes> chunks;
+    std::size_t received = 0, bytes = 0;
+    crdt::CausalContext applied;
+  };
+  // What each applied (origin, lo) carried, to tell a duplicate from an equivocation: the digest
+  // of the first payload, and of any other that came under the same interval.
+  // The versions seen under one (origin, lo): the first, and the others (an equivocation), each
+  // known by its interval's end and its payload's digest.
+  struct Version {
+    std::uint64_t hi = 0;
+    std::uint64_t digest = 0;
+    bool operator==(const Version&) const = default;
+  };
+  struct Seen {
+    std::uint64_t hi = 0;
+    std::uint64_t digest = 0;
+    std::vector<Version> others;
+    bool knows(std::uint64_t hi_, std::uint64_t d) const {
+      return (hi == hi_ && digest == d) || std::find(others.begin(), others.end(), Version{hi_, d}) != others.end();
+    }
+  };
+  struct Outgoing {
+    PeerId to;  // null = broadcast
+    Message msg;
+  };
+
+  void on_local_delta(const graph::GraphDelta& d);
+  void publish(std::vector<std::uint8_t> bytes, std::uint64_t lo, std::uint64_t hi);
+  void handle_own(const PeerId& from, const DeltaMsg& m);
+  /// Decodes and checks a delta payload against its message; the error names what is wrong.
+  Status decode_delta(const PeerId& from, const DeltaMsg& m);
+  void apply_delta(const PeerId& from, const DeltaMsg& m, std::uint64_t digest);
+  bool admitted(const PeerId& from, const DeltaMsg& m, std::uint64_t digest);
+  Status admission_verdict(const PeerId& from, const DeltaMsg& m);
+  void record(const PeerId& origin, std::uint64_t lo, std::uint64_t hi, std::uint64_t digest);
+  const Seen* recorded(const PeerId& origin, std::uint64_t lo) const;
+  Seen* recorded(const PeerId& origin, std::uint64_t lo) {
+    return const_cast<Seen*>(static_cast<const Replicator*>(this)->recorded(origin, lo));
+  }
+  void equivocation(const std::string& what);
+  void equivocate(const PeerId& from, const DeltaMsg& m, std::uint64_t digest, const std::string& what);
+  void skip_own_numbers_to(std::uint64_t hi);
+  bool counts(const Peer& p) const;
+  void handle(const PeerId& from, const SummaryMsg& m);
+  void handle(const PeerId& from, const DeltaMsg& m);
+  void handle(const PeerId& from, const PullMsg& m);
+  void answer_with_state(const PeerId& from, const PullMsg& m);
+  void handle(const PeerId& from, const StateMsg& m);
+  void handle(const PeerId& from, const ByeMsg& m);
+  Peer* heard_from(const PeerId& from);
+  void mark_left(Peer& p);
+  void send_summary(bool with_digest = false);
+  void pull_from(const PeerId& target, bool whole_state = false);
+  /// 64 bits of the graph's digest (never 0), computed again only after the graph changed.
+  std::uint64_t state_digest();
+  void check_digest(const PeerId& from, Peer& p, std::uint64_t digest);
+  bool behind(const Peer& p) const { return !applied_.includes(p.applied); }
+  void remember(const PeerId& origin, std::uint64_t lo, std::uint64_t hi, Bytes bytes, Bytes signature);
+  void evict_front();
+  void trim_buffer();
+  void queue(const PeerId& to, Message msg);
+  void send_queued();
+  void reject(const Error& e);
+
+  graph::Graph& g_;
+  Transport& t_;
+  ReplicatorOptions opt_;
+  PeerId self_;
+  std::int64_t now_ = 0;
+  std::int64_t next_heartbeat_ = 0;
+  std::int64_t next_sample_ = 0;
+  std::int64_t next_digest_ = 0;
+  bool started_ = false;
+  std::uint64_t state_version_ = 0;  // bumped by every local commit and every join
+  std::uint64_t digest_version_ = ~0ull, digest_ = 0;
+
+  std::uint64_t seq_ = 0;  // last local sequence number
+  Journal* journal_ = nullptr;
+  Admission* admission_ = nullptr;
+  crdt::CausalContext applied_;
+  graph::GraphDelta pending_;  // coalesced local deltas
+  std::uint64_t pending_lo_ = 0;
+
+  std::list<Buffered> buffer_;
+  std::map<PeerId, std::map<std::uint64_t, std::list<Buffered>::iterator>> buffer_index_;
+  std::size_t buffer_bytes_ = 0;
+
+  std::map<PeerId, Peer> peers_;
+  std::map<std::uint64_t, std::string> names_;  // agent id -> announced name (bounded)
+  std::size_t peer_ranges_ = 0;  // ranges of all peers' applied sets
+  Reassembly state_;
+  std::map<PeerId, std::map<std::uint64_t, Seen>> seen_;
+  std::vector<std::pair<PeerId, std::uint64_t>> seen_order_;  // ring, for eviction
+  std::size_t seen_next_ = 0;
+  std::size_t pending_bytes_ = 0;  // estimated size of the coalesced interval
+
+  // Outstanding pull.
+  bool pulling_ = false;
+  PeerId pull_target_;
+  std::uint64_t pull_request_ = 0;
+  std::int64_t pull_sent_ns_ = 0;     // last sign of progress (sent, or a chunk arrived)
+  int pull_timeouts_in_a_row_ = 0;
+  PeerId last_failed_target_;
+  bool gap_pending_ = false;
+  std::int64_t gap_since_ns_ = 0;
+  PeerId gap_peer_;
+
+  std::vector<Outgoing> outbox_;
+  bool announce_soon_ = false;
+  graph::GraphDelta scratch_;
+  ReplicatorStats stats_;
+  std::function<void(Membership, const PeerInfo&)> membership_cb_;
+  std::function<void(const Error&)> error_cb_;
+};
+
+}  // namespace quiver::agents

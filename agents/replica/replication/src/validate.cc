@@ -1,0 +1,95 @@
+#include "quiver/agents/replica/replication/validate.h"
+
+#include <string>
+#include <type_traits>
+
+#include "quiver/crdt/dot.h"
+#include "quiver/graph/limits.h"
+
+namespace quiver::agents::inline replica {
+namespace {
+
+std::string num(std::uint64_t v) { return std::to_string(v); }
+
+Status ranges(const RangeList& r, const char* field, const EnvelopeLimits& lim) {
+  if (r.size() > lim.max_ranges)
+    return make_error(ErrorCode::kTooLarge, std::string(field) + " holds " + num(r.size()) + " ranges (the limit is " +
+                                                num(lim.max_ranges) + ")");
+  for (const Range& x : r) {
+    if (x.replica.is_null()) return make_error(ErrorCode::kMalformed, std::string(field) + " names the null replica");
+    if (x.lo == 0 || x.hi < x.lo || x.hi > crdt::kMaxCounter)
+      return make_error(ErrorCode::kMalformed, std::string(field) + " holds the range [" + num(x.lo) + ", " + num(x.hi) +
+                                                   "] of " + x.replica.to_string() +
+                                                   " (need 1 <= lo <= hi <= 2^53-1)");
+  }
+  return {};
+}
+
+template <class Bytes>
+Status bytes(const Bytes& b, const char* field, std::size_t max) {
+  if (!b || b->empty()) return make_error(ErrorCode::kMalformed, std::string(field) + " is empty");
+  if (b->size() > max)
+    return make_error(ErrorCode::kTooLarge,
+                      std::string(field) + " is " + num(b->size()) + " bytes (the limit is " + num(max) + ")");
+  return {};
+}
+
+Status check(const SummaryMsg& m, const EnvelopeLimits& lim) {
+  if (m.name.size() > lim.max_name_bytes)
+    return make_error(ErrorCode::kTooLarge, "the agent name is " + num(m.name.size()) + " bytes (the limit is " +
+                                                num(lim.max_name_bytes) + ")");
+  if (!graph::valid_utf8(m.name)) return make_error(ErrorCode::kMalformed, "the agent name is not UTF-8");
+  return ranges(m.applied, "its applied set", lim);
+}
+
+Status check(const DeltaMsg& m, const EnvelopeLimits& lim) {
+  if (m.origin.is_null()) return make_error(ErrorCode::kMalformed, "the origin is null");
+  if (m.lo == 0 || m.hi < m.lo || m.hi > crdt::kMaxCounter)
+    return make_error(ErrorCode::kMalformed, "the sequence numbers [" + num(m.lo) + ", " + num(m.hi) + "] of " +
+                                                 m.origin.to_string() + " are invalid");
+  if (m.hi - m.lo >= lim.max_interval)
+    return make_error(ErrorCode::kTooLarge, "the interval of " + m.origin.to_string() + " claims " +
+                                                num(m.hi - m.lo + 1) + " sequence numbers (the limit is " +
+                                                num(lim.max_interval) + ")");
+  if (m.signature && m.signature->size() > lim.max_signature_bytes)
+    return make_error(ErrorCode::kTooLarge, "the signature of " + m.origin.to_string() + "'s delta holds " +
+                                                num(m.signature->size()) + " bytes (the limit is " +
+                                                num(lim.max_signature_bytes) + ")");
+  return bytes(m.payload, "the payload", lim.max_payload_bytes);
+}
+
+Status check(const PullMsg& m, const EnvelopeLimits& lim) {
+  if (Status s = ranges(m.applied, "its applied set", lim); !s.ok()) return s;
+  return ranges(m.context, "its context", lim);
+}
+
+Status check(const StateMsg& m, const EnvelopeLimits& lim) {
+  if (m.count == 0 || m.count > lim.max_chunks)
+    return make_error(ErrorCode::kTooLarge, "it announces " + num(m.count) + " chunks (the limit is " +
+                                                num(lim.max_chunks) + ")");
+  if (m.index >= m.count)
+    return make_error(ErrorCode::kMalformed, "chunk " + num(m.index) + " of " + num(m.count) + " is out of range");
+  if (Status s = ranges(m.applied, "its applied set", lim); !s.ok()) return s;
+  return bytes(m.chunk, "the chunk", lim.max_chunk_bytes);
+}
+
+Status check(const ByeMsg&, const EnvelopeLimits&) { return {}; }
+
+}  // namespace
+
+Status validate(const Envelope& e, const EnvelopeLimits& lim) {
+  if (e.from.is_null()) return make_error(ErrorCode::kMalformed, "an envelope from the null replica");
+  const std::string who = "from " + e.from.to_string() + ": ";
+  if (e.messages.size() > lim.max_messages)
+    return make_error(ErrorCode::kTooLarge, who + num(e.messages.size()) + " messages in one envelope (the limit is " +
+                                                num(lim.max_messages) + ")");
+  for (std::size_t i = 0; i < e.messages.size(); ++i) {
+    const Message& m = e.messages[i];
+    Status s = std::visit([&](const auto& msg) { return check(msg, lim); }, m);
+    if (!s.ok())
+      return make_error(s.error().code, who + message_kind(m) + " message " + num(i) + ": " + s.error().message);
+  }
+  return {};
+}
+
+}  // namespace quiver::agents

@@ -1,0 +1,352 @@
+#include "quiver/agents/rules/mission/mission.h"
+
+#include <algorithm>
+#include <cmath>
+#include <fstream>
+#include <set>
+#include <sstream>
+
+// The AGGL lexer and AGM's formula parser are the grammar module's (private headers; the
+// dependency points down: a target is written in the grammar's own syntax).
+#include "aggl_agm_formula.h"
+#include "grammar_lexer.h"
+
+namespace quiver::agents::inline rules {
+namespace {
+
+using internal::ParseError;
+using internal::Token;
+using internal::TokenCursor;
+using symbolic::Binding;
+using symbolic::kNoNode;
+using symbolic::NodeIx;
+
+class MissionParser : public TokenCursor {
+ public:
+  MissionParser(std::vector<Token> toks, std::string source) : TokenCursor(std::move(toks)), src_(std::move(source)) {}
+
+  Result<Mission> run() {
+    Mission m;
+    m.source = src_;
+    try {
+      if (is("{")) graph(m);
+      if (is_word("precondition")) {
+        take();
+        expect("{", "to open the precondition");
+        if (!is("}")) {
+          std::set<std::string> scope;
+          for (const PatternNode& n : m.pattern.nodes) scope.insert(n.var);
+          m.formula = internal::parse_agm_precondition(*this, scope, [](const Token&) {});
+          if (!is("}")) {
+            const Token first = peek();
+            while (!is("}") && !at_end()) {
+              if (is("{")) fail("'}' to close the precondition", peek());
+              take();
+            }
+            if (at_end()) fail("'}' to close the precondition", peek());
+            m.notes.push_back(internal::located(src_, first.loc,
+                                                "text after the precondition's formula, from " + describe(first) +
+                                                    ", is ignored, as AGM's parser does"));
+          }
+        }
+        expect("}", "to close the precondition");
+      }
+      if (!at_end()) fail("the end of the mission (a target is '{ nodes links }' then 'precondition { }')", peek());
+    } catch (const ParseError& e) {
+      return make_error(ErrorCode::kMalformed, internal::located(src_, e.loc, e.message));
+    }
+    return m;
+  }
+
+ private:
+  std::string name_token(const std::string& what) {
+    const Token& t = peek();
+    if (t.kind != Token::kIdent && t.kind != Token::kNumber) fail(what, t);
+    check_name(t);
+    return take().text;
+  }
+
+  static int number(const Token& t, const std::string& what) {
+    if (t.kind != Token::kNumber) fail(what, t);
+    try {
+      return static_cast<int>(std::lround(std::stod(t.text)));
+    } catch (...) {
+      fail_at(t.loc, "number '" + t.text + "' is out of range");
+    }
+  }
+
+  void graph(Mission& m) {
+    expect("{", "to open the target graph");
+    std::vector<PatternEdge> edges;
+    while (!is("}")) {
+      const SourceLoc start = peek().loc;
+      std::string a = name_token("a node v:type, a link a->b(label) or '}' in the target");
+      if (is(":")) {
+        take();
+        PatternNode n;
+        n.var = std::move(a);
+        n.loc = start;
+        n.type = name_token("a node type after ':'");
+        if (is("(")) {
+          take();
+          const int x = number(peek(), "the node's x position");
+          take();
+          expect(",", "between the node's x and y positions");
+          const int y = number(peek(), "the node's y position");
+          take();
+          expect(")", "to close the node's position");
+          n.pos = std::make_pair(x, y);
+        }
+        if (m.pattern.node(n.var)) fail_at(start, "node '" + n.var + "' is declared twice in the target");
+        const bool constant = std::isdigit(static_cast<unsigned char>(n.var[0])) != 0;
+        m.pattern.nodes.push_back(std::move(n));
+        m.constant.push_back(constant);
+        continue;
+      }
+      if (!is("->")) fail("':' (a node v:type) or '->' (a link a->b(label)) after '" + a + "'", peek());
+      take();
+      PatternEdge e;
+      e.from = std::move(a);
+      e.loc = start;
+      e.to = name_token("the link's target after '->'");
+      expect("(", "and a link label after '" + e.from + "->" + e.to + "'");
+      if (is("!")) take();  // AGM ignores it (docs/grammar.md)
+      e.label = name_token("a link label");
+      e.symbol = graph::Symbol(e.label);
+      expect(")", "to close the link label");
+      if (is("*")) {
+        take();
+        e.negated = true;
+      }
+      edges.push_back(std::move(e));
+    }
+    take();
+    for (const PatternEdge& e : edges)
+      for (const std::string& v : {e.from, e.to})
+        if (!m.pattern.node(v)) fail_at(e.loc, "link uses undeclared node '" + v + "' in the target");
+    m.pattern.edges = std::move(edges);
+  }
+
+  std::string src_;
+};
+
+std::string edge_text(const PatternEdge& e) {
+  return e.from + "->" + e.to + "(" + e.label + ")" + (e.negated ? "*" : "");
+}
+
+}  // namespace
+
+bool Mission::is_constant(std::string_view var) const {
+  for (std::size_t i = 0; i < pattern.nodes.size(); ++i)
+    if (pattern.nodes[i].var == var) return constant[i];
+  return false;
+}
+
+Result<Mission> parse_mission(std::string_view text, std::string_view source) {
+  std::vector<Token> toks;
+  std::string err;
+  SourceLoc loc;
+  if (!internal::lex(text, internal::Dialect::kAgm, toks, err, loc))
+    return make_error(ErrorCode::kMalformed, internal::located(source, loc, err));
+  return MissionParser(std::move(toks), std::string(source)).run();
+}
+
+Result<Mission> load_mission_file(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) return make_error(ErrorCode::kIo, "load_mission_file(): cannot read '" + path + "'");
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return parse_mission(ss.str(), path);
+}
+
+Result<CompiledMission> compile_mission(const Mission& m, symbolic::World& world) {
+  CompiledMission c;
+  symbolic::Scope scope;
+  c.pattern = symbolic::compile(m.pattern, world.vocabulary, scope);
+  std::vector<bool> prebound(m.pattern.nodes.size(), false);
+  c.prebound.assign(scope.slots, kNoNode);
+  for (std::size_t k = 0; k < m.pattern.nodes.size(); ++k) {
+    if (!m.constant[k]) continue;
+    prebound[k] = true;
+    const NodeIx n = world.find(m.pattern.nodes[k].var);
+    if (n == kNoNode) c.unresolved.push_back(m.pattern.nodes[k].var);
+    c.prebound[c.pattern.slots[k]] = n;
+  }
+  c.pattern.plan(prebound);
+  if (m.formula) {
+    std::string why;
+    symbolic::CFormula f;
+    if (!symbolic::compile(*m.formula, world.vocabulary, scope, f, why))
+      return make_error(ErrorCode::kInvalidArgument, m.source + ": the mission's formula: " + why);
+    c.formula = std::move(f);
+  }
+  c.slots = scope.slots;
+  c.prebound.resize(c.slots, kNoNode);
+  return c;
+}
+
+bool mission_holds(const symbolic::State& s, const symbolic::Vocabulary& voc, const CompiledMission& m,
+                   Binding* binding) {
+  if (!m.unresolved.empty()) return false;
+  for (std::size_t k = 0; k < m.pattern.slots.size(); ++k) {
+    const NodeIx n = m.prebound[m.pattern.slots[k]];
+    if (n != kNoNode && !s.alive(n)) return false;
+  }
+  Binding b = m.prebound;
+  bool found = false;
+  symbolic::match(s, voc, m.pattern, b, [&](Binding& full) {
+    if (m.formula && !symbolic::eval(s, voc, *m.formula, full)) return true;
+    found = true;
+    if (binding) *binding = full;
+    return false;
+  });
+  return found;
+}
+
+namespace {
+
+// Branch and bound over assignments where a variable may stay unmatched: the assignment that
+// satisfies the most nodes and links.
+struct BestPartial {
+  const symbolic::State& s;
+  const symbolic::Vocabulary& voc;
+  const CompiledMission& m;
+  std::size_t budget;
+  std::size_t visited = 0;
+  int best = -1;
+  Binding best_binding;
+  std::vector<int> order;  // variable indices (into pattern.slots), constants excluded
+
+  int edge_score(const Binding& b, const symbolic::CEdge& e) const {
+    const NodeIx a = b[e.from], c = b[e.to];
+    if (a == kNoNode || c == kNoNode) return e.negated ? 1 : 0;
+    return s.has_edge(a, c, e.label) != e.negated ? 1 : 0;
+  }
+  int score(const Binding& b) const {
+    int sc = 0;
+    for (std::size_t k = 0; k < m.pattern.slots.size(); ++k) sc += b[m.pattern.slots[k]] != kNoNode;
+    for (const symbolic::CEdge& e : m.pattern.edges) sc += edge_score(b, e);
+    return sc;
+  }
+  void run(Binding& b, std::size_t i) {
+    if (++visited > budget) return;
+    if (i == order.size()) {
+      const int sc = score(b);
+      if (sc > best) {
+        best = sc;
+        best_binding = b;
+      }
+      return;
+    }
+    // Upper bound: every remaining variable and every link still open satisfied.
+    int bound = 0;
+    for (std::size_t k = 0; k < m.pattern.slots.size(); ++k) bound += b[m.pattern.slots[k]] != kNoNode;
+    bound += static_cast<int>(order.size() - i);
+    for (const symbolic::CEdge& e : m.pattern.edges) {
+      const bool open = std::any_of(order.begin() + static_cast<long>(i), order.end(), [&](int k) {
+        return m.pattern.slots[k] == e.from || m.pattern.slots[k] == e.to;
+      });
+      bound += open ? 1 : edge_score(b, e);
+    }
+    if (bound <= best) return;
+    const int k = order[i];
+    const int slot = m.pattern.slots[k];
+    for (NodeIx n = 0; n < s.size(); ++n) {
+      if (!s.alive(n) || !voc.is_a(s.type(n), m.pattern.types[k])) continue;
+      if (std::find(b.begin(), b.end(), n) != b.end()) continue;
+      b[slot] = n;
+      run(b, i + 1);
+      b[slot] = kNoNode;
+      if (visited > budget) return;
+    }
+    run(b, i + 1);  // left unmatched
+  }
+};
+
+}  // namespace
+
+MissionReport check_mission(const Mission& m, const CompiledMission& cm, const symbolic::World& world,
+                            const symbolic::State& s, std::size_t budget) {
+  MissionReport r;
+  r.total = static_cast<int>(m.pattern.nodes.size() + m.pattern.edges.size());
+  const symbolic::Vocabulary& voc = world.vocabulary;
+  auto name_of = [&](NodeIx n) {
+    std::string label = world.label(n);
+    if (n < world.names.size() && world.names[n] != label) label += " (" + world.names[n] + ")";
+    return label;
+  };
+  Binding full;
+  if (mission_holds(s, voc, cm, &full)) {
+    r.holds = true;
+    r.satisfied = r.total;
+    for (std::size_t k = 0; k < m.pattern.nodes.size(); ++k)
+      r.binding.emplace_back(m.pattern.nodes[k].var, world.label(full[cm.pattern.slots[k]]));
+    return r;
+  }
+  BestPartial bp{s, voc, cm, budget, 0, -1, {}, {}};
+  Binding b = cm.prebound;
+  // Constants that are absent or of the wrong type stay unmatched.
+  for (std::size_t k = 0; k < m.pattern.nodes.size(); ++k) {
+    const int slot = cm.pattern.slots[k];
+    if (!m.constant[k]) {
+      bp.order.push_back(static_cast<int>(k));
+      continue;
+    }
+    const NodeIx n = b[slot];
+    if (n == kNoNode) {
+      r.missing.push_back("node " + m.pattern.nodes[k].var + ":" + m.pattern.nodes[k].type +
+                          ": the world has no node with that id");
+    } else if (!s.alive(n) || !voc.is_a(s.type(n), cm.pattern.types[k])) {
+      r.missing.push_back("node " + m.pattern.nodes[k].var + ":" + m.pattern.nodes[k].type + ": " +
+                          (s.alive(n) ? "node " + name_of(n) + " is a " + voc.type_name(s.type(n))
+                                      : std::string("the world has no node with that id")));
+      b[slot] = kNoNode;
+    }
+  }
+  bp.best_binding = b;
+  bp.run(b, 0);
+  r.exhaustive = bp.visited <= budget;
+  const Binding& best = bp.best_binding;
+  r.satisfied = bp.best < 0 ? 0 : bp.best;
+  for (std::size_t k = 0; k < m.pattern.nodes.size(); ++k) {
+    const NodeIx n = best[cm.pattern.slots[k]];
+    if (n != kNoNode) {
+      r.binding.emplace_back(m.pattern.nodes[k].var, world.label(n));
+    } else if (!m.constant[k]) {
+      r.missing.push_back("node " + m.pattern.nodes[k].var + ":" + m.pattern.nodes[k].type +
+                          ": no " + m.pattern.nodes[k].type + " fits");
+    }
+  }
+  for (std::size_t i = 0; i < m.pattern.edges.size(); ++i) {
+    const symbolic::CEdge& e = cm.pattern.edges[i];
+    if (bp.edge_score(best, e)) continue;
+    const PatternEdge& pe = m.pattern.edges[i];
+    const NodeIx a = best[e.from], c = best[e.to];
+    std::string line = "link " + edge_text(pe);
+    if (a == kNoNode || c == kNoNode)
+      line += ": an end is unmatched";
+    else
+      line += std::string(": ") + name_of(a) + " -[" + pe.label + "]-> " + name_of(c) +
+              (pe.negated ? " exists and must not" : " is missing");
+    r.missing.push_back(std::move(line));
+  }
+  if (r.missing.empty()) {
+    // Every node and link is there under some assignment: the formula is what fails.
+    r.missing.push_back("the precondition formula is false" +
+                        std::string(bp.best == r.total ? " for every assignment that matches the graph" : ""));
+  }
+  return r;
+}
+
+MissionReport check_mission(const Mission& m, const graph::Graph& g, const TypeSystem& types, std::size_t budget) {
+  symbolic::World world = symbolic::read_world(g, types);
+  auto cm = compile_mission(m, world);
+  if (!cm.ok()) {
+    MissionReport r;
+    r.missing.push_back(cm.error().message);
+    return r;
+  }
+  return check_mission(m, *cm, world, world.state, budget);
+}
+
+}  // namespace quiver::agents

@@ -1,0 +1,34 @@
+#include "quiver/agents/rules/permissions/policy_admission.h"
+
+#include "quiver/agents/rules/permissions/actions.h"
+
+namespace quiver::agents::inline rules::permissions {
+
+PolicyAdmission::PolicyAdmission(Policy policy, SignFn sign, VerifyFn verify)
+    : policy_(std::move(policy)), sign_(std::move(sign)), verify_(std::move(verify)) {}
+
+std::vector<std::uint8_t> PolicyAdmission::sign(std::span<const std::uint8_t> payload) {
+  return sign_ ? sign_(payload) : std::vector<std::uint8_t>{};
+}
+
+Status PolicyAdmission::admit_delta(const graph::GraphDelta& d, std::span<const std::uint8_t> payload,
+                                    std::span<const std::uint8_t> signature) {
+  if (verify_) {
+    if (signature.empty())
+      return make_error(ErrorCode::kPermissionDenied,
+                        "it is not signed (agent '" + policy_.agent_name(d.origin.agent) + "' must sign its deltas)");
+    if (Status s = verify_(d.origin.agent, payload, signature); !s.ok())
+      return make_error(ErrorCode::kPermissionDenied, "its signature does not hold: " + s.error().message);
+  }
+  return check_delta(policy_, d);
+}
+
+Status PolicyAdmission::admit_state(const PeerId&, const graph::GraphDelta& state) { return check_state(policy_, state); }
+
+graph::Graph::CommitValidator PolicyAdmission::commit_check(std::uint64_t self) const {
+  return [this, self](const graph::Graph& g, const std::vector<graph::TxnOp>& ops) {
+    return check_transaction(policy_, self, g, ops);
+  };
+}
+
+}  // namespace quiver::agents::inline rules::permissions

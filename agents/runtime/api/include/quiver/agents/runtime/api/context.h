@@ -1,0 +1,53 @@
+#pragma once
+/// @file
+/// What an agent's code sees of the host it runs in: its replica of the graph, the time (virtual
+/// in the simulator), timers, its priority locks, its seeded random source and its log. The same
+/// agent class runs unchanged as an OS process over DDS and inside the simulator; only the host
+/// behind this interface differs.
+
+#include <cstdint>
+#include <functional>
+#include <string>
+#include <string_view>
+
+#include "quiver/graph/graph.h"
+#include "quiver/base/rng.h"
+
+namespace quiver::agents::inline rules {
+class LockManager;
+}  // namespace quiver::agents::inline rules
+
+namespace quiver::agents::inline runtime {
+
+/// Identifies a timer (to cancel it). 0 is never a timer.
+using TimerId = std::uint64_t;
+
+class AgentContext {
+ public:
+  virtual ~AgentContext() = default;
+
+  /// The agent's name (its replica id derives from it).
+  virtual const std::string& name() const = 0;
+  /// The agent's replica. Reads and transactions happen on the agent's thread only.
+  virtual graph::Graph& graph() = 0;
+  /// Now, in nanoseconds: monotonic in a process, virtual in the simulator.
+  virtual std::int64_t now() const = 0;
+  /// The agent's priority locks (docs/locks.md).
+  virtual LockManager& locks() = 0;
+  /// The one seeded random source of this agent (a seed replays exactly in the simulator).
+  virtual Rng& rng() = 0;
+  /// True while this agent hears a live agent of that name (its replica's heartbeats arrive, and
+  /// it has not lied in its summaries). Without a network (a lone replica): false.
+  virtual bool hears(std::string_view agent_name) const = 0;
+  /// A line for the agent's log (named, timed by the host).
+  virtual void log(std::string_view line) = 0;
+
+  /// Runs `fn` once, `delay_ns` from now. @returns its id.
+  virtual TimerId after(std::int64_t delay_ns, std::function<void()> fn) = 0;
+  /// Runs `fn` every `period_ns` (the first time one period from now). @returns its id.
+  virtual TimerId every(std::int64_t period_ns, std::function<void()> fn) = 0;
+  /// Cancels a timer (nothing if it already ran or never was).
+  virtual void cancel(TimerId id) = 0;
+};
+
+}  // namespace quiver::agents

@@ -1,0 +1,139 @@
+#pragma once
+/// @file
+/// A replica on DDS: one graph replica, its replicator, and the Cyclone DDS transport, driven by one
+/// owner thread. The owner thread is whichever thread calls spin_*(); every graph read and
+/// write, every change event and every protocol step happens there. Other threads talk to the
+/// agent only through post() and stop(), which are thread-safe.
+
+#include <atomic>
+#include <cstdint>
+#include <functional>
+#include <future>
+#include <map>
+#include <memory>
+#include <mutex>
+#include <optional>
+#include <queue>
+#include <string>
+#include <type_traits>
+#include <vector>
+
+#include "quiver/agents/runtime/api/posted_call.h"
+#include "quiver/agents/transport/dds/dds_transport.h"
+#include "quiver/agents/rules/permissions/policy_admission.h"
+#include "quiver/agents/replica/replication/replicator.h"
+#include "quiver/agents/replica/store/store.h"
+#include "quiver/graph/graph.h"
+
+namespace quiver::agents::inline runtime {
+
+struct DdsReplicaOptions {
+  std::string name;                ///< the agent id is derived from it (FNV-1a)
+  bool observer = false;           ///< read-only replica (e.g. `quiver dump`)
+  std::uint64_t incarnation = 0;   ///< 0: a fresh one (see fresh_incarnation())
+  DdsConfig dds;
+  ReplicatorOptions replicator;    ///< name and observer are taken from above
+  std::int64_t tick_ns = 10'000'000;
+  /// A durable store (docs/persistence.md): the replica is loaded from it on start and every
+  /// change it joins is logged. A store that cannot be read is set aside (DIR.corrupt-N) and
+  /// the replica starts empty under a new incarnation, to be filled by its peers.
+  std::optional<StoreOptions> store;
+  /// Graph-level permissions and signed deltas (docs/security.md): the replicator's Admission and
+  /// the graph's permission check. Null: every well-formed change is joined.
+  std::shared_ptr<permissions::PolicyAdmission> permissions;
+};
+
+/// A new incarnation number for a process start: microseconds of the wall clock shifted left
+/// 12 bits, plus 12 random bits. Later starts get larger numbers (so peers replace an old
+/// incarnation by a new one), and two starts in the same microsecond still differ.
+std::uint64_t fresh_incarnation();
+
+/// Monotonic time in nanoseconds (the agent's clock).
+std::int64_t monotonic_ns();
+
+class DdsReplica {
+ public:
+  static Result<std::unique_ptr<DdsReplica>> create(DdsReplicaOptions options);
+  /// Leaves cleanly: peers see this replica go at once.
+  ~DdsReplica();
+  DdsReplica(const DdsReplica&) = delete;
+  DdsReplica& operator=(const DdsReplica&) = delete;
+
+  graph::Graph& graph() { return *graph_; }
+  Replicator& replicator() { return *replicator_; }
+  DdsTransport& transport() { return *transport_; }
+  const DdsReplicaOptions& options() const { return opt_; }
+  /// The replica's store (null without one).
+  Store* store() { return store_.get(); }
+  /// Why the store could not be read on start, if it was set aside (the caller reports it).
+  const std::optional<Error>& store_recovery() const { return store_recovery_; }
+  const PeerId& id() const { return graph_->replica(); }
+
+  /// One round of the loop: waits up to `max_wait_ns` for traffic (less if a timer is due),
+  /// handles what arrived, runs posted tasks and timers.
+  void spin_once(std::int64_t max_wait_ns);
+  /// Spins until `done()` holds (checked after every round) or `timeout_ns` passes.
+  bool spin_until(const std::function<bool()>& done, std::int64_t timeout_ns);
+  void spin_for(std::int64_t duration_ns);
+  /// Before leaving cleanly: spins until every live agent peer holds everything this replica
+  /// holds (Replicator::peers_hold_all), or `timeout_ns` passes. A peer that was away may still
+  /// be pulling what it missed from this replica, perhaps its only holder. @returns true when
+  /// handed over.
+  bool hand_over(std::int64_t timeout_ns) {
+    return spin_until([this] { return replicator_->peers_hold_all(); }, timeout_ns);
+  }
+  /// Spins until stop() is called.
+  void spin();
+
+  /// Thread-safe: runs `fn` on the owner thread at its next round.
+  void post(std::function<void()> fn);
+  /// Thread-safe: runs `fn` on the owner thread at its next round and returns a future of its
+  /// result (or of the exception it threw). A replica destroyed before the task ran leaves the
+  /// future with std::future_error (broken_promise).
+  /// @pre not called from the owner thread if the caller then waits on the future (it would
+  /// wait for itself).
+  template <class F>
+  auto call(F fn) -> std::future<std::invoke_result_t<F&>> {
+    return posted_call([this](std::function<void()> task) { post(std::move(task)); }, std::move(fn));
+  }
+
+  /// Identifies a timer (to cancel it). 0 is never a timer.
+  using TimerId = std::uint64_t;
+  /// Owner thread: runs `fn` once on the owner thread, `delay_ns` from now (spin_*() wakes for
+  /// it). @returns its id.
+  TimerId after(std::int64_t delay_ns, std::function<void()> fn);
+  /// Owner thread: runs `fn` every `period_ns` (> 0; the first time one period from now).
+  /// A round that falls behind runs it once, not once per missed period.
+  TimerId every(std::int64_t period_ns, std::function<void()> fn);
+  /// Owner thread: cancels a timer (nothing if it already ran or never was). A timer may cancel
+  /// itself from its own function.
+  void cancel(TimerId id);
+  /// Thread-safe: makes spin() return.
+  void stop();
+
+ private:
+  DdsReplica() = default;
+  Result<crdt::CausalContext> open_store(std::uint64_t incarnation);
+  DdsReplicaOptions opt_;
+  std::unique_ptr<Store> store_;  // outlives the replicator, which logs into it
+  std::optional<Error> store_recovery_;
+  std::unique_ptr<graph::Graph> graph_;
+  std::unique_ptr<DdsTransport> transport_;
+  std::unique_ptr<Replicator> replicator_;
+  std::int64_t next_tick_ = 0;
+  struct Timer {
+    std::int64_t due = 0;
+    TimerId id = 0;
+    std::int64_t period = 0;  // 0: once
+    bool operator>(const Timer& o) const { return due != o.due ? due > o.due : id > o.id; }
+  };
+  void run_timers(std::int64_t now);
+  std::priority_queue<Timer, std::vector<Timer>, std::greater<Timer>> timers_;
+  std::map<TimerId, std::function<void()>> timer_fns_;
+  TimerId next_timer_ = 1;
+  std::mutex mu_;
+  std::vector<std::function<void()>> posted_;  // guarded by mu_
+  std::atomic<bool> stop_{false};
+};
+
+}  // namespace quiver::agents

@@ -1,0 +1,21 @@
+#pragma once
+/// @file
+/// The one logger setup of Quiver's programs (agent processes and the `quiver` command): spdlog
+/// on stderr, one line per message, "HH:MM:SS.mmm [name] level: message", where the name is the
+/// agent's (or the command's). Libraries do not log; they return errors, and programs log them.
+#include <memory>
+#include <string>
+#include <string_view>
+
+#include <spdlog/logger.h>
+
+namespace quiver::agents::inline runtime {
+
+/// The logger of this name, made on first use at the current level.
+std::shared_ptr<spdlog::logger> named_logger(const std::string& name);
+
+/// Sets the level of every logger, now and later: trace, debug, info, warn, error, critical or
+/// off. @returns false (and changes nothing) for any other word.
+bool set_log_level(std::string_view level);
+
+}  // namespace quiver::agents

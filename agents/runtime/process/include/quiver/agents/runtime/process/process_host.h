@@ -1,0 +1,68 @@
+#pragma once
+/// @file
+/// The process host: one agent as its own OS process over Cyclone DDS (the embedded loopback
+/// configuration unless told otherwise). It creates the replica, seeds a world file if given,
+/// waits briefly to join its peers, starts the agent, and runs it until SIGINT/SIGTERM (or
+/// --run-for), logging through spdlog with the agent's name; bad input and peers coming and going
+/// are logged rate-limited by kind. A user's main() is a few lines:
+///
+/// ```cpp
+/// int main(int argc, char** argv) {
+///   MyAgent agent;
+///   return quiver::agents::run_process(agent, argc, argv);
+/// }
+/// ```
+
+#include <CLI/CLI.hpp>
+#include <cstdint>
+#include <string>
+
+#include "quiver/agents/runtime/process/dds_replica.h"
+#include "quiver/agents/runtime/api/agent.h"
+#include "quiver/base/result.h"
+
+namespace quiver::agents::inline runtime {
+
+/// The standard flags of an agent process (and of every command that joins a DDS domain).
+struct ProcessFlags {
+  std::uint32_t domain = 0;
+  std::string dds_config = "loopback";
+  int loss_permille = 0;
+  std::string world;
+  std::string world_text;  ///< a world given as text (when `world` names no file), e.g. embedded
+  std::uint64_t seed = 1;
+  int status_ms = 0;
+  double run_for_s = 0;
+  double join_wait_s = 1.5;
+  double hand_over_s = 2;  ///< on a clean stop, replicate up to this long until the peers hold all it published
+  std::string store;                ///< durable store directory (empty: none)
+  std::string durability = "batch";  ///< none | batch | always
+  double store_compact_mb = 64;      ///< compact when the log holds this much (and more than the snapshot)
+  /// DDS Security credentials directory (`quiver keys`, docs/security.md); empty: unsecured.
+  /// run_process() and DdsFlags authenticate as the agent's name (enable_security()).
+  std::string security;
+
+  /// --domain, --dds-config, --loss-permille (the DDS ones) on `cmd`.
+  void add_dds(CLI::App* cmd);
+  /// The DDS ones and --world, --seed, --status-ms, --run-for, --join-wait, --hand-over, --store, --durability.
+  void add_all(CLI::App* cmd);
+  /// Sets the DDS configuration these flags choose (domain, source, loss) on `c`.
+  Status apply_to(DdsConfig& c) const;
+};
+
+/// Runs `agent` as this process's agent until SIGINT/SIGTERM or `flags.run_for_s`. Prints a JSON
+/// status line on stdout every `flags.status_ms` (and one at the end). @returns the exit status:
+/// 0, or 2 when it could not start (the reason on stderr).
+int run_process(Agent& agent, const ProcessFlags& flags);
+/// Parses the standard flags from the command line (--help lists them), then runs.
+int run_process(Agent& agent, int argc, char** argv);
+
+/// Makes the running run_process() return as if SIGTERM had arrived (running actions cancelled,
+/// teardown() called). Thread-safe and async-signal-safe; e.g. for an agent whose code failed. A
+/// call before run_process() starts is forgotten (each run starts unstopped).
+void request_stop();
+
+/// Resident memory of this process in KiB (Linux; 0 elsewhere).
+long resident_kb();
+
+}  // namespace quiver::agents

@@ -1,0 +1,20 @@
+#pragma once
+/// @file
+/// One call that makes a DDS replica secure from a key directory made by `quiver keys`
+/// (docs/security.md): DDS Security with the agent's credentials, and graph-level permissions
+/// with signed deltas.
+
+#include <string>
+
+#include "quiver/agents/runtime/process/dds_replica.h"
+#include "quiver/base/result.h"
+
+namespace quiver::agents::inline runtime {
+
+/// Sets `o.dds.security` to agent `o.name`'s credentials in `dir` and `o.permissions` to an
+/// Admission that signs this agent's deltas with its key, verifies every received delta against
+/// its origin's certificate, and checks every change against `dir`/policy.json (when there is
+/// none, every authenticated agent may change anything). Errors name the file at fault.
+Status enable_security(DdsReplicaOptions& o, const std::string& dir);
+
+}  // namespace quiver::agents

@@ -1,0 +1,277 @@
+#include "quiver/agents/runtime/process/process_host.h"
+
+#include <spdlog/spdlog.h>
+#include <unistd.h>
+
+#include <atomic>
+#include <csignal>
+#include <cstdio>
+#include <fstream>
+#include <iostream>
+#include <mutex>
+#include <nlohmann/json.hpp>
+#include <sstream>
+
+#include "quiver/agents/replica/replication/error_limiter.h"
+#include "quiver/agents/runtime/process/logging.h"
+#include "quiver/agents/runtime/engine/agent_runtime.h"
+#include "quiver/agents/runtime/process/security_setup.h"
+#include "quiver/graph/world_file.h"
+
+namespace quiver::agents::inline runtime {
+namespace {
+
+std::atomic<bool> g_stop{false};
+extern "C" void on_signal(int) { g_stop.store(true); }
+
+void install_signal_handlers() {
+  struct sigaction sa {};
+  sa.sa_handler = on_signal;
+  sigaction(SIGINT, &sa, nullptr);
+  sigaction(SIGTERM, &sa, nullptr);
+}
+
+nlohmann::json status(Agent& agent, DdsReplica& r, const AgentRuntime& rt) {
+  const auto& st = r.replicator().stats();
+  nlohmann::json j;
+  j["name"] = agent.name();
+  j["replica"] = r.id().to_string();
+  j["nodes"] = r.graph().node_count();
+  j["edges"] = r.graph().edge_count();
+  j["digest"] = r.graph().digest().hex();
+  j["peers"] = r.replicator().live_peer_count();
+  j["synced"] = r.replicator().synced();
+  j["published"] = r.replicator().last_seq();  // the last sequence number it published
+  j["deltas_applied"] = st.deltas_applied;
+  j["states_applied"] = st.states_applied;
+  j["pulls_sent"] = st.pulls_sent;  // with states_applied: a state transfer is under way (crash tests)
+  j["state_answers"] = st.pulls_answered_with_state;
+  j["write_timeouts"] = r.transport().stats().write_timeouts;
+  j["rejected"] = st.rejected_packets;
+  j["equivocations"] = st.equivocations;
+  j["divergences"] = st.divergences;
+  j["refused"] = st.deltas_refused + st.states_refused;  // by the graph-level permissions (docs/security.md)
+  j["peers_known"] = r.replicator().peers().size();
+  j["rss_kb"] = resident_kb();
+  j["actions_started"] = rt.stats().started;
+  j["actions_finished"] = rt.stats().finished;
+  j["actions_cancelled"] = rt.stats().cancelled;
+  j["t_ms"] = monotonic_ns() / 1'000'000;
+  if (Store* s = r.store()) {
+    const StoreStats ss = s->stats();
+    j["store_records"] = ss.records_appended;
+    j["store_syncs"] = ss.syncs;
+    j["store_compactions"] = ss.compactions;
+    j["store_ok"] = s->health().ok();
+  }
+  agent.status(j);
+  return j;
+}
+
+}  // namespace
+
+void request_stop() { g_stop.store(true); }
+
+long resident_kb() {
+  long pages = 0, resident = 0;
+  if (FILE* f = std::fopen("/proc/self/statm", "r")) {
+    if (std::fscanf(f, "%ld %ld", &pages, &resident) != 2) resident = 0;
+    std::fclose(f);
+  }
+  return resident * (sysconf(_SC_PAGESIZE) / 1024);
+}
+
+void ProcessFlags::add_dds(CLI::App* cmd) {
+  cmd->add_option("--domain", domain, "DDS domain id")->check(CLI::Range(0, 230))->capture_default_str();
+  cmd->add_option("--dds-config", dds_config,
+                  "loopback (default: 127.0.0.1 only, multicast off), env (opt-in: use CYCLONEDDS_URI), "
+                  "or the path of a Cyclone XML file (opt-in, e.g. for several hosts)")
+      ->capture_default_str();
+  cmd->add_option("--loss-permille", loss_permille, "testing: Cyclone drops this share of sent packets")
+      ->check(CLI::Range(0, 999));
+  cmd->add_option("--security", security,
+                  "DDS Security and graph-level permissions: the credentials directory of `quiver keys`; the "
+                  "agent authenticates under its name, signs its deltas, and meets only agents of the same CA "
+                  "(docs/security.md)");
+}
+
+void ProcessFlags::add_all(CLI::App* cmd) {
+  add_dds(cmd);
+  cmd->add_option("--world", world, "seed the shared graph from this JSON world file (idempotent)");
+  cmd->add_option("--seed", seed, "the agent's random seed")->check(CLI::NonNegativeNumber);
+  cmd->add_option("--status-ms", status_ms, "print a JSON status line this often")->check(CLI::Range(0, 3'600'000));
+  cmd->add_option("--run-for", run_for_s, "exit after this many seconds (default 0: until SIGINT/SIGTERM)")
+      ->check(CLI::Range(0.0, 1e7));
+  cmd->add_option("--join-wait", join_wait_s, "before starting, wait this long to join the peers")
+      ->check(CLI::Range(0.0, 60.0))
+      ->capture_default_str();
+  cmd->add_option("--hand-over", hand_over_s,
+                  "on a clean stop, keep replicating up to this long until every live peer holds all this agent "
+                  "published (0: leave at once)")
+      ->check(CLI::Range(0.0, 60.0))
+      ->capture_default_str();
+  cmd->add_option("--store", store,
+                  "keep the replica in this directory (LMDB): reloaded on start, so the agent rejoins and "
+                  "pulls only what it missed (docs/persistence.md)");
+  cmd->add_option("--durability", durability,
+                  "with --store: when the log reaches the disk: none (never flushed by us), batch (flushed "
+                  "every 20 ms, after publishing), always (flushed before a commit returns and is published)")
+      ->check(CLI::IsMember({"none", "batch", "always"}))
+      ->capture_default_str();
+  cmd->add_option("--store-compact-mb", store_compact_mb,
+                  "with --store: fold the log into a new snapshot once it holds this many MiB (and more than "
+                  "the snapshot); 0: never")
+      ->check(CLI::Range(0.0, 1e6))
+      ->capture_default_str();
+}
+
+Status ProcessFlags::apply_to(DdsConfig& c) const {
+  c.domain = domain;
+  c.xmit_loss_permille = loss_permille;
+  if (dds_config == "loopback") {
+    c.source = DdsConfig::Source::kLoopback;
+  } else if (dds_config == "env") {
+    c.source = DdsConfig::Source::kEnvironment;
+  } else {
+    std::ifstream in(dds_config);
+    if (!in) return make_error(ErrorCode::kIo, "--dds-config: cannot read '" + dds_config + "'");
+    std::ostringstream ss;
+    ss << in.rdbuf();
+    c.source = DdsConfig::Source::kXml;
+    c.xml = ss.str();
+  }
+  return {};
+}
+
+int run_process(Agent& agent, const ProcessFlags& f) {
+  g_stop.store(false);  // a stop requested for an earlier run in this process is not this run's
+  auto log = named_logger(agent.name());
+  DdsReplicaOptions o;
+  o.name = agent.name();
+  if (Status s = f.apply_to(o.dds); !s.ok()) {
+    log->error("{}", s.error().to_string());
+    return 2;
+  }
+  if (!f.security.empty())
+    if (Status s = enable_security(o, f.security); !s.ok()) {
+      log->error("--security: {}", s.error().to_string());
+      return 2;
+    }
+  if (!f.store.empty()) {
+    StoreOptions so;
+    so.dir = f.store;
+    auto d = parse_durability(f.durability);
+    if (!d.ok()) {
+      log->error("--durability: {}", d.error().to_string());
+      return 2;
+    }
+    so.durability = *d;
+    so.compact_log_bytes = static_cast<std::size_t>(f.store_compact_mb * (1 << 20));
+    o.store = so;
+  }
+  auto created = DdsReplica::create(o);
+  if (!created.ok()) {
+    log->error("{}", created.error().to_string());
+    return 2;
+  }
+  DdsReplica& r = **created;
+  if (r.store_recovery())
+    log->error("{}: the store was set aside and the replica starts empty, to be filled by its peers",
+               r.store_recovery()->to_string());
+  if (Store* s = r.store(); s != nullptr && !s->opening().torn_tail.empty())
+    log->error("{}", s->opening().torn_tail);
+  if (Store* s = r.store())
+    log->info("store {} ({}): {} records replayed, snapshot {} bytes, {} incarnation", f.store, f.durability,
+              s->opening().records, s->opening().snapshot_bytes,
+              s->opening().created ? "new store, new" : s->opening().incarnation_kept ? "kept its" : "a new");
+  install_signal_handlers();
+  // A hostile peer can cause thousands of bad packets (and invented peers) a second: one line
+  // per kind, then a count every few seconds. Cyclone's own warnings come from its threads.
+  std::mutex errors_mu;
+  ErrorLimiter errors([&](const std::string& line) { log->warn("rejected: {}", line); });
+  auto report = [&](const Error& e) {
+    std::lock_guard<std::mutex> lock(errors_mu);
+    errors.report(e, monotonic_ns());
+  };
+  r.replicator().on_error(report);
+  ErrorLimiter membership([&](const std::string& line) { log->info("{}", line); }, 5'000'000'000, 8);
+  r.replicator().on_membership([&](Membership m, const PeerInfo& p) {
+    const char* what = m == Membership::kJoined ? "joined" : "left";
+    membership.report(what, std::string(what) + ": " + p.name + " (" + p.id.to_string() + ")", monotonic_ns());
+  });
+  route_dds_log([&](const std::string& line) { report(make_error(ErrorCode::kTransport, "DDS: " + line)); });
+  struct Unroute {
+    ~Unroute() { route_dds_log(nullptr); }  // before `errors` goes, on every return
+  } unroute;
+  log->info("replica {} on DDS domain {} ({})", r.id().to_string(), f.domain, f.dds_config);
+  if (!f.world.empty() || !f.world_text.empty()) {
+    // A seed depends only on the file: agents started together with it hold one world.
+    auto seed = f.world.empty() ? graph::world_seed(f.world_text, "embedded world") : graph::world_seed_file(f.world);
+    if (!seed.ok()) {
+      log->error("{}", seed.error().to_string());
+      return 2;
+    }
+    auto fresh = r.replicator().seed(seed->delta);
+    log->info("world {} ({} nodes, {} edges, {} RT edges) {}", f.world, seed->info.nodes, seed->info.edges,
+              seed->info.rt_edges, fresh.ok() && *fresh ? "seeded" : "already held");
+  }
+  // Join the peers first, so that setup() sees the shared graph.
+  const auto wait = static_cast<std::int64_t>(f.join_wait_s * 1e9);
+  if (wait > 0) {
+    r.spin_until([&] { return r.replicator().live_peer_count() > 0 || g_stop.load(); }, wait);
+    if (r.replicator().live_peer_count() > 0)
+      r.spin_until([&] { return r.replicator().synced() || g_stop.load(); }, 4 * wait);
+  }
+  RuntimeOptions ro;
+  ro.seed = f.seed ^ r.id().incarnation;
+  ro.clock = [] { return monotonic_ns(); };
+  ro.log = [&](std::string_view line) { log->info("{}", line); };
+  AgentRuntime rt(agent, r.graph(), &r.replicator(), ro);
+  if (Status s = rt.start(); !s.ok()) {
+    log->error("{}", s.error().to_string());
+    return 2;
+  }
+  if (rt.guard())
+    rt.guard()->on_violation([&](const Violation& v) { log->warn("violation {}", v.to_string(r.graph())); });
+  const std::int64_t start = monotonic_ns();
+  std::int64_t next_tick = start, next_status = start;
+  constexpr std::int64_t kTick = 10'000'000;
+  while (!g_stop.load()) {
+    std::int64_t now = monotonic_ns();
+    if (f.run_for_s > 0 && now - start > static_cast<std::int64_t>(f.run_for_s * 1e9)) break;
+    r.spin_once(std::clamp<std::int64_t>(next_tick - now, 0, kTick));
+    rt.pump();
+    now = monotonic_ns();
+    if (now >= next_tick) {
+      rt.tick();
+      next_tick = now + kTick;
+      {
+        std::lock_guard<std::mutex> lock(errors_mu);
+        errors.tick(now);
+      }
+      membership.tick(now);
+    }
+    if (f.status_ms > 0 && now >= next_status) {
+      std::cout << status(agent, r, rt).dump() << std::endl;
+      next_status = now + f.status_ms * 1'000'000LL;
+    }
+  }
+  rt.stop();
+  // A clean stop hands over: what this replica holds (its last commits, and whatever its peers
+  // missed while they were away) reaches them before it leaves; it could be the only holder.
+  const auto hand_over = static_cast<std::int64_t>(f.hand_over_s * 1e9);
+  if (hand_over > 0 && !r.hand_over(hand_over))
+    log->warn("left before every peer held all this replica holds (--hand-over {} s)", f.hand_over_s);
+  std::cout << status(agent, r, rt).dump() << std::endl;
+  return 0;
+}
+
+int run_process(Agent& agent, int argc, char** argv) {
+  CLI::App app{"quiver agent process: " + agent.name()};
+  ProcessFlags f;
+  f.add_all(&app);
+  CLI11_PARSE(app, argc, argv);
+  return run_process(agent, f);
+}
+
+}  // namespace quiver::agents

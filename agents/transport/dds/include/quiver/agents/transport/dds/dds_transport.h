@@ -1,0 +1,135 @@
+#pragma once
+/// @file
+/// The replication protocol over Eclipse Cyclone DDS 0.10 (C API, wrapped once here).
+///
+/// Messages are IDL types (agents/idl/quiver_wire.idl) serialized as CDR by Cyclone; each
+/// message kind has its own topic and QoS: summaries are keyed by sender with KEEP_LAST(1)
+/// (their instance goes NOT_ALIVE when the sender's participant loses liveliness: that is how a
+/// crashed agent is noticed within about one lease), deltas, pulls and state chunks are RELIABLE
+/// KEEP_ALL with a bounded blocking time: a write that times out because a reader lags is
+/// counted and dropped, and the protocol recovers it (the reader pulls it later).
+///
+/// Nothing runs on DDS threads: the owner thread blocks in wait() on a waitset and takes
+/// samples itself in drain().
+///
+/// NETWORK SAFETY: by default the transport builds its own Cyclone domain from an embedded
+/// configuration bound to 127.0.0.1 with multicast off, and `CYCLONEDDS_URI` is NOT consulted.
+/// Another configuration is an explicit opt-in (DdsConfig::Source::kEnvironment or kXml).
+///
+/// DDS SECURITY (docs/security.md): with DdsConfig::security set, the participant loads Cyclone's
+/// standard plugins (authentication, access control, cryptography) with the agent's credentials:
+/// it meets only participants whose certificates the same CA signed (and did not revoke), and the
+/// governance document encrypts and signs everything they exchange.
+
+#include <atomic>
+#include <cstdint>
+#include <functional>
+#include <memory>
+#include <optional>
+#include <string>
+
+#include "quiver/agents/replica/replication/messages.h"
+#include "quiver/agents/replica/replication/transport.h"
+#include "quiver/agents/replica/replication/validate.h"
+#include "quiver/agents/replica/security/keys.h"
+#include "quiver/base/result.h"
+
+namespace quiver::agents::inline transport {
+
+struct DdsConfig {
+  enum class Source : std::uint8_t {
+    kLoopback,     ///< embedded: 127.0.0.1 only, multicast off (the default)
+    kEnvironment,  ///< opt-in: whatever CYCLONEDDS_URI says (multi-host deployments)
+    kXml,          ///< opt-in: the `xml` given here
+  };
+  Source source = Source::kLoopback;
+  std::string xml;
+  std::uint32_t domain = 0;                    ///< the DDS domain id agents meet in
+  std::int64_t lease_ns = 1'000'000'000;       ///< participant lease (crash detection time)
+  int xmit_loss_permille = 0;                  ///< testing: Cyclone drops this share of sent packets
+  bool own_domain_instance = false;            ///< a private Cyclone instance (threads, sockets) for this transport
+  std::int64_t max_blocking_ns = 100'000'000;  ///< how long a reliable write may wait for a lagging reader
+  /// Read deltas, pulls and states best effort: writers never wait for this participant (a viewer
+  /// or a recorder that falls behind must not hold the agents back). What it misses it pulls, as
+  /// after any loss.
+  bool best_effort_reader = false;
+  /// Subscribe to deltas. Off for a sampling observer (ReplicatorOptions::sample_ns): no writer
+  /// then sends it a single delta; it pulls context diffs instead.
+  bool read_deltas = true;
+  /// DDS Security credentials (security::agent_files()); none: an unsecured participant, which
+  /// secured ones neither hear nor answer. Cyclone loads the security plugins once per domain
+  /// instance and then refuses participants without credentials in it, so a secured and an
+  /// unsecured transport of one process need `own_domain_instance`; two identities under one CA
+  /// may share an instance. A secured private instance takes a process-local domain id in
+  /// 0..230 (Cyclone checks the local id against the governance), at most 231 per process.
+  std::optional<security::DdsSecurityFiles> security;
+};
+
+/// The folder Cyclone's security plugins (libdds_security_{auth,ac,crypto}.so) are loaded from:
+/// $QUIVER_DDS_SECURITY_LIB_DIR if set, else the one found at build time ("" if none).
+std::string dds_security_plugin_dir();
+
+/// Sets on a participant QoS (a `dds_qos_t*`) the properties that make Cyclone load its security
+/// plugins with `f`: for code that creates DDS participants itself (the rogue suite's attacker).
+Status set_security_qos(struct dds_qos* qos, const security::DdsSecurityFiles& f);
+
+/// The largest sample the embedded configuration lets Cyclone accept or send: a delta at the
+/// protocol's limit (EnvelopeLimits::max_payload_bytes) with room for its header.
+inline constexpr std::size_t kMaxSampleBytes = EnvelopeLimits{}.max_payload_bytes + (64u << 10);
+
+/// The embedded loopback configuration for `cfg` (lease, loss, external domain id filled in).
+std::string loopback_config_xml(const DdsConfig& cfg);
+
+/// Sends Cyclone DDS's own log lines (warnings about malformed packets, samples that fail to
+/// deserialize, ...) to `sink` instead of stderr, process-wide; null restores stderr. `sink` runs
+/// on Cyclone's threads: it must be thread-safe and quick.
+void route_dds_log(std::function<void(const std::string&)> sink);
+
+class DdsTransport final : public Transport {
+ public:
+  struct Stats {
+    std::uint64_t samples_written = 0;
+    std::uint64_t write_timeouts = 0;
+    std::uint64_t write_errors = 0;
+    std::uint64_t samples_taken = 0;
+    std::uint64_t peers_lost = 0;
+  };
+
+  /// Creates the domain (unless shared), participant, topics, writers, readers and waitset.
+  static Result<std::unique_ptr<DdsTransport>> create(const PeerId& self, const DdsConfig& cfg);
+  ~DdsTransport() override;
+  DdsTransport(const DdsTransport&) = delete;
+  DdsTransport& operator=(const DdsTransport&) = delete;
+
+  void send(const Envelope& e) override;
+
+  /// Blocks until samples arrive, wake() is called, or `timeout_ns` passes.
+  void wait(std::int64_t timeout_ns);
+  /// Takes every available sample: `on_envelope` per message (addressed to us or to all),
+  /// `on_lost(peer, gone)` per peer whose summary instance lost liveliness (gone = false: it may
+  /// come back) or was disposed (gone = true: a clean exit).
+  void drain(const std::function<void(const Envelope&)>& on_envelope,
+             const std::function<void(const PeerId&, bool)>& on_lost);
+  /// Thread-safe: makes a concurrent wait() return.
+  void wake();
+  /// True (once) when a new remote summary reader matched since the last call: a newcomer
+  /// appeared, so it is worth announcing ourselves now rather than at the next heartbeat.
+  bool take_new_match();
+  /// Testing: the whole domain instance stops receiving (deaf) and/or sending (mute); both are
+  /// reset after `reset_after_ns` (a negative value: never).
+  Status set_deafmute(bool deaf, bool mute, std::int64_t reset_after_ns);
+  /// Disposes our summary instance so peers see us leave at once.
+  void dispose_self();
+
+  const Stats& stats() const { return stats_; }
+  const PeerId& self() const { return self_; }
+
+ private:
+  DdsTransport() = default;
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+  PeerId self_;
+  Stats stats_;
+};
+
+}  // namespace quiver::agents

@@ -1,0 +1,169 @@
+#include "samples.h"
+
+#include <type_traits>
+
+namespace quiver::agents::inline transport::dds_samples {
+namespace {
+
+void read_ranges(const dds_sequence_quiver_wire_ReplicaRanges& in, RangeList& out) {
+  out.clear();
+  for (std::uint32_t i = 0; i < in._length; ++i) {
+    const auto& rr = in._buffer[i];
+    const PeerId r = from_wire(rr.replica);
+    for (std::uint32_t j = 0; j < rr.ranges._length; ++j)
+      out.push_back(Range{r, rr.ranges._buffer[j].lo, rr.ranges._buffer[j].hi});
+  }
+}
+
+dds_sequence_octet octets(const std::vector<std::uint8_t>& v) {
+  dds_sequence_octet s{};
+  s._length = s._maximum = static_cast<std::uint32_t>(v.size());
+  s._buffer = const_cast<std::uint8_t*>(v.data());
+  s._release = false;
+  return s;
+}
+
+std::shared_ptr<const std::vector<std::uint8_t>> copy_octets(const dds_sequence_octet& s) {
+  return std::make_shared<const std::vector<std::uint8_t>>(s._buffer, s._buffer + s._length);
+}
+
+template <class T>
+Envelope addressed(const T& s, Message m) {
+  Envelope e;
+  e.from = from_wire(s.sender);
+  e.to = from_wire(s.destination);
+  e.messages.push_back(std::move(m));
+  return e;
+}
+
+}  // namespace
+
+const dds_topic_descriptor_t& descriptor(DdsTopic t) {
+  static const std::array<const dds_topic_descriptor_t*, kDdsTopicCount> kDescs = {
+      &quiver_wire_Summary_desc, &quiver_wire_Delta_desc, &quiver_wire_Pull_desc, &quiver_wire_StateChunk_desc,
+      &quiver_wire_Bye_desc};
+  return *kDescs[static_cast<std::size_t>(t)];
+}
+
+Envelope envelope_of(const quiver_wire_Summary& s) {
+  Envelope e;
+  e.from = PeerId{s.sender_agent, s.sender_incarnation};
+  SummaryMsg m;
+  m.name = s.name ? s.name : "";
+  m.observer = s.observer;
+  m.digest = s.digest;
+  read_ranges(s.applied, m.applied);
+  e.messages.emplace_back(std::move(m));
+  return e;
+}
+
+Envelope envelope_of(const quiver_wire_Delta& s) {
+  DeltaMsg m{from_wire(s.origin), s.lo, s.hi, copy_octets(s.payload), nullptr};
+  if (s.signature._length > 0) m.signature = copy_octets(s.signature);
+  return addressed(s, std::move(m));
+}
+
+Envelope envelope_of(const quiver_wire_Pull& s) {
+  PullMsg m;
+  m.request = s.request;
+  read_ranges(s.applied, m.applied);
+  read_ranges(s.context, m.context);
+  m.whole_state = s.whole_state;
+  m.as_state = s.as_state;
+  return addressed(s, std::move(m));
+}
+
+Envelope envelope_of(const quiver_wire_StateChunk& s) {
+  StateMsg m;
+  m.request = s.request;
+  m.index = s.index;
+  m.count = s.count;
+  read_ranges(s.applied, m.applied);
+  m.chunk = copy_octets(s.payload);
+  return addressed(s, std::move(m));
+}
+
+Envelope envelope_of(const quiver_wire_Bye& s) {
+  Envelope e;
+  e.from = from_wire(s.sender);
+  e.messages.emplace_back(ByeMsg{});
+  return e;
+}
+
+Envelope envelope_of(DdsTopic t, const void* p) {
+  switch (t) {
+    case DdsTopic::kSummary: return envelope_of(*static_cast<const quiver_wire_Summary*>(p));
+    case DdsTopic::kDelta: return envelope_of(*static_cast<const quiver_wire_Delta*>(p));
+    case DdsTopic::kPull: return envelope_of(*static_cast<const quiver_wire_Pull*>(p));
+    case DdsTopic::kState: return envelope_of(*static_cast<const quiver_wire_StateChunk*>(p));
+    case DdsTopic::kBye: break;
+  }
+  return envelope_of(*static_cast<const quiver_wire_Bye*>(p));
+}
+
+dds_sequence_quiver_wire_ReplicaRanges SampleBuilder::Ranges::build(const RangeList& c) {
+  replicas.clear();
+  flat.clear();
+  starts.clear();
+  for (const Range& x : c) {
+    if (replicas.empty() || !(from_wire(replicas.back().replica) == x.replica)) {
+      replicas.push_back(quiver_wire_ReplicaRanges{to_wire(x.replica), {}});
+      starts.push_back(flat.size());
+    }
+    flat.push_back(quiver_wire_SeqRange{x.lo, x.hi});
+  }
+  for (std::size_t i = 0; i < replicas.size(); ++i) {  // `flat` is final now: point into it
+    const std::size_t end = i + 1 < starts.size() ? starts[i + 1] : flat.size();
+    auto& s = replicas[i].ranges;
+    s._length = s._maximum = static_cast<std::uint32_t>(end - starts[i]);
+    s._buffer = flat.data() + starts[i];
+    s._release = false;
+  }
+  dds_sequence_quiver_wire_ReplicaRanges out{};
+  out._length = out._maximum = static_cast<std::uint32_t>(replicas.size());
+  out._buffer = replicas.data();
+  out._release = false;
+  return out;
+}
+
+std::pair<DdsTopic, const void*> SampleBuilder::build(const Message& m, const PeerId& sender,
+                                                      const PeerId& destination) {
+  const quiver_wire_Replica from = to_wire(sender), to = to_wire(destination);
+  return std::visit(
+      [&](const auto& msg) -> std::pair<DdsTopic, const void*> {
+        using T = std::decay_t<decltype(msg)>;
+        if constexpr (std::is_same_v<T, SummaryMsg>) {
+          summary_ = quiver_wire_Summary{};
+          summary_.sender_agent = sender.agent;
+          summary_.sender_incarnation = sender.incarnation;
+          summary_.name = const_cast<char*>(msg.name.c_str());
+          summary_.observer = msg.observer;
+          summary_.applied = a_.build(msg.applied);
+          summary_.digest = msg.digest;
+          return {DdsTopic::kSummary, &summary_};
+        } else if constexpr (std::is_same_v<T, DeltaMsg>) {
+          delta_ = quiver_wire_Delta{from, to, to_wire(msg.origin), msg.lo, msg.hi, octets(*msg.payload),
+                                     msg.signature ? octets(*msg.signature) : dds_sequence_octet{}};
+          return {DdsTopic::kDelta, &delta_};
+        } else if constexpr (std::is_same_v<T, PullMsg>) {
+          pull_ = quiver_wire_Pull{from, to, msg.request, a_.build(msg.applied), b_.build(msg.context), msg.whole_state,
+                                   msg.as_state};
+          return {DdsTopic::kPull, &pull_};
+        } else if constexpr (std::is_same_v<T, StateMsg>) {
+          state_ = quiver_wire_StateChunk{from,
+                                          to,
+                                          msg.request,
+                                          static_cast<std::uint32_t>(msg.index),
+                                          static_cast<std::uint32_t>(msg.count),
+                                          a_.build(msg.applied),
+                                          octets(*msg.chunk)};
+          return {DdsTopic::kState, &state_};
+        } else {
+          bye_ = quiver_wire_Bye{from};
+          return {DdsTopic::kBye, &bye_};
+        }
+      },
+      m);
+}
+
+}  // namespace quiver::agents::inline transport::dds_samples

@@ -1,0 +1,297 @@
+#include "quiver/agents/replica/replication/replicator.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <deque>
+#include <map>
+
+#include "quiver/graph/codec.h"
+#include "test_net.h"
+
+namespace quiver::agents {
+namespace {
+
+using graph::Graph;
+using graph::ReplicaId;
+using graph::Symbol;
+using graph::Value;
+
+graph::NodeId add_node(Graph& g, const std::string& name) {
+  auto tx = g.begin();
+  auto id = tx.create_node("thing", name);
+  EXPECT_TRUE(id.ok());
+  EXPECT_TRUE(tx.commit().ok());
+  return *id;
+}
+
+TEST(ReplicatorTest, DeltasReachEveryPeer) {
+  Net net;
+  int a = net.add(1), b = net.add(2), c = net.add(3);
+  net.pump();
+  add_node(*net.nodes[a].g, "x");
+  add_node(*net.nodes[b].g, "y");
+  net.pump();
+  for (int i : {a, b, c}) {
+    EXPECT_EQ(net.nodes[i].g->node_count(), 2u);
+    EXPECT_EQ(net.nodes[i].g->digest(), net.nodes[a].g->digest());
+  }
+  EXPECT_EQ(net.nodes[c].rep->stats().deltas_applied, 2u);
+}
+
+// A sampling observer (a viewer) receives no deltas (its DDS transport subscribes to none; here
+// the network drops them) and pulls what changed as one context diff, at most once per period:
+// 200 writes in 1 s reach it in about ten transfers, and it ends equal to the writer.
+TEST(ReplicatorTest, ASamplingObserverPullsWhatChangedAtItsOwnPace) {
+  Net net;
+  ReplicatorOptions watcher;
+  watcher.observer = true;
+  watcher.sample_ns = 100'000'000;
+  int a = net.add(1), v = net.add(2, watcher);
+  net.drop = [&](const Packet& f) {
+    if (f.to != v) return false;
+    auto e = decode_packet(f.bytes);
+    return e.ok() && std::any_of(e->messages.begin(), e->messages.end(),
+                                 [](const Message& m) { return std::holds_alternative<DeltaMsg>(m); });
+  };
+  net.pump();
+  for (int i = 0; i < 200; ++i) {
+    add_node(*net.nodes[a].g, "n" + std::to_string(i));
+    net.advance(5'000'000, 1);
+  }
+  net.advance(500'000'000);
+  const auto& st = net.nodes[v].rep->stats();
+  EXPECT_EQ(net.nodes[v].g->digest(), net.nodes[a].g->digest());
+  EXPECT_EQ(net.nodes[v].g->node_count(), 200u);
+  EXPECT_EQ(st.deltas_applied, 0u) << "it read no delta";
+  EXPECT_GE(st.states_applied, 5u);
+  EXPECT_LE(st.pulls_sent, 16u) << "at most one pull per 100 ms over 1.5 s";
+  EXPECT_EQ(net.nodes[a].rep->stats().pulls_answered_with_deltas, 0u) << "answered with diffs, not deltas";
+}
+
+// A sampling observer with a byte budget samples a busy graph less often instead of making the
+// peers that answer it serialise more: over 3 s of writes it pulls at most its budget (plus the
+// one diff that took it over), and still ends equal to the writer.
+TEST(ReplicatorTest, ASamplingObserverKeepsItsPullsWithinItsByteBudget) {
+  Net net;
+  ReplicatorOptions watcher;
+  watcher.observer = true;
+  watcher.sample_ns = 50'000'000;
+  watcher.sample_bytes_per_s = 20'000;
+  int a = net.add(1), v = net.add(2, watcher);
+  net.drop = [&](const Packet& f) {  // as over DDS: an observer that samples subscribes to no delta
+    if (f.to != v) return false;
+    auto e = decode_packet(f.bytes);
+    return e.ok() && std::any_of(e->messages.begin(), e->messages.end(),
+                                 [](const Message& m) { return std::holds_alternative<DeltaMsg>(m); });
+  };
+  net.pump();
+  std::vector<graph::NodeId> ids;
+  for (int i = 0; i < 20; ++i) ids.push_back(add_node(*net.nodes[a].g, "n" + std::to_string(i)));
+  const std::string blob(500, 'x');
+  for (int step = 0; step < 600; ++step) {  // 3 s: every node's 500-byte attribute rewritten each 5 ms
+    auto tx = net.nodes[a].g->begin();
+    for (auto id : ids) ASSERT_TRUE(tx.set(id, "blob", graph::Value(blob + std::to_string(step))).ok());
+    ASSERT_TRUE(tx.commit().ok());
+    net.advance(5'000'000, 1);
+  }
+  const auto& st = net.nodes[v].rep->stats();
+  const std::uint64_t one_diff = 20 * 520;
+  EXPECT_LE(st.state_bytes_received, 3 * watcher.sample_bytes_per_s + 2 * one_diff);
+  EXPECT_LE(st.pulls_sent, 12u) << "a 10 KB diff per pull at 20 KB/s: about two pulls a second, not twenty";
+  EXPECT_GE(st.states_applied, 3u);
+  net.advance(2'000'000'000);
+  EXPECT_EQ(net.nodes[v].g->digest(), net.nodes[a].g->digest());
+}
+
+TEST(ReplicatorTest, DuplicatesAreIgnored) {
+  Net net;
+  int a = net.add(1), b = net.add(2);
+  net.pump();
+  add_node(*net.nodes[a].g, "x");
+  auto copy = net.inflight;
+  net.pump();
+  net.inflight = copy;
+  net.pump();
+  EXPECT_EQ(net.nodes[b].rep->stats().deltas_applied, 1u);
+  EXPECT_EQ(net.nodes[b].rep->stats().deltas_duplicate, 1u);
+}
+
+TEST(ReplicatorTest, ALostDeltaIsPulledBack) {
+  Net net;
+  ReplicatorOptions opt;
+  int a = net.add(1, opt), b = net.add(2, opt);
+  net.pump();
+  // Lose the first delta only.
+  bool lost = false;
+  net.drop = [&](const Packet& f) {
+    if (!lost && f.from == a && f.to == b && f.bytes.size() > 40) return lost = true;
+    return false;
+  };
+  add_node(*net.nodes[a].g, "x");
+  add_node(*net.nodes[a].g, "y");
+  net.pump();
+  EXPECT_TRUE(lost);
+  EXPECT_EQ(net.nodes[b].g->node_count(), 1u) << "only the second delta arrived";
+  net.advance(500'000'000);
+  EXPECT_EQ(net.nodes[b].g->node_count(), 2u);
+  EXPECT_EQ(net.nodes[b].g->digest(), net.nodes[a].g->digest());
+  EXPECT_GE(net.nodes[b].rep->stats().pulls_sent, 1u);
+  EXPECT_GE(net.nodes[a].rep->stats().pulls_answered_with_deltas, 1u) << "served from the relay buffer";
+}
+
+TEST(ReplicatorTest, ARemovalOnlyDeltaLostIsDetectedBySequenceNumbers) {
+  // A delete mints no dot: only the sequence number reveals that it went missing.
+  Net net;
+  int a = net.add(1), b = net.add(2);
+  net.pump();
+  auto x = add_node(*net.nodes[a].g, "x");
+  net.pump();
+  net.drop = [&](const Packet& f) { return f.from == a && f.to == b; };
+  {
+    auto tx = net.nodes[a].g->begin();
+    ASSERT_TRUE(tx.delete_node(x).ok());
+    ASSERT_TRUE(tx.commit().ok());
+  }
+  net.pump();
+  net.drop = nullptr;
+  EXPECT_TRUE(net.nodes[b].g->has_node(x));
+  net.advance(500'000'000);
+  EXPECT_FALSE(net.nodes[b].g->has_node(x));
+}
+
+TEST(ReplicatorTest, ALateJoinerGetsTheStateInChunksFromAnyPeer) {
+  ReplicatorOptions opt;
+  opt.chunk_bytes = 1024;
+  opt.buffer_bytes = 4096;  // the early deltas are evicted: only a state transfer can help
+  Net net;
+  int a = net.add(1, opt), b = net.add(2, opt);
+  net.pump();
+  for (int i = 0; i < 200; ++i) {
+    auto tx = net.nodes[a].g->begin();
+    auto id = tx.create_node("thing", "n" + std::to_string(i), {{Symbol("payload"), Value(std::string(40, 'x'))}});
+    ASSERT_TRUE(id.ok());
+    ASSERT_TRUE(tx.commit().ok());
+  }
+  net.advance(200'000'000);
+  ASSERT_EQ(net.nodes[b].g->node_count(), 200u);
+  // a goes silent; the newcomer must get everything from b.
+  net.drop = [&](const Packet& f) { return f.from == a || f.to == a; };
+  int c = net.add(3, opt);
+  net.advance(1'000'000'000, 40);
+  EXPECT_EQ(net.nodes[c].g->node_count(), 200u);
+  EXPECT_EQ(net.nodes[c].g->digest(), net.nodes[b].g->digest());
+  EXPECT_GE(net.nodes[b].rep->stats().pulls_answered_with_state, 1u);
+  EXPECT_GE(net.nodes[c].rep->stats().states_applied, 1u);
+  EXPECT_TRUE(net.nodes[c].rep->synced());
+}
+
+TEST(ReplicatorTest, LostStateChunksAreRetried) {
+  ReplicatorOptions opt;
+  opt.chunk_bytes = 1024;
+  opt.max_packet_bytes = 1200;  // one chunk per frame
+  opt.buffer_bytes = 1024;
+  Net net;
+  int a = net.add(1, opt);
+  for (int i = 0; i < 100; ++i) {
+    auto tx = net.nodes[a].g->begin();
+    ASSERT_TRUE(tx.create_node("thing", "n" + std::to_string(i), {{Symbol("p"), Value(std::string(60, 'y'))}}).ok());
+    ASSERT_TRUE(tx.commit().ok());
+  }
+  int b = net.add(2, opt);
+  int chunks_dropped = 0;
+  net.drop = [&](const Packet& f) {
+    // Lose three state chunks on their way from a to b.
+    if (f.from == a && f.to == b && f.bytes.size() > 900 && chunks_dropped < 3) {
+      ++chunks_dropped;
+      return true;
+    }
+    return false;
+  };
+  net.advance(3'000'000'000, 60);
+  EXPECT_EQ(chunks_dropped, 3);
+  EXPECT_EQ(net.nodes[b].g->node_count(), 100u);
+  EXPECT_EQ(net.nodes[b].g->digest(), net.nodes[a].g->digest());
+  EXPECT_GE(net.nodes[b].rep->stats().pulls_timed_out, 1u) << "the first transfer stalled";
+  EXPECT_GE(net.nodes[b].rep->stats().states_applied, 1u);
+}
+
+TEST(ReplicatorTest, MembershipJoinLeaseAndGoodbye) {
+  ReplicatorOptions opt;
+  opt.lease_ns = 300'000'000;
+  Net net;
+  int a = net.add(1, opt), b = net.add(2, opt), c = net.add(3, opt);
+  net.advance(100'000'000);
+  EXPECT_EQ(net.nodes[a].rep->live_peer_count(), 2u);
+  // c crashes silently: a notices when the lease expires.
+  net.nodes[c].rep.reset();
+  net.nodes[c].g.reset();
+  net.advance(600'000'000, 20);
+  EXPECT_EQ(net.nodes[a].rep->live_peer_count(), 1u);
+  ASSERT_FALSE(net.nodes[a].membership.empty());
+  EXPECT_EQ(net.nodes[a].membership.back().first, Membership::kLeft);
+  EXPECT_EQ(net.nodes[a].membership.back().second.name, "agent3");
+  // b leaves cleanly: a knows at once.
+  net.nodes[b].rep->leave();
+  net.pump();
+  EXPECT_EQ(net.nodes[a].rep->live_peer_count(), 0u);
+}
+
+TEST(ReplicatorTest, MalformedFramesAreRejectedAndChangeNothing) {
+  Net net;
+  int a = net.add(1);
+  add_node(*net.nodes[a].g, "x");
+  auto before = net.nodes[a].g->digest();
+  std::vector<std::uint8_t> junk = {'Q', 'R', kPacketVersion, 0xff, 0xff};
+  net.nodes[a].rep->on_packet(junk, 0);
+  std::vector<std::uint8_t> future = {'Q', 'R', 9};
+  net.nodes[a].rep->on_packet(future, 0);
+  ASSERT_EQ(net.nodes[a].errors.size(), 2u);
+  EXPECT_EQ(net.nodes[a].errors[0].code, ErrorCode::kTruncated);
+  EXPECT_NE(net.nodes[a].errors[0].message.find("sender"), std::string::npos) << net.nodes[a].errors[0].message;
+  EXPECT_EQ(net.nodes[a].errors[1].code, ErrorCode::kUnsupportedVersion);
+  EXPECT_EQ(net.nodes[a].g->digest(), before);
+  EXPECT_EQ(net.nodes[a].rep->stats().rejected_packets, 2u);
+}
+
+TEST(ReplicatorTest, ARogueDeltaWithCorruptPayloadIsRejected) {
+  Net net;
+  int a = net.add(1), b = net.add(2);
+  net.pump();
+  add_node(*net.nodes[a].g, "x");
+  ASSERT_FALSE(net.inflight.empty());
+  // Corrupt the graph payload inside the frame: its last bytes, before the (empty, one-byte)
+  // signature that ends the frame.
+  Packet f = net.inflight.back();
+  net.inflight.clear();
+  ASSERT_EQ(f.bytes.back(), 0) << "an unsigned delta ends with an empty signature";
+  f.bytes[f.bytes.size() - 4] = 0xff;
+  f.bytes[f.bytes.size() - 3] = 0xff;
+  f.bytes[f.bytes.size() - 2] = 0xff;
+  auto before = net.nodes[b].g->digest();
+  net.nodes[b].rep->on_packet(f.bytes, 0);
+  EXPECT_EQ(net.nodes[b].g->digest(), before);
+  ASSERT_EQ(net.nodes[b].errors.size(), 1u);
+  EXPECT_NE(net.nodes[b].errors[0].message.find("delta"), std::string::npos) << net.nodes[b].errors[0].message;
+  // The genuine delta is still accepted later (the rogue copy did not mark it as applied).
+  net.advance(500'000'000);
+  EXPECT_EQ(net.nodes[b].g->digest(), net.nodes[a].g->digest());
+}
+
+TEST(ReplicatorTest, CoalescedIntervalsCarrySeveralCommits) {
+  ReplicatorOptions opt;
+  opt.coalesce = true;
+  Net net;
+  int a = net.add(1, opt), b = net.add(2);
+  net.pump();
+  for (int i = 0; i < 10; ++i) add_node(*net.nodes[a].g, "n" + std::to_string(i));
+  EXPECT_TRUE(net.inflight.empty()) << "held until flush";
+  net.nodes[a].rep->flush();
+  net.pump();
+  EXPECT_EQ(net.nodes[b].g->node_count(), 10u);
+  EXPECT_EQ(net.nodes[b].rep->stats().deltas_applied, 1u);
+  EXPECT_EQ(net.nodes[b].rep->applied().contiguous(net.nodes[a].g->replica()), 10u);
+}
+
+}  // namespace
+}  // namespace quiver::agents

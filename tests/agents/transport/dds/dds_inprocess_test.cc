@@ -1,0 +1,202 @@
+// Several agents in one process, each with its own Cyclone DDS domain instance (threads,
+// sockets) on the loopback default configuration, each spinning on its own thread.
+
+#include <gtest/gtest.h>
+
+#include <future>
+#include <thread>
+
+#include "quiver/agents/transport/wire/cdr_sample.h"
+#include "quiver/agents/runtime/process/dds_replica.h"
+#include "quiver/base/rng.h"
+#include "quiver/sim/workload.h"
+#include "test_seed.h"
+
+namespace quiver::agents {
+namespace {
+
+constexpr std::int64_t kMs = 1'000'000;
+
+// Domain ids distinct per test so that nothing else on this machine meets these agents.
+std::uint32_t test_domain(int index) { return 150 + static_cast<std::uint32_t>(index); }
+
+struct Running {
+  std::unique_ptr<DdsReplica> agent;
+  std::thread thread;
+  ~Running() {
+    if (thread.joinable()) {
+      agent->stop();
+      thread.join();
+    }
+  }
+  // Runs fn on the agent's thread and waits for its result.
+  template <class F>
+  auto call(F fn) -> decltype(fn(*agent)) {
+    std::promise<decltype(fn(*agent))> done;
+    auto fut = done.get_future();
+    agent->post([&] {
+      if constexpr (std::is_void_v<decltype(fn(*agent))>) {
+        fn(*agent);
+        done.set_value();
+      } else {
+        done.set_value(fn(*agent));
+      }
+    });
+    return fut.get();
+  }
+};
+
+std::vector<std::unique_ptr<Running>> start(int n, std::uint32_t domain, int loss_permille = 0) {
+  std::vector<std::unique_ptr<Running>> out;
+  for (int i = 0; i < n; ++i) {
+    DdsReplicaOptions o;
+    o.name = "agent" + std::to_string(i);
+    o.dds.domain = domain;
+    o.dds.own_domain_instance = true;
+    o.dds.xmit_loss_permille = loss_permille;
+    o.replicator.heartbeat_ns = 50 * kMs;
+    auto a = DdsReplica::create(o);
+    EXPECT_TRUE(a.ok()) << a.error().to_string();
+    if (!a.ok()) return {};
+    auto r = std::make_unique<Running>();
+    r->agent = std::move(*a);
+    DdsReplica* raw = r->agent.get();
+    r->thread = std::thread([raw] { raw->spin(); });
+    out.push_back(std::move(r));
+  }
+  return out;
+}
+
+// Polls until every agent reports the same digest (and at least `min_nodes` nodes), or times out.
+bool converge(std::vector<std::unique_ptr<Running>>& agents, std::int64_t timeout_ms, std::size_t min_nodes = 0) {
+  const std::int64_t end = monotonic_ns() + timeout_ms * kMs;
+  while (monotonic_ns() < end) {
+    std::vector<Digest128> d;
+    bool enough = true;
+    for (auto& r : agents) {
+      d.push_back(r->call([](DdsReplica& a) { return a.graph().digest(); }));
+      enough = enough && r->call([](DdsReplica& a) { return a.graph().node_count(); }) >= min_nodes;
+    }
+    bool same = enough;
+    for (const auto& x : d) same = same && x == d[0];
+    if (same) return true;
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  }
+  return false;
+}
+
+void churn(Running& r, Rng& rng, int txns, std::int64_t t0) {
+  sim::Churn work;
+  r.call([&](DdsReplica& a) {
+    for (int i = 0; i < txns; ++i) work.step(a.graph(), rng, t0 + i);
+  });
+}
+
+// Every field the protocol relies on survives the mapping to DDS samples and back: the digest of
+// a summary (without it no replica over DDS could find a divergence) and a pull's whole-state and
+// as-state requests, in both CDR versions and byte orders.
+TEST(DdsInProcessTest, SummaryDigestAndPullFlagsTravelInSamples) {
+  const PeerId a{11, 1}, b{12, 1};
+  const RangeList applied{Range{a, 1, 7}, Range{b, 3, 9}};
+  for (int xcdr : {1, 2})
+    for (bool le : {true, false}) {
+      SummaryMsg sm{"agent a", true, applied};
+      sm.digest = 0x0123456789abcdefULL;
+      auto s = decode_cdr_sample(DdsTopic::kSummary, encode_cdr_sample(Envelope{a, PeerId{}, {sm}}, xcdr, le));
+      ASSERT_TRUE(s.ok()) << s.error().to_string();
+      const auto& got = std::get<SummaryMsg>(s->messages.at(0));
+      EXPECT_EQ(got.digest, sm.digest);
+      EXPECT_EQ(got.name, "agent a");
+      EXPECT_TRUE(got.observer);
+      EXPECT_EQ(got.applied, applied);
+      for (bool whole : {false, true})
+        for (bool as_state : {false, true}) {
+          PullMsg pm{77, applied, {Range{a, 2, 2}}, whole, as_state};
+          auto p = decode_cdr_sample(DdsTopic::kPull, encode_cdr_sample(Envelope{a, b, {pm}}, xcdr, le));
+          ASSERT_TRUE(p.ok()) << p.error().to_string();
+          const auto& gp = std::get<PullMsg>(p->messages.at(0));
+          EXPECT_EQ(gp.request, 77u);
+          EXPECT_EQ(gp.whole_state, whole);
+          EXPECT_EQ(gp.as_state, as_state);
+          EXPECT_EQ(gp.applied, applied);
+          EXPECT_EQ(gp.context, (RangeList{Range{a, 2, 2}}));
+          EXPECT_EQ(p->to, b);
+        }
+    }
+}
+
+TEST(DdsInProcessTest, TwoAgentsReplicate) {
+  auto agents = start(2, test_domain(0));
+  ASSERT_EQ(agents.size(), 2u);
+  agents[0]->call([](DdsReplica& a) {
+    auto tx = a.graph().begin();
+    ASSERT_TRUE(tx.create_node("robot", "robot", {{graph::Symbol("battery"), graph::Value(0.5)}}).ok());
+    ASSERT_TRUE(tx.commit().ok());
+  });
+  ASSERT_TRUE(converge(agents, 5000, 1));
+  double b = agents[1]->call([](DdsReplica& a) {
+    auto id = a.graph().find_node("robot");
+    return id ? a.graph().get<double>(*id, "battery").value_or(-1) : -2.0;
+  });
+  EXPECT_EQ(b, 0.5);
+}
+
+TEST(DdsInProcessTest, AgentCutOffByDeafMuteCatchesUpAfterHeal) {
+  const auto seed = quiver::testing::base_seed("DdsInProcessTest.AgentCutOffByDeafMuteCatchesUpAfterHeal", 5);
+  Rng rng(seed);
+  auto agents = start(4, test_domain(1));
+  ASSERT_EQ(agents.size(), 4u);
+  churn(*agents[0], rng, 5, 0);
+  ASSERT_TRUE(converge(agents, 5000));
+  // Cut agent 3 off entirely; the others keep writing.
+  agents[3]->call([](DdsReplica& a) { ASSERT_TRUE(a.transport().set_deafmute(true, true, -1).ok()); });
+  for (int round = 0; round < 5; ++round)
+    for (int i = 0; i < 3; ++i) churn(*agents[i], rng, 4, 1000 * round);
+  std::this_thread::sleep_for(std::chrono::milliseconds(200));
+  auto d_cut = agents[3]->call([](DdsReplica& a) { return a.graph().digest(); });
+  auto d_main = agents[0]->call([](DdsReplica& a) { return a.graph().digest(); });
+  EXPECT_NE(d_cut, d_main) << "the cut-off agent saw nothing";
+  churn(*agents[3], rng, 4, 99999);  // and it changes things on its own side
+  agents[3]->call([](DdsReplica& a) { ASSERT_TRUE(a.transport().set_deafmute(false, false, -1).ok()); });
+  EXPECT_TRUE(converge(agents, 15000)) << "seed " << seed;
+}
+
+TEST(DdsInProcessTest, ConvergesDespiteTwentyPercentPacketLoss) {
+  const auto seed = quiver::testing::base_seed("DdsInProcessTest.ConvergesDespiteTwentyPercentPacketLoss", 6);
+  Rng rng(seed);
+  auto agents = start(3, test_domain(2), /*loss_permille=*/200);
+  ASSERT_EQ(agents.size(), 3u);
+  for (int round = 0; round < 10; ++round)
+    for (auto& a : agents) churn(*a, rng, 3, 100 * round);
+  EXPECT_TRUE(converge(agents, 20000)) << "seed " << seed;
+}
+
+}  // namespace
+}  // namespace quiver::agents
+
+namespace quiver::agents {
+namespace {
+
+// Defect 10: a second agent in one process asking for another configuration of the same
+// domain used to get the first one's silently; it is refused, naming the domain.
+TEST(DdsInProcessTest, ASecondConfigurationOfOneDomainIsRefused) {
+  DdsReplicaOptions a;
+  a.name = "first";
+  a.dds.domain = test_domain(9);
+  auto first = DdsReplica::create(a);
+  ASSERT_TRUE(first.ok()) << first.error().to_string();
+  DdsReplicaOptions b = a;
+  b.name = "second";
+  b.dds.lease_ns = 3'000'000'000;  // another configuration of the same domain
+  auto second = DdsReplica::create(b);
+  ASSERT_FALSE(second.ok());
+  EXPECT_EQ(second.error().code, ErrorCode::kInvalidArgument);
+  EXPECT_NE(second.error().message.find("domain " + std::to_string(test_domain(9))), std::string::npos)
+      << second.error().message;
+  DdsReplicaOptions c = a;
+  c.name = "third";  // the same configuration is shared
+  EXPECT_TRUE(DdsReplica::create(c).ok());
+}
+
+}  // namespace
+}  // namespace quiver::agents
