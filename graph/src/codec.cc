@@ -16,8 +16,6 @@
 // (varint) from the origin's lowest context counter.
 
 #include "quiver/graph/codec.h"
-
-#include <algorithm>
 #include <unordered_map>
 
 #include "quiver/base/byte_codec.h"

@@ -108,6 +108,14 @@ void Graph::Impl::merge_ops(const GraphDelta& d) {
 }
 
 void Graph::Impl::after_merge(const GraphDelta& d, bool full_gc) {
+  // A removed dot that is a node's id removes that node, whatever key the fragment lists it
+  // under: an honest delta lists it as the node's own removal, and a forged one must not delete
+  // the node while leaving its data behind (a zombie).
+  for (const Dot& x : d.removed)
+    if (find_node(NodeId{x}) != nullptr) {
+      pending_kills.push_back(NodeId{x});
+      gc_candidates.push_back(NodeId{x});
+    }
   for (NodeId id : pending_kills) {
     NodeRec* r = find_node(id);
     if (r && r->alive) {
@@ -120,6 +128,26 @@ void Graph::Impl::after_merge(const GraphDelta& d, bool full_gc) {
   pending_kills.clear();
   ctx.join(d.context);
   d.for_each_mentioned_dot([&](const Dot& x) { ctx.add(x); });
+  if (!full_gc) {
+    // Data held for a node whose creation has not arrived (a placeholder) is dropped once the
+    // node's id is in the context: the node is then deleted, and nothing may touch it again. An
+    // honest delta's context covers only dots it mints (and counters skipped unused), so only a
+    // forged one covers such an id; the check costs a lookup per context dot, or a scan of the
+    // node table for a context that skips many counters.
+    std::uint64_t span = 0;
+    d.context.for_each_range([&](const ReplicaId&, std::uint64_t lo, std::uint64_t hi) { span += hi - lo + 1; });
+    auto placeholder = [&](NodeId id) {
+      const NodeRec* r = find_node(id);
+      if (r != nullptr && !r->alive) gc_candidates.push_back(id);
+    };
+    if (span <= 256)
+      d.context.for_each_range([&](const ReplicaId& rep, std::uint64_t lo, std::uint64_t hi) {
+        for (std::uint64_t c = lo; c <= hi; ++c) placeholder(NodeId{Dot{rep, c}});
+      });
+    else
+      for (const auto& [id, r] : nodes)
+        if (!r.alive && d.context.contains(id.dot)) gc_candidates.push_back(id);
+  }
   if (full_gc) {
     for (const auto& [id, r] : nodes)
       if (!r.alive) gc_candidates.push_back(id);

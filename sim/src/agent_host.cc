@@ -88,9 +88,9 @@ void AgentHost::boot(int i) {
   agents::ReplicatorOptions ro = opt_.replicator;
   ro.name = s.spec.name;
   s.replicator = std::make_unique<agents::Replicator>(*s.graph, net_.endpoint(i), ro);
-  net_.set_receiver(i, [this, i](std::span<const std::uint8_t> packet, std::int64_t now) {
+  net_.set_receiver(i, [this, i](const agents::CdrSample& sample, std::int64_t now) {
     Slot& t = *agents_[static_cast<std::size_t>(i)];
-    t.replicator->on_packet(packet, now);
+    agents::deliver_cdr_sample(*t.replicator, sample.topic, sample.bytes, now);
     if (t.runtime) t.runtime->pump();
   });
   s.replicator->on_error([this, i](const Error& e) {

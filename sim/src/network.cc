@@ -2,20 +2,20 @@
 
 #include <algorithm>
 
-#include "quiver/agents/replica/replication/packet_codec.h"
+#include "quiver/agents/transport/wire/cdr_sample.h"
 
 namespace quiver::sim {
 
-// Encodes every envelope into a real byte packet: the simulated network carries (and counts)
-// exactly what a byte transport would, and receivers decode it.
+// Serializes every sample as Cyclone DDS does (the CDR of its IDL type): the simulated network
+// carries, and counts, exactly the bytes DDS ships, and receivers decode them as DDS does.
 struct VirtualNetwork::Endpoint : agents::Transport {
   VirtualNetwork* net;
   int index;
   Endpoint(VirtualNetwork* n, int i) : net(n), index(i) {}
-  void send(const agents::Envelope& e) override {
-    const int d = e.to.is_null() ? -1 : net->index_of(e.to);
-    if (d < 0 && !e.to.is_null()) return;  // nobody has that address: nothing to encode
-    net->transmit(index, d, std::make_shared<const std::vector<std::uint8_t>>(agents::encode_packet(e)));
+  void send(const agents::Sample& s) override {
+    const int d = s.to.is_null() ? -1 : net->index_of(s.to);
+    if (d < 0 && !s.to.is_null()) return;  // nobody has that address: nothing to encode
+    net->transmit(index, d, std::make_shared<const agents::CdrSample>(agents::encode_cdr_sample(s)));
   }
 };
 
@@ -47,11 +47,11 @@ int VirtualNetwork::index_of(const agents::PeerId& id) const {
   return -1;
 }
 
-void VirtualNetwork::transmit(int from, int to, std::shared_ptr<const std::vector<std::uint8_t>> packet) {
+void VirtualNetwork::transmit(int from, int to, std::shared_ptr<const agents::CdrSample> sample) {
   if (!nodes_[from].up) return;  // a node that is down sends nothing (a host that fail-stopped)
   auto one = [&](int d) {
     ++stats_.messages;
-    stats_.bytes += packet->size();
+    stats_.bytes += sample->bytes.size();
     if (!nodes_[d].up || nodes_[d].group != nodes_[from].group || rng_.chance(faults_.loss)) {
       ++stats_.dropped;
       return;
@@ -70,7 +70,7 @@ void VirtualNetwork::transmit(int from, int to, std::shared_ptr<const std::vecto
       e.t = t;
       e.node = d;
       e.group = nodes_[from].group;
-      e.packet = packet;
+      e.sample = sample;
       push(std::move(e));
     }
   };
@@ -89,8 +89,8 @@ void VirtualNetwork::run_until(std::int64_t t_end) {
       e.fn();
     } else {
       Node& n = nodes_[e.node];
-      // A packet sent across a partition that formed meanwhile, or to a node now down, is lost.
-      if (n.up && n.group == e.group && n.receiver) n.receiver(*e.packet, now_);
+      // A sample sent across a partition that formed meanwhile, or to a node now down, is lost.
+      if (n.up && n.group == e.group && n.receiver) n.receiver(*e.sample, now_);
       else ++stats_.dropped;
     }
     if (after_event_) after_event_();

@@ -9,7 +9,6 @@
 #include <optional>
 #include <queue>
 
-#include "quiver/agents/replica/replication/packet_codec.h"
 #include "quiver/agents/rules/grammar/grammar_guard.h"
 #include "quiver/agents/rules/locks/locks.h"
 #include "quiver/base/hash.h"
@@ -430,8 +429,8 @@ class Simulation {
     agents::ReplicatorOptions opt = cfg_.replicator;
     opt.name = "agent" + std::to_string(i);
     a.replicator = std::make_unique<agents::Replicator>(*a.graph, net_.endpoint(i), opt);
-    net_.set_receiver(i, [this, i](std::span<const std::uint8_t> packet, std::int64_t now) {
-      agents_[i].replicator->on_packet(packet, now);
+    net_.set_receiver(i, [this, i](const agents::CdrSample& sample, std::int64_t now) {
+      agents::deliver_cdr_sample(*agents_[i].replicator, sample.topic, sample.bytes, now);
     });
     a.replicator->on_error([this, i](const Error& e) {
       const std::string line = "agent" + std::to_string(i) + " rejected: " + e.to_string();
@@ -691,7 +690,7 @@ class Simulation {
     const agents::ReplicatorStats& st = a.replicator->stats();
     result_.deltas_applied += st.deltas_applied;
     result_.states_applied += st.states_applied;
-    result_.rejected_packets += st.rejected_packets;
+    result_.rejected_samples += st.rejected;
     if (a.guard) {
       result_.violations_seen += a.guard->violations_seen();
       result_.repairs += a.guard->repairs_made();
@@ -771,7 +770,7 @@ std::string SimResult::to_json() const {
   j["partitions"] = partitions;
   j["deltas_applied"] = deltas_applied;
   j["states_applied"] = states_applied;
-  j["rejected_packets"] = rejected_packets;
+  j["rejected_samples"] = rejected_samples;
   j["final_nodes"] = final_nodes;
   j["final_edges"] = final_edges;
   if (moves + moves_refused > 0) {

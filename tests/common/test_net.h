@@ -1,6 +1,6 @@
 #pragma once
-// A hand-driven network of replicators for protocol tests: packets (real encoded bytes) wait in
-// a queue until the test delivers them, drops them, or advances time.
+// A hand-driven network of replicators for protocol tests: samples (their CDR bytes, exactly what
+// DDS ships) wait in a queue until the test delivers them, drops them, or advances time.
 
 #include <deque>
 #include <functional>
@@ -8,8 +8,8 @@
 #include <string>
 #include <vector>
 
-#include "quiver/agents/replica/replication/packet_codec.h"
 #include "quiver/agents/replica/replication/replicator.h"
+#include "quiver/agents/transport/wire/cdr_sample.h"
 
 namespace quiver::agents {
 
@@ -20,7 +20,7 @@ struct Net;
 struct Port : Transport {
   Net* net;
   int index;
-  void send(const Envelope& e) override;
+  void send(const Sample& s) override;
 };
 struct Node {
   std::unique_ptr<Graph> g;
@@ -31,7 +31,9 @@ struct Node {
 };
 struct Packet {
   int from, to;
-  std::vector<std::uint8_t> bytes;
+  CdrSample sample;
+  /// The sample it carries, decoded as a receiver would.
+  Sample decoded() const { return decode_cdr_sample(sample.topic, sample.bytes).value(); }
 };
 struct Net {
   std::vector<Node> nodes;
@@ -66,7 +68,7 @@ struct Net {
       Packet f = std::move(inflight.front());
       inflight.pop_front();
       if (drop && drop(f)) continue;
-      if (nodes[f.to].rep) nodes[f.to].rep->on_packet(f.bytes, now);
+      if (nodes[f.to].rep) deliver_cdr_sample(*nodes[f.to].rep, f.sample.topic, f.sample.bytes, now);
     }
   }
   void advance(std::int64_t ns, int ticks = 10) {
@@ -78,8 +80,8 @@ struct Net {
     }
   }
 };
-inline void Port::send(const Envelope& e) {
-  std::vector<std::uint8_t> f = encode_packet(e);
+inline void Port::send(const Sample& e) {
+  CdrSample f = encode_cdr_sample(e);
   if (e.to.is_null()) {
     for (std::size_t i = 0; i < net->nodes.size(); ++i)
       if (static_cast<int>(i) != index) net->inflight.push_back(Packet{index, static_cast<int>(i), f});

@@ -1,4 +1,4 @@
-// Seeded mutation fuzzing with any compiler: valid inputs (real deltas, packets and world files)
+// Seeded mutation fuzzing with any compiler: valid inputs (real deltas, CDR samples and world files)
 // are mutated (bit flips, truncation, insertion, splicing of numbers) and fed to the same fuzz
 // targets the libFuzzer binaries use. Deterministic per seed.
 
@@ -15,7 +15,6 @@
 #include "quiver/agents/view/recording/record_file.h"
 #include "quiver/graph/graph.h"
 #include "quiver/agents/transport/wire/cdr_sample.h"
-#include "quiver/agents/replica/replication/packet_codec.h"
 #include "quiver/agents/replica/replication/replicator.h"
 #include "quiver/graph/codec.h"
 #include "quiver/base/rng.h"
@@ -109,7 +108,7 @@ TEST(FuzzSmokeTest, Regressions) {
       [](const std::uint8_t* d, std::size_t n) { return dds_sample(2, d, n); },
       [](const std::uint8_t* d, std::size_t n) { return dds_sample(3, d, n); },
       [](const std::uint8_t* d, std::size_t n) { return dds_sample(4, d, n); }};
-  for (Target t : {Target{"graph_delta", graph_delta}, Target{"replication_packet", replication_packet},
+  for (Target t : {Target{"graph_delta", graph_delta}, Target{"replication_samples", replication_samples},
                    Target{"world_file", world_file}, Target{"grammar_file", grammar_file},
                    Target{"recording_file", recording_file}, Target{"dsr_file", dsr_file},
                    Target{"agm_file", agm_file}, Target{"mission_file", mission_file},
@@ -286,33 +285,44 @@ TEST(FuzzSmokeTest, GraphDeltaDecoder) {
   EXPECT_LT(accepted, n) << "some mutations must be rejected";
 }
 
-TEST(FuzzSmokeTest, ReplicationPackets) {
-  const auto base = quiver::testing::base_seed("FuzzSmokeTest.ReplicationPackets", 78);
+// A session as a replica receives it: the samples one replicator sends while its graph churns,
+// framed as the replication_samples target reads them, mutated.
+TEST(FuzzSmokeTest, ReplicationSamples) {
+  const auto base = quiver::testing::base_seed("FuzzSmokeTest.ReplicationSamples", 78);
   Rng rng(base);
-  // Real packets: capture what a replicator sends while its graph churns.
   struct Capture : agents::Transport {
-    std::vector<std::vector<std::uint8_t>> packets;
-    void send(const agents::Envelope& e) override { packets.push_back(agents::encode_packet(e)); }
+    std::vector<std::uint8_t> stream;
+    void send(const agents::Sample& s) override {
+      const agents::CdrSample c = agents::encode_cdr_sample(s);
+      if (c.bytes.size() > 0xffff) return;  // a record holds up to 64 KiB
+      stream.push_back(static_cast<std::uint8_t>(c.topic));
+      stream.push_back(static_cast<std::uint8_t>(c.bytes.size() & 0xff));
+      stream.push_back(static_cast<std::uint8_t>(c.bytes.size() >> 8));
+      stream.insert(stream.end(), c.bytes.begin(), c.bytes.end());
+    }
   } cap;
   graph::Graph g(graph::ReplicaId{9, 1});
   agents::Replicator rep(g, cap);
   rep.start(0);
   sim::Churn churn;
+  std::vector<std::vector<std::uint8_t>> sessions;
   for (int i = 0; i < 30; ++i) {
     churn.step(g, rng, i);
     rep.tick(i * 100'000'000LL);
+    if (i % 10 == 9) sessions.push_back(std::exchange(cap.stream, {}));
   }
-  ASSERT_FALSE(cap.packets.empty());
-  maybe_save("packet", cap.packets);
-  for (const auto& f : cap.packets) ASSERT_TRUE(replication_packet(f.data(), f.size()));
+  ASSERT_FALSE(sessions.front().empty());
+  maybe_save("samples", sessions);
+  for (const auto& s : sessions) ASSERT_TRUE(replication_samples(s.data(), s.size()));
   int accepted = 0;
-  const int n = 50000;
+  const int n = 3000;
   for (int i = 0; i < n; ++i) {
-    auto m = mutate(rng.pick(cap.packets), rng);
-    accepted += replication_packet(m.data(), m.size());
+    auto m = mutate(rng.pick(sessions), rng);
+    accepted += replication_samples(m.data(), m.size());
   }
-  std::printf("[fuzz] %d of %d mutated packets accepted\n", accepted, n);
+  std::printf("[fuzz] %d of %d mutated sample streams accepted\n", accepted, n);
   EXPECT_GT(accepted, n / 50);
+  EXPECT_LT(accepted, n) << "some mutations must be rejected";
 }
 
 // The CDR samples a rogue can publish on each DDS topic: real samples (from a churning
@@ -321,8 +331,8 @@ TEST(FuzzSmokeTest, DdsSamples) {
   const auto base = quiver::testing::base_seed("FuzzSmokeTest.DdsSamples", 81);
   Rng rng(base);
   struct Capture : agents::Transport {
-    std::vector<agents::Envelope> envelopes;
-    void send(const agents::Envelope& e) override { envelopes.push_back(e); }
+    std::vector<agents::Sample> samples;
+    void send(const agents::Sample& s) override { samples.push_back(s); }
   } cap;
   graph::Graph g(graph::ReplicaId{9, 1});
   agents::Replicator rep(g, cap);
@@ -333,22 +343,19 @@ TEST(FuzzSmokeTest, DdsSamples) {
     rep.tick(i * 100'000'000LL);
   }
   // Messages of every kind: pulls, state chunks and a goodbye too.
-  agents::Envelope extra;
-  extra.from = g.replica();
-  extra.to = graph::ReplicaId{3, 1};
-  extra.messages.push_back(agents::PullMsg{7, agents::to_ranges(rep.applied()), agents::to_ranges(g.context())});
-  extra.messages.push_back(agents::StateMsg{7, 0, 1, agents::to_ranges(rep.applied()),
-                                            std::make_shared<const std::vector<std::uint8_t>>(graph::encode(g.state()))});
-  extra.messages.push_back(agents::ByeMsg{});
-  cap.envelopes.push_back(extra);
+  const graph::ReplicaId to{3, 1};
+  cap.samples.push_back(
+      {g.replica(), to, agents::PullMsg{7, agents::to_ranges(rep.applied()), agents::to_ranges(g.context())}});
+  cap.samples.push_back({g.replica(), to,
+                         agents::StateMsg{7, 0, 1, agents::to_ranges(rep.applied()),
+                                          std::make_shared<const std::vector<std::uint8_t>>(graph::encode(g.state()))}});
+  cap.samples.push_back({g.replica(), to, agents::ByeMsg{}});
   std::vector<std::vector<std::vector<std::uint8_t>>> corpus(agents::kDdsTopicCount);
-  for (const agents::Envelope& e : cap.envelopes)
-    for (const agents::Message& m : e.messages) {
-      agents::Envelope one{e.from, e.to, {m}};
-      const auto t = static_cast<std::size_t>(agents::topic_of(m));
-      for (int xcdr : {1, 2})
-        for (bool le : {true, false}) corpus[t].push_back(agents::encode_cdr_sample(one, xcdr, le));
-    }
+  for (const agents::Sample& one : cap.samples) {
+    const auto t = static_cast<std::size_t>(agents::topic_of(one.message));
+    for (int xcdr : {1, 2})
+      for (bool le : {true, false}) corpus[t].push_back(agents::encode_cdr_sample(one, xcdr, le).bytes);
+  }
   static constexpr const char* kDirs[] = {"dds_summary", "dds_delta", "dds_pull", "dds_state", "dds_bye"};
   for (std::size_t t = 0; t < corpus.size(); ++t) {
     ASSERT_FALSE(corpus[t].empty()) << kDirs[t];

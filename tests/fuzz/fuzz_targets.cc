@@ -47,7 +47,7 @@ void populate(Graph& g) {
 }
 
 struct NullTransport : agents::Transport {
-  void send(const agents::Envelope&) override {}
+  void send(const agents::Sample&) override {}
 };
 
 }  // namespace
@@ -72,16 +72,35 @@ bool graph_delta(const std::uint8_t* data, std::size_t size) {
   return true;
 }
 
-bool replication_packet(const std::uint8_t* data, std::size_t size) {
+bool replication_samples(const std::uint8_t* data, std::size_t size) {
   Graph g(ReplicaId{1, 1});
   populate(g);
   NullTransport t;
   agents::Replicator rep(g, t);
   rep.start(0);
-  rep.on_packet(std::span<const std::uint8_t>(data, size), 1000);
-  rep.tick(2'000'000'000);
-  check(g, "replication_packet");
-  return rep.stats().rejected_packets == 0;
+  std::int64_t now = 1000;
+  bool framed = true;
+  std::size_t at = 0;
+  while (at < size) {
+    if (size - at < 3 || data[at] >= agents::kDdsTopicCount) {
+      framed = false;
+      break;
+    }
+    const auto topic = static_cast<agents::DdsTopic>(data[at]);
+    const std::size_t len = data[at + 1] | (std::size_t{data[at + 2]} << 8);
+    at += 3;
+    if (len > size - at) {
+      framed = false;
+      break;
+    }
+    agents::deliver_cdr_sample(rep, topic, std::span<const std::uint8_t>(data + at, len), now);
+    at += len;
+    now += 30'000'000;
+    rep.tick(now);
+  }
+  rep.tick(now + 2'000'000'000);
+  check(g, "replication_samples");
+  return framed && rep.stats().rejected == 0;
 }
 
 bool dds_sample(int topic, const std::uint8_t* data, std::size_t size) {
@@ -95,10 +114,10 @@ bool dds_sample(int topic, const std::uint8_t* data, std::size_t size) {
   NullTransport t;
   agents::Replicator rep(g, t);
   rep.start(0);
-  rep.on_envelope(*e, 1000);
+  rep.on_sample(*e, 1000);
   rep.tick(2'000'000'000);
   check(g, "dds_sample");
-  return rep.stats().rejected_packets == 0;
+  return rep.stats().rejected == 0;
 }
 
 bool grammar_file(const std::uint8_t* data, std::size_t size) {

@@ -11,8 +11,10 @@ namespace quiver::fuzz {
 
 /// Graph delta / state decoder, then merge into a populated replica.
 bool graph_delta(const std::uint8_t* data, std::size_t size);
-/// Replication frames fed to a Replicator.
-bool replication_packet(const std::uint8_t* data, std::size_t size);
+/// A stream of serialized CDR samples (records: topic u8, length u16 LE, the sample's bytes) fed
+/// one by one to a Replicator, as a transport delivers them, with time passing between them: the
+/// protocol's states a session reaches. Accepted = every record framed and no sample rejected.
+bool replication_samples(const std::uint8_t* data, std::size_t size);
 /// JSON world files loaded into a replica.
 bool world_file(const std::uint8_t* data, std::size_t size);
 /// Grammar files: parsed, then used to check a transaction and search for violations.
@@ -28,11 +30,11 @@ bool dsr_file(const std::uint8_t* data, std::size_t size);
 bool agm_file(const std::uint8_t* data, std::size_t size);
 /// A durable store's log record or snapshot (agents/replica/store/records.h), raw and with a valid checksum.
 bool store_record(const std::uint8_t* data, std::size_t size);
-/// A .qrec recording: refused with a message, or every frame replays into a graph.
+/// A .qrec recording: refused with a message, or every recorded change replays into a graph.
 bool recording_file(const std::uint8_t* data, std::size_t size);
 /// Serialized CDR samples of one DDS topic (0 summary, 1 delta, 2 pull, 3 state, 4 bye), as a rogue
 /// participant can publish them: decoded as Cyclone would, then validated and handled by a
-/// replicator. Accepted = the replicator took the envelope without rejecting it.
+/// replicator. Accepted = the replicator took the sample without rejecting it.
 bool dds_sample(int topic, const std::uint8_t* data, std::size_t size);
 
 }  // namespace quiver::fuzz

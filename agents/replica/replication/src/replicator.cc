@@ -2,7 +2,6 @@
 
 #include <algorithm>
 
-#include "quiver/agents/replica/replication/packet_codec.h"
 #include "quiver/graph/codec.h"
 
 namespace quiver::agents::inline replica {
@@ -123,34 +122,22 @@ Result<bool> Replicator::seed(const graph::GraphDelta& d) {
   return true;
 }
 
-// ------------------------------------------------------------------ envelopes
+// ------------------------------------------------------------------ samples
 
-void Replicator::queue(const PeerId& to, Message msg) { outbox_.push_back(Outgoing{to, std::move(msg)}); }
+void Replicator::queue(const PeerId& to, Message msg) { outbox_.push_back(Sample{self_, to, std::move(msg)}); }
 
+// One sample per message, in the order they were queued: what DDS ships is what the simulator
+// carries, and nothing here batches what a transport would have to split again.
 void Replicator::send_queued() {
-  std::size_t i = 0;
-  while (i < outbox_.size()) {
-    Envelope e;
-    e.from = self_;
-    e.to = outbox_[i].to;
-    // Batch consecutive messages to the same destination up to the packet limit.
-    std::size_t bytes = 0;
-    while (i < outbox_.size() && outbox_[i].to == e.to) {
-      std::size_t sz = approx_size(outbox_[i].msg);
-      if (!e.messages.empty() && bytes + sz > opt_.max_packet_bytes) break;
-      bytes += sz;
-      e.messages.push_back(std::move(outbox_[i].msg));
-      ++i;
-    }
-    ++stats_.envelopes_sent;
-    stats_.bytes_sent_estimate += bytes;
-    t_.send(e);
+  for (const Sample& s : outbox_) {
+    ++stats_.samples_sent;
+    t_.send(s);
   }
   outbox_.clear();
 }
 
 void Replicator::reject(const Error& e) {
-  ++stats_.rejected_packets;
+  ++stats_.rejected;
   if (error_cb_) error_cb_(e);
 }
 
@@ -159,24 +146,16 @@ void Replicator::equivocation(const std::string& what) {
   if (error_cb_) error_cb_(make_error(ErrorCode::kEquivocation, what));
 }
 
-void Replicator::on_packet(std::span<const std::uint8_t> packet, std::int64_t now_ns) {
-  auto e = decode_packet(packet);
-  if (!e.ok()) {
-    now_ = std::max(now_, now_ns);
-    return reject(e.error());
-  }
-  on_envelope(*e, now_ns);
-}
+void Replicator::on_undecodable(const Error& e) { reject(e); }
 
-void Replicator::on_envelope(const Envelope& e, std::int64_t now_ns) {
+void Replicator::on_sample(const Sample& s, std::int64_t now_ns) {
   now_ = std::max(now_, now_ns);
-  if (e.from == self_ || e.from.is_null()) return;
-  if (!e.to.is_null() && !(e.to == self_)) return;
-  if (Status s = validate(e, opt_.limits); !s.ok()) return reject(s.error());
-  ++stats_.envelopes_received;
-  Peer* p = heard_from(e.from);
-  if (p == nullptr) return;
-  for (const Message& m : e.messages) std::visit([&](const auto& msg) { handle(e.from, msg); }, m);
+  if (s.from == self_ || s.from.is_null()) return;
+  if (!s.to.is_null() && !(s.to == self_)) return;
+  if (Status st = validate(s, opt_.limits); !st.ok()) return reject(st.error());
+  ++stats_.samples_received;
+  if (heard_from(s.from) == nullptr) return;
+  std::visit([&](const auto& msg) { handle(s.from, msg); }, s.message);
   if (announce_soon_) {
     announce_soon_ = false;
     send_summary();
@@ -291,6 +270,7 @@ void Replicator::send_summary(bool with_digest) {
   if (with_digest && pending_lo_ == 0) m.digest = state_digest();
   queue(PeerId{}, std::move(m));
 }
+
 
 std::uint64_t Replicator::state_digest() {
   if (digest_version_ != state_version_) {

@@ -11,7 +11,7 @@ namespace {
 
 std::string num(std::uint64_t v) { return std::to_string(v); }
 
-Status ranges(const RangeList& r, const char* field, const EnvelopeLimits& lim) {
+Status ranges(const RangeList& r, const char* field, const SampleLimits& lim) {
   if (r.size() > lim.max_ranges)
     return make_error(ErrorCode::kTooLarge, std::string(field) + " holds " + num(r.size()) + " ranges (the limit is " +
                                                 num(lim.max_ranges) + ")");
@@ -34,7 +34,7 @@ Status bytes(const Bytes& b, const char* field, std::size_t max) {
   return {};
 }
 
-Status check(const SummaryMsg& m, const EnvelopeLimits& lim) {
+Status check(const SummaryMsg& m, const SampleLimits& lim) {
   if (m.name.size() > lim.max_name_bytes)
     return make_error(ErrorCode::kTooLarge, "the agent name is " + num(m.name.size()) + " bytes (the limit is " +
                                                 num(lim.max_name_bytes) + ")");
@@ -42,7 +42,7 @@ Status check(const SummaryMsg& m, const EnvelopeLimits& lim) {
   return ranges(m.applied, "its applied set", lim);
 }
 
-Status check(const DeltaMsg& m, const EnvelopeLimits& lim) {
+Status check(const DeltaMsg& m, const SampleLimits& lim) {
   if (m.origin.is_null()) return make_error(ErrorCode::kMalformed, "the origin is null");
   if (m.lo == 0 || m.hi < m.lo || m.hi > crdt::kMaxCounter)
     return make_error(ErrorCode::kMalformed, "the sequence numbers [" + num(m.lo) + ", " + num(m.hi) + "] of " +
@@ -58,12 +58,12 @@ Status check(const DeltaMsg& m, const EnvelopeLimits& lim) {
   return bytes(m.payload, "the payload", lim.max_payload_bytes);
 }
 
-Status check(const PullMsg& m, const EnvelopeLimits& lim) {
+Status check(const PullMsg& m, const SampleLimits& lim) {
   if (Status s = ranges(m.applied, "its applied set", lim); !s.ok()) return s;
   return ranges(m.context, "its context", lim);
 }
 
-Status check(const StateMsg& m, const EnvelopeLimits& lim) {
+Status check(const StateMsg& m, const SampleLimits& lim) {
   if (m.count == 0 || m.count > lim.max_chunks)
     return make_error(ErrorCode::kTooLarge, "it announces " + num(m.count) + " chunks (the limit is " +
                                                 num(lim.max_chunks) + ")");
@@ -73,22 +73,16 @@ Status check(const StateMsg& m, const EnvelopeLimits& lim) {
   return bytes(m.chunk, "the chunk", lim.max_chunk_bytes);
 }
 
-Status check(const ByeMsg&, const EnvelopeLimits&) { return {}; }
+Status check(const ByeMsg&, const SampleLimits&) { return {}; }
 
 }  // namespace
 
-Status validate(const Envelope& e, const EnvelopeLimits& lim) {
-  if (e.from.is_null()) return make_error(ErrorCode::kMalformed, "an envelope from the null replica");
-  const std::string who = "from " + e.from.to_string() + ": ";
-  if (e.messages.size() > lim.max_messages)
-    return make_error(ErrorCode::kTooLarge, who + num(e.messages.size()) + " messages in one envelope (the limit is " +
-                                                num(lim.max_messages) + ")");
-  for (std::size_t i = 0; i < e.messages.size(); ++i) {
-    const Message& m = e.messages[i];
-    Status s = std::visit([&](const auto& msg) { return check(msg, lim); }, m);
-    if (!s.ok())
-      return make_error(s.error().code, who + message_kind(m) + " message " + num(i) + ": " + s.error().message);
-  }
+Status validate(const Sample& s, const SampleLimits& lim) {
+  if (s.from.is_null()) return make_error(ErrorCode::kMalformed, "a sample from the null replica");
+  Status st = std::visit([&](const auto& msg) { return check(msg, lim); }, s.message);
+  if (!st.ok())
+    return make_error(st.error().code,
+                      "from " + s.from.to_string() + ": " + message_kind(s.message) + ": " + st.error().message);
   return {};
 }
 

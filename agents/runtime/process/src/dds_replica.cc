@@ -98,7 +98,7 @@ void DdsReplica::spin_once(std::int64_t max_wait_ns) {
   std::int64_t wait = std::min(max_wait_ns, next_tick_ - now);
   if (!timers_.empty()) wait = std::min(wait, timers_.top().due - now);
   if (wait > 0) transport_->wait(wait);
-  transport_->drain([&](const Envelope& e) { replicator_->on_envelope(e, monotonic_ns()); },
+  transport_->drain([&](const Sample& s) { replicator_->on_sample(s, monotonic_ns()); },
                     [&](const PeerId& p, bool gone) { replicator_->on_peer_lost(p, gone); });
   // A newcomer matched: announce ourselves now so it does not wait for a heartbeat.
   if (transport_->take_new_match()) replicator_->announce();

@@ -47,7 +47,7 @@ nlohmann::json status(Agent& agent, DdsReplica& r, const AgentRuntime& rt) {
   j["pulls_sent"] = st.pulls_sent;  // with states_applied: a state transfer is under way (crash tests)
   j["state_answers"] = st.pulls_answered_with_state;
   j["write_timeouts"] = r.transport().stats().write_timeouts;
-  j["rejected"] = st.rejected_packets;
+  j["rejected"] = st.rejected;
   j["equivocations"] = st.equivocations;
   j["divergences"] = st.divergences;
   j["refused"] = st.deltas_refused + st.states_refused;  // by the graph-level permissions (docs/security.md)

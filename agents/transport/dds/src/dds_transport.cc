@@ -244,7 +244,7 @@ struct DdsTransport::Impl {
   // Entities the last wait() saw triggered (their attach args); drain() takes only from these.
   std::vector<dds_attach_t> triggered;
   bool all_triggered = true;  // before the first wait (or after a timeout): take from all
-  dds_samples::SampleBuilder builder;
+  wire::SampleBuilder builder;
 
   ~Impl() {
     // Children first, then the participant; a shared domain is released when its last user goes.
@@ -382,7 +382,7 @@ Result<std::unique_ptr<DdsTransport>> DdsTransport::create(const PeerId& self, c
   for (int i = 0; i < Impl::kKinds; ++i) {
     const auto topic = static_cast<DdsTopic>(i);
     const std::string what = std::string("(") + topic_name(topic) + ")";
-    dds_entity_t tp = dds_create_topic(pp, &dds_samples::descriptor(topic), topic_name(topic), nullptr, nullptr);
+    dds_entity_t tp = dds_create_topic(pp, &wire::descriptor(topic), topic_name(topic), nullptr, nullptr);
     if (tp < 0) return dds_error("DdsTransport: dds_create_topic" + what, tp);
     d.topics[i] = Entity(tp);
     const Qos& q = i == Impl::kSummary ? summary : reliable;
@@ -421,15 +421,13 @@ Result<std::unique_ptr<DdsTransport>> DdsTransport::create(const PeerId& self, c
 
 DdsTransport::~DdsTransport() = default;
 
-void DdsTransport::send(const Envelope& e) {
+void DdsTransport::send(const Sample& s) {
   Impl& d = *impl_;
-  for (const Message& m : e.messages) {
-    auto [topic, sample] = d.builder.build(m, self_, e.to);
-    dds_return_t rc = dds_write(d.writers[static_cast<int>(topic)].get(), sample);
-    if (rc == DDS_RETCODE_OK) ++stats_.samples_written;
-    else if (rc == DDS_RETCODE_TIMEOUT) ++stats_.write_timeouts;  // the protocol recovers it
-    else ++stats_.write_errors;
-  }
+  auto [topic, sample] = d.builder.build(s.message, self_, s.to);
+  dds_return_t rc = dds_write(d.writers[static_cast<int>(topic)].get(), sample);
+  if (rc == DDS_RETCODE_OK) ++stats_.samples_written;
+  else if (rc == DDS_RETCODE_TIMEOUT) ++stats_.write_timeouts;  // the protocol recovers it
+  else ++stats_.write_errors;
 }
 
 void DdsTransport::wait(std::int64_t timeout_ns) {
@@ -470,7 +468,7 @@ void DdsTransport::dispose_self() {
   dds_dispose(impl_->writers[Impl::kSummary].get(), &key);
 }
 
-void DdsTransport::drain(const std::function<void(const Envelope&)>& on_envelope,
+void DdsTransport::drain(const std::function<void(const Sample&)>& on_sample,
                          const std::function<void(const PeerId&, bool)>& on_lost) {
   Impl& d = *impl_;
   bool triggered = false;
@@ -515,14 +513,14 @@ void DdsTransport::drain(const std::function<void(const Envelope&)>& on_envelope
       }
       return;
     }
-    on_envelope(dds_samples::envelope_of(*s));
+    on_sample(wire::sample_of(*s));
   });
   // The other topics: samples addressed to someone else are skipped.
   auto take_topic = [&](Impl::Kind kind) {
     take_all(d.readers[kind], [&](void* p, const dds_sample_info_t& info) {
       if (!info.valid_data) return;
-      Envelope e = dds_samples::envelope_of(static_cast<DdsTopic>(kind), p);
-      if (for_us(e.to)) on_envelope(e);
+      Sample e = wire::sample_of(static_cast<DdsTopic>(kind), p);
+      if (for_us(e.to)) on_sample(e);
     });
   };
   take_topic(Impl::kDelta);

@@ -7,6 +7,7 @@
 #include <cstring>
 #include <memory>
 
+#include "quiver/agents/replica/replication/replicator.h"
 #include "samples.h"
 
 namespace quiver::agents::inline transport {
@@ -37,8 +38,8 @@ DdsTopic topic_of(const Message& m) {
   return kTopics[m.index()];
 }
 
-Result<Envelope> decode_cdr_sample(DdsTopic topic, std::span<const std::uint8_t> bytes) {
-  const dds_topic_descriptor_t& desc = dds_samples::descriptor(topic);
+Result<Sample> decode_cdr_sample(DdsTopic topic, std::span<const std::uint8_t> bytes) {
+  const dds_topic_descriptor_t& desc = wire::descriptor(topic);
   if (bytes.size() < 4) return bad(ErrorCode::kTruncated, topic, "shorter than its 4-byte header");
   // The representation id (big-endian): XCDR1 00 00/00 01, XCDR2 00 06/00 07 (low bit: LE).
   if (bytes[0] != 0) return bad(ErrorCode::kMalformed, topic, "unknown representation");
@@ -71,27 +72,33 @@ Result<Envelope> decode_cdr_sample(DdsTopic topic, std::span<const std::uint8_t>
   dds_istream_init(&is, used, buf.get(), xcdr);
   (void)dds_stream_read(&is, static_cast<char*>(sample.get()), desc.m_ops);
   dds_istream_fini(&is);
-  Envelope e = dds_samples::envelope_of(topic, sample.get());
+  Sample e = wire::sample_of(topic, sample.get());
   dds_stream_free_sample(sample.get(), desc.m_ops);
   return e;
 }
 
-std::vector<std::uint8_t> encode_cdr_sample(const Envelope& e, int xcdr_version, bool little_endian) {
-  dds_samples::SampleBuilder b;
-  auto [topic, sample] = b.build(e.messages.front(), e.from, e.to);
-  const dds_topic_descriptor_t& desc = dds_samples::descriptor(topic);
+CdrSample encode_cdr_sample(const Sample& s, int xcdr_version, bool little_endian) {
+  wire::SampleBuilder b;
+  auto [topic, sample] = b.build(s.message, s.from, s.to);
+  const dds_topic_descriptor_t& desc = wire::descriptor(topic);
   const auto xcdr = static_cast<std::uint32_t>(xcdr_version == 2 ? 2 : 1);
   dds_ostream_t os;
   dds_ostream_init(&os, 0, xcdr);
   (void)dds_stream_write_with_byte_order(&os, static_cast<const char*>(sample), desc.m_ops,
                                          little_endian ? DDSRT_BOSEL_LE : DDSRT_BOSEL_BE);
   const std::uint32_t len = os.m_index, pad = (4 - (len & 3)) & 3;  // a multiple of 4, as DDSI sends
-  std::vector<std::uint8_t> out(4 + len + pad, 0);
-  out[1] = static_cast<std::uint8_t>((xcdr == 2 ? 0x06 : 0x00) | (little_endian ? 1 : 0));
-  out[3] = static_cast<std::uint8_t>(pad);
-  if (len > 0) std::memcpy(out.data() + 4, os.m_buffer, len);
+  CdrSample out{topic, std::vector<std::uint8_t>(4 + len + pad, 0)};
+  out.bytes[1] = static_cast<std::uint8_t>((xcdr == 2 ? 0x06 : 0x00) | (little_endian ? 1 : 0));
+  out.bytes[3] = static_cast<std::uint8_t>(pad);
+  if (len > 0) std::memcpy(out.bytes.data() + 4, os.m_buffer, len);
   dds_ostream_fini(&os);
   return out;
+}
+
+void deliver_cdr_sample(Replicator& r, DdsTopic topic, std::span<const std::uint8_t> bytes, std::int64_t now_ns) {
+  auto s = decode_cdr_sample(topic, bytes);
+  if (s.ok()) r.on_sample(*s, now_ns);
+  else r.on_undecodable(s.error());
 }
 
 }  // namespace quiver::agents

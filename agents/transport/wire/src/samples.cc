@@ -2,7 +2,7 @@
 
 #include <type_traits>
 
-namespace quiver::agents::inline transport::dds_samples {
+namespace quiver::agents::inline transport::wire {
 namespace {
 
 void read_ranges(const dds_sequence_quiver_wire_ReplicaRanges& in, RangeList& out) {
@@ -28,12 +28,8 @@ std::shared_ptr<const std::vector<std::uint8_t>> copy_octets(const dds_sequence_
 }
 
 template <class T>
-Envelope addressed(const T& s, Message m) {
-  Envelope e;
-  e.from = from_wire(s.sender);
-  e.to = from_wire(s.destination);
-  e.messages.push_back(std::move(m));
-  return e;
+Sample addressed(const T& s, Message m) {
+  return Sample{from_wire(s.sender), from_wire(s.destination), std::move(m)};
 }
 
 }  // namespace
@@ -45,25 +41,22 @@ const dds_topic_descriptor_t& descriptor(DdsTopic t) {
   return *kDescs[static_cast<std::size_t>(t)];
 }
 
-Envelope envelope_of(const quiver_wire_Summary& s) {
-  Envelope e;
-  e.from = PeerId{s.sender_agent, s.sender_incarnation};
+Sample sample_of(const quiver_wire_Summary& s) {
   SummaryMsg m;
   m.name = s.name ? s.name : "";
   m.observer = s.observer;
   m.digest = s.digest;
   read_ranges(s.applied, m.applied);
-  e.messages.emplace_back(std::move(m));
-  return e;
+  return Sample{PeerId{s.sender_agent, s.sender_incarnation}, PeerId{}, std::move(m)};
 }
 
-Envelope envelope_of(const quiver_wire_Delta& s) {
+Sample sample_of(const quiver_wire_Delta& s) {
   DeltaMsg m{from_wire(s.origin), s.lo, s.hi, copy_octets(s.payload), nullptr};
   if (s.signature._length > 0) m.signature = copy_octets(s.signature);
   return addressed(s, std::move(m));
 }
 
-Envelope envelope_of(const quiver_wire_Pull& s) {
+Sample sample_of(const quiver_wire_Pull& s) {
   PullMsg m;
   m.request = s.request;
   read_ranges(s.applied, m.applied);
@@ -73,7 +66,7 @@ Envelope envelope_of(const quiver_wire_Pull& s) {
   return addressed(s, std::move(m));
 }
 
-Envelope envelope_of(const quiver_wire_StateChunk& s) {
+Sample sample_of(const quiver_wire_StateChunk& s) {
   StateMsg m;
   m.request = s.request;
   m.index = s.index;
@@ -83,22 +76,19 @@ Envelope envelope_of(const quiver_wire_StateChunk& s) {
   return addressed(s, std::move(m));
 }
 
-Envelope envelope_of(const quiver_wire_Bye& s) {
-  Envelope e;
-  e.from = from_wire(s.sender);
-  e.messages.emplace_back(ByeMsg{});
-  return e;
+Sample sample_of(const quiver_wire_Bye& s) {
+  return Sample{from_wire(s.sender), PeerId{}, ByeMsg{}};
 }
 
-Envelope envelope_of(DdsTopic t, const void* p) {
+Sample sample_of(DdsTopic t, const void* p) {
   switch (t) {
-    case DdsTopic::kSummary: return envelope_of(*static_cast<const quiver_wire_Summary*>(p));
-    case DdsTopic::kDelta: return envelope_of(*static_cast<const quiver_wire_Delta*>(p));
-    case DdsTopic::kPull: return envelope_of(*static_cast<const quiver_wire_Pull*>(p));
-    case DdsTopic::kState: return envelope_of(*static_cast<const quiver_wire_StateChunk*>(p));
+    case DdsTopic::kSummary: return sample_of(*static_cast<const quiver_wire_Summary*>(p));
+    case DdsTopic::kDelta: return sample_of(*static_cast<const quiver_wire_Delta*>(p));
+    case DdsTopic::kPull: return sample_of(*static_cast<const quiver_wire_Pull*>(p));
+    case DdsTopic::kState: return sample_of(*static_cast<const quiver_wire_StateChunk*>(p));
     case DdsTopic::kBye: break;
   }
-  return envelope_of(*static_cast<const quiver_wire_Bye*>(p));
+  return sample_of(*static_cast<const quiver_wire_Bye*>(p));
 }
 
 dds_sequence_quiver_wire_ReplicaRanges SampleBuilder::Ranges::build(const RangeList& c) {
@@ -166,4 +156,4 @@ std::pair<DdsTopic, const void*> SampleBuilder::build(const Message& m, const Pe
       m);
 }
 
-}  // namespace quiver::agents::inline transport::dds_samples
+}  // namespace quiver::agents::inline transport::wire

@@ -1,7 +1,8 @@
 #pragma once
-// Private: the protocol's messages as IDL samples and back, in one place. The transport, the
-// domain-free CDR codec (fuzzers) and nothing else use these. Received samples become envelopes
-// exactly as they arrived: validate() (replication/validate.h) judges them, for every transport.
+// Private: the protocol's messages as IDL samples and back, in one place. The DDS transport and
+// the CDR codec (cdr_sample.h: the simulator, the fuzzers) use these. Received samples become
+// Samples exactly as they arrived: validate() (replication/validate.h) judges them, for every
+// transport.
 
 #include <dds/dds.h>
 
@@ -13,21 +14,21 @@
 #include "quiver/agents/replica/replication/messages.h"
 #include "quiver_wire.h"
 
-namespace quiver::agents::inline transport::dds_samples {
+namespace quiver::agents::inline transport::wire {
 
 const dds_topic_descriptor_t& descriptor(DdsTopic t);
 
 inline quiver_wire_Replica to_wire(const PeerId& p) { return quiver_wire_Replica{p.agent, p.incarnation}; }
 inline PeerId from_wire(const quiver_wire_Replica& r) { return PeerId{r.agent, r.incarnation}; }
 
-// Received samples -> envelopes (the destination is kept: the caller filters).
-Envelope envelope_of(const quiver_wire_Summary& s);
-Envelope envelope_of(const quiver_wire_Delta& s);
-Envelope envelope_of(const quiver_wire_Pull& s);
-Envelope envelope_of(const quiver_wire_StateChunk& s);
-Envelope envelope_of(const quiver_wire_Bye& s);
-/// The envelope of a sample of `t` (a pointer to the type of that topic).
-Envelope envelope_of(DdsTopic t, const void* sample);
+// Received IDL samples -> Samples (the destination is kept: the caller filters).
+Sample sample_of(const quiver_wire_Summary& s);
+Sample sample_of(const quiver_wire_Delta& s);
+Sample sample_of(const quiver_wire_Pull& s);
+Sample sample_of(const quiver_wire_StateChunk& s);
+Sample sample_of(const quiver_wire_Bye& s);
+/// The Sample of an IDL sample of `t` (a pointer to the type of that topic).
+Sample sample_of(DdsTopic t, const void* sample);
 
 /// Builds the sample of one message. The sample points into the message (strings, payloads) and
 /// into this builder's arrays, which are reused: after the first few, building allocates nothing.
@@ -52,4 +53,4 @@ class SampleBuilder {
   quiver_wire_Bye bye_{};
 };
 
-}  // namespace quiver::agents::inline transport::dds_samples
+}  // namespace quiver::agents::inline transport::wire

@@ -1,7 +1,8 @@
 #pragma once
 /// @file
 /// The simulated world's clock and network, shared by every simulation: one event queue in
-/// virtual time, and a network of nodes that exchange real encoded packets (packet_codec.h) with
+/// virtual time, and a network of nodes that exchange the samples DDS would ship (their CDR
+/// bytes, agents/transport/wire/cdr_sample.h), one message each, with
 /// per-link loss, duplication, delay and reordering, partitions (nodes in different groups do not
 /// hear each other) and nodes that are down. Deterministic: every draw comes from the one Rng it
 /// is given, and events at equal times run in the order they were scheduled.
@@ -14,14 +15,15 @@
 #include <vector>
 
 #include "quiver/agents/replica/replication/transport.h"
+#include "quiver/agents/transport/wire/cdr_sample.h"
 #include "quiver/base/rng.h"
 
 namespace quiver::sim {
 
 struct FaultConfig {
-  double loss = 0.0;                 ///< probability a packet is dropped on a link
-  double dup = 0.0;                  ///< probability a packet is delivered twice
-  bool reorder = false;              ///< packets on a link may overtake each other
+  double loss = 0.0;                 ///< probability a sample is dropped on a link
+  double dup = 0.0;                  ///< probability a sample is delivered twice
+  bool reorder = false;              ///< samples on a link may overtake each other
   bool partitions = false;           ///< split the agents into groups for a while, then heal
   bool crashes = false;              ///< kill agents (state lost) and restart them later
   std::int64_t delay_min_ns = 100'000;
@@ -30,15 +32,15 @@ struct FaultConfig {
 };
 
 struct NetworkStats {
-  std::uint64_t messages = 0;  ///< packets handed to the network, per destination
-  std::uint64_t bytes = 0;
+  std::uint64_t messages = 0;  ///< samples handed to the network, per destination
+  std::uint64_t bytes = 0;     ///< their CDR bytes (what DDS would carry as sample payloads)
   std::uint64_t dropped = 0;
   std::uint64_t duplicated = 0;
 };
 
 class VirtualNetwork {
  public:
-  using Receiver = std::function<void(std::span<const std::uint8_t> packet, std::int64_t now)>;
+  using Receiver = std::function<void(const agents::CdrSample& sample, std::int64_t now)>;
 
   VirtualNetwork(int nodes, Rng rng, FaultConfig faults);
   ~VirtualNetwork();
@@ -53,17 +55,17 @@ class VirtualNetwork {
   /// Called after every event (e.g. to check an invariant continuously).
   void after_each_event(std::function<void()> fn) { after_event_ = std::move(fn); }
 
-  /// Where packets for `node` go (the node's replicator), while it is up.
+  /// Where samples for `node` go (decoded for the node's replicator), while it is up.
   void set_receiver(int node, Receiver r) { nodes_[node].receiver = std::move(r); }
-  /// The replica id packets addressed to `node` carry (unicast), while it is up.
+  /// The replica id samples addressed to `node` carry (unicast), while it is up.
   void set_address(int node, const agents::PeerId& id) { nodes_[node].address = id; }
-  /// A transport for `node`: envelopes it sends are encoded once and carried to the others.
+  /// A transport for `node`: each sample it sends is serialized once and carried to the others.
   agents::Transport& endpoint(int node);
 
-  /// A node that is down neither sends nor receives (packets in flight to it are lost).
+  /// A node that is down neither sends nor receives (samples in flight to it are lost).
   void set_up(int node, bool up) { nodes_[node].up = up; }
   bool up(int node) const { return nodes_[node].up; }
-  /// Nodes hear each other only within one group (a packet sent across groups, or to a node whose
+  /// Nodes hear each other only within one group (a sample sent across groups, or to a node whose
   /// group changed while it was in flight, is lost).
   void set_group(int node, int group) { nodes_[node].group = group; }
   int group(int node) const { return nodes_[node].group; }
@@ -76,8 +78,8 @@ class VirtualNetwork {
   /// The node a replica id addresses (up), or -1.
   int index_of(const agents::PeerId& id) const;
 
-  /// Hands an encoded packet from `from` to `to` (-1: every other node).
-  void transmit(int from, int to, std::shared_ptr<const std::vector<std::uint8_t>> packet);
+  /// Hands a serialized sample from `from` to `to` (-1: every other node).
+  void transmit(int from, int to, std::shared_ptr<const agents::CdrSample> sample);
 
  private:
   struct Event {
@@ -85,7 +87,7 @@ class VirtualNetwork {
     std::uint64_t seq = 0;
     int node = -1;   // a delivery to this node, or -1: a call
     int group = 0;   // the sender's group when it sent
-    std::shared_ptr<const std::vector<std::uint8_t>> packet;
+    std::shared_ptr<const agents::CdrSample> sample;
     std::function<void()> fn;
     bool operator>(const Event& o) const { return t != o.t ? t > o.t : seq > o.seq; }
   };

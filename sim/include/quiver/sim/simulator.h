@@ -92,9 +92,10 @@ struct SimResult {
   bool converged = false;
   std::uint64_t invariant_violations = 0;
   std::string first_violation;
-  std::string first_rejection;  ///< the first packet or message a replica refused, and why
+  std::string first_rejection;  ///< the first sample a replica refused, and why
   std::string digest;
-  std::uint64_t messages = 0;  ///< packets handed to the network, per destination
+  std::uint64_t messages = 0;  ///< samples handed to the network, per destination
+  /// Their CDR bytes: what DDS would carry as sample payloads (agents/transport/wire).
   std::uint64_t bytes = 0;
   std::uint64_t dropped = 0;
   std::uint64_t duplicated = 0;
@@ -103,7 +104,7 @@ struct SimResult {
   std::uint64_t partitions = 0;
   std::uint64_t deltas_applied = 0;
   std::uint64_t states_applied = 0;
-  std::uint64_t rejected_packets = 0;
+  std::uint64_t rejected_samples = 0;
   std::int64_t virtual_ms = 0;
   std::int64_t settle_ms = 0;  ///< from the end of faults to convergence
   std::size_t final_nodes = 0;
@@ -127,7 +128,7 @@ struct SimResult {
   std::uint64_t moves = 0, moves_refused = 0, violations_seen = 0, repairs = 0, final_violations = 0;
 
   bool ok() const {
-    return converged && invariant_violations == 0 && rejected_packets == 0 && lock_overlap_connected_ns == 0 &&
+    return converged && invariant_violations == 0 && rejected_samples == 0 && lock_overlap_connected_ns == 0 &&
            acked_lost == 0 && stores_set_aside == 0;
   }
   /// One line of JSON.

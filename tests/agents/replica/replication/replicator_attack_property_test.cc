@@ -49,22 +49,21 @@ struct Schedule {
   sim::Churn churn;
   unsigned long long delivered = 0;
   bool storm = false;
-  // Heartbeats of 3 replicas for 60 s are a few thousand frames; repairs add some hundreds.
+  // Heartbeats of 3 replicas for 60 s are a few thousand samples; repairs add some hundreds.
   static constexpr unsigned long long kMaxQuietFrames = 200'000;
 
   void observe(const Packet& f) {
-    auto e = decode_packet(f.bytes);
+    auto e = decode_cdr_sample(f.sample.topic, f.sample.bytes);
     if (!e.ok()) return;
-    for (const Message& m : e->messages)
-      if (const auto* d = std::get_if<DeltaMsg>(&m)) {
-        if (d->origin == kRogue) continue;
-        Victim& v = victims[d->origin];
-        if (d->hi + 1 > v.next_seq) {
-          v.next_seq = d->hi + 1;
-          v.lo = d->lo;
-          v.hi = d->hi;
-        }
+    if (const auto* d = std::get_if<DeltaMsg>(&e->message)) {
+      if (d->origin == kRogue) return;
+      Victim& v = victims[d->origin];
+      if (d->hi + 1 > v.next_seq) {
+        v.next_seq = d->hi + 1;
+        v.lo = d->lo;
+        v.hi = d->hi;
       }
+    }
   }
 
   // Into a random non-empty subset of the replicas, as if DDS lost the forger's sample elsewhere.
@@ -72,10 +71,7 @@ struct Schedule {
     const std::uint64_t mask = 1 + rng.below(7);
     for (int i = 0; i < 3; ++i) {
       if (!(mask & (1u << i))) continue;
-      Envelope e;
-      e.from = from;
-      e.messages.push_back(m);
-      net.nodes[i].rep->on_envelope(e, net.now);
+      net.nodes[i].rep->on_sample(Sample{from, PeerId{}, m}, net.now);
     }
   }
 
@@ -131,7 +127,7 @@ struct Schedule {
     }
   }
 
-  // Delivers one frame in flight chosen at random; loses it with probability `loss`.
+  // Delivers one sample in flight chosen at random; loses it with probability `loss`.
   void deliver_one(double loss) {
     const std::size_t k = rng.below(net.inflight.size());
     Packet f = std::move(net.inflight[k]);
@@ -139,7 +135,7 @@ struct Schedule {
     observe(f);
     ++delivered;
     if (rng.chance(loss)) return;
-    net.nodes[f.to].rep->on_packet(f.bytes, net.now);
+    deliver_cdr_sample(*net.nodes[f.to].rep, f.sample.topic, f.sample.bytes, net.now);
   }
 
   void run() {

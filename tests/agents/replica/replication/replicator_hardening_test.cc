@@ -28,12 +28,10 @@ graph::NodeId add_node(Graph& g, const std::string& name) {
   return *id;
 }
 
-// Sends `m` to node `to` as if from `from`, through the one entry point every transport uses.
+// Sends `m` to node `to` as if from `from`, through the one entry point every transport uses
+// once it has decoded a sample (Replicator::on_sample).
 void inject(Net& net, int to, const PeerId& from, Message m) {
-  Envelope e;
-  e.from = from;
-  e.messages.push_back(std::move(m));
-  net.nodes[to].rep->on_envelope(e, net.now);
+  net.nodes[to].rep->on_sample(Sample{from, PeerId{}, std::move(m)}, net.now);
 }
 
 using testing::bytes_of;
@@ -107,11 +105,9 @@ TEST(ReplicatorHardeningTest, APayloadReplayedUnderAnotherIntervalIsRefused) {
   int a = net.add(1), b = net.add(2);
   net.pump();
   add_node(*net.nodes[a].g, "x");
-  auto real = net.inflight.back().bytes;
+  const Sample real = net.inflight.back().decoded();
   net.pump();
-  auto env = decode_packet(real);
-  ASSERT_TRUE(env.ok());
-  DeltaMsg replay = std::get<DeltaMsg>(env->messages[0]);
+  DeltaMsg replay = std::get<DeltaMsg>(real.message);
   replay.lo = 2;
   replay.hi = 500;
   inject(net, b, kRogue, replay);
@@ -228,11 +224,9 @@ TEST(ReplicatorHardeningTest, HugeAndUnrequestedStateChunksAreRefused) {
   EXPECT_TRUE(has_error(net.nodes[a], ErrorCode::kTooLarge, "announces 4294967296 chunks"));
   inject(net, a, kRogue, StateMsg{1, 0, 2, {}, chunk});
   EXPECT_EQ(net.nodes[a].rep->stats().states_unrequested, 1u) << "nobody pulled: dropped";
-  // The same through the byte path: validation is one layer for both.
-  Envelope e;
-  e.from = kRogue;
-  e.messages.push_back(StateMsg{1, 7, 3, {}, chunk});
-  net.nodes[a].rep->on_packet(encode_packet(e), net.now);
+  // The same through the byte path (the CDR a DDS sample carries): validation is one layer for both.
+  const CdrSample bytes = encode_cdr_sample(Sample{kRogue, PeerId{}, StateMsg{1, 7, 3, {}, chunk}});
+  deliver_cdr_sample(*net.nodes[a].rep, bytes.topic, bytes.bytes, net.now);
   EXPECT_TRUE(has_error(net.nodes[a], ErrorCode::kMalformed, "chunk 7 of 3"));
 }
 
@@ -249,7 +243,7 @@ TEST(ReplicatorHardeningTest, RangesOutOfBoundsAreRefused) {
   }
   inject(net, a, kRogue, DeltaMsg{x, 0, 3, std::make_shared<const std::vector<std::uint8_t>>(4, 0)});
   inject(net, a, kRogue, DeltaMsg{x, 1, UINT64_MAX, std::make_shared<const std::vector<std::uint8_t>>(4, 0)});
-  EXPECT_EQ(net.nodes[a].rep->stats().rejected_packets, 10u);
+  EXPECT_EQ(net.nodes[a].rep->stats().rejected, 10u);
   EXPECT_TRUE(net.nodes[a].rep->applied().empty() || !net.nodes[a].rep->applied().intersects(x, 1, UINT64_MAX));
 }
 

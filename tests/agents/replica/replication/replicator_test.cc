@@ -50,9 +50,7 @@ TEST(ReplicatorTest, ASamplingObserverPullsWhatChangedAtItsOwnPace) {
   int a = net.add(1), v = net.add(2, watcher);
   net.drop = [&](const Packet& f) {
     if (f.to != v) return false;
-    auto e = decode_packet(f.bytes);
-    return e.ok() && std::any_of(e->messages.begin(), e->messages.end(),
-                                 [](const Message& m) { return std::holds_alternative<DeltaMsg>(m); });
+    return f.sample.topic == DdsTopic::kDelta;
   };
   net.pump();
   for (int i = 0; i < 200; ++i) {
@@ -81,9 +79,7 @@ TEST(ReplicatorTest, ASamplingObserverKeepsItsPullsWithinItsByteBudget) {
   int a = net.add(1), v = net.add(2, watcher);
   net.drop = [&](const Packet& f) {  // as over DDS: an observer that samples subscribes to no delta
     if (f.to != v) return false;
-    auto e = decode_packet(f.bytes);
-    return e.ok() && std::any_of(e->messages.begin(), e->messages.end(),
-                                 [](const Message& m) { return std::holds_alternative<DeltaMsg>(m); });
+    return f.sample.topic == DdsTopic::kDelta;
   };
   net.pump();
   std::vector<graph::NodeId> ids;
@@ -125,7 +121,7 @@ TEST(ReplicatorTest, ALostDeltaIsPulledBack) {
   // Lose the first delta only.
   bool lost = false;
   net.drop = [&](const Packet& f) {
-    if (!lost && f.from == a && f.to == b && f.bytes.size() > 40) return lost = true;
+    if (!lost && f.from == a && f.to == b && f.sample.topic == DdsTopic::kDelta) return lost = true;
     return false;
   };
   add_node(*net.nodes[a].g, "x");
@@ -189,7 +185,6 @@ TEST(ReplicatorTest, ALateJoinerGetsTheStateInChunksFromAnyPeer) {
 TEST(ReplicatorTest, LostStateChunksAreRetried) {
   ReplicatorOptions opt;
   opt.chunk_bytes = 1024;
-  opt.max_packet_bytes = 1200;  // one chunk per frame
   opt.buffer_bytes = 1024;
   Net net;
   int a = net.add(1, opt);
@@ -202,7 +197,7 @@ TEST(ReplicatorTest, LostStateChunksAreRetried) {
   int chunks_dropped = 0;
   net.drop = [&](const Packet& f) {
     // Lose three state chunks on their way from a to b.
-    if (f.from == a && f.to == b && f.bytes.size() > 900 && chunks_dropped < 3) {
+    if (f.from == a && f.to == b && f.sample.topic == DdsTopic::kState && chunks_dropped < 3) {
       ++chunks_dropped;
       return true;
     }
@@ -237,21 +232,28 @@ TEST(ReplicatorTest, MembershipJoinLeaseAndGoodbye) {
   EXPECT_EQ(net.nodes[a].rep->live_peer_count(), 0u);
 }
 
-TEST(ReplicatorTest, MalformedFramesAreRejectedAndChangeNothing) {
+// Bytes that are no sample of their topic (replaces the packet codec's malformed-frame test: the
+// CDR decoder every transport uses refuses them, naming the topic, and the replica is unchanged).
+TEST(ReplicatorTest, MalformedSamplesAreRejectedAndChangeNothing) {
   Net net;
   int a = net.add(1);
   add_node(*net.nodes[a].g, "x");
   auto before = net.nodes[a].g->digest();
-  std::vector<std::uint8_t> junk = {'Q', 'R', kPacketVersion, 0xff, 0xff};
-  net.nodes[a].rep->on_packet(junk, 0);
-  std::vector<std::uint8_t> future = {'Q', 'R', 9};
-  net.nodes[a].rep->on_packet(future, 0);
-  ASSERT_EQ(net.nodes[a].errors.size(), 2u);
+  const std::vector<std::uint8_t> short_header = {0x00, 0x01, 0x00};
+  deliver_cdr_sample(*net.nodes[a].rep, DdsTopic::kSummary, short_header, 0);
+  const std::vector<std::uint8_t> other_representation = {0x00, 0x09, 0x00, 0x00, 0xff, 0xff, 0xff, 0xff};
+  deliver_cdr_sample(*net.nodes[a].rep, DdsTopic::kSummary, other_representation, 0);
+  const std::vector<std::uint8_t> cut_body = {0x00, 0x01, 0x00, 0x00, 0x01, 0x02};
+  deliver_cdr_sample(*net.nodes[a].rep, DdsTopic::kDelta, cut_body, 0);
+  ASSERT_EQ(net.nodes[a].errors.size(), 3u);
   EXPECT_EQ(net.nodes[a].errors[0].code, ErrorCode::kTruncated);
-  EXPECT_NE(net.nodes[a].errors[0].message.find("sender"), std::string::npos) << net.nodes[a].errors[0].message;
-  EXPECT_EQ(net.nodes[a].errors[1].code, ErrorCode::kUnsupportedVersion);
+  EXPECT_NE(net.nodes[a].errors[0].message.find("quiver_summary"), std::string::npos) << net.nodes[a].errors[0].message;
+  EXPECT_EQ(net.nodes[a].errors[1].code, ErrorCode::kMalformed);
+  EXPECT_NE(net.nodes[a].errors[1].message.find("representation"), std::string::npos) << net.nodes[a].errors[1].message;
+  EXPECT_EQ(net.nodes[a].errors[2].code, ErrorCode::kMalformed);
+  EXPECT_NE(net.nodes[a].errors[2].message.find("quiver_delta"), std::string::npos) << net.nodes[a].errors[2].message;
   EXPECT_EQ(net.nodes[a].g->digest(), before);
-  EXPECT_EQ(net.nodes[a].rep->stats().rejected_packets, 2u);
+  EXPECT_EQ(net.nodes[a].rep->stats().rejected, 3u);
 }
 
 TEST(ReplicatorTest, ARogueDeltaWithCorruptPayloadIsRejected) {
@@ -260,16 +262,19 @@ TEST(ReplicatorTest, ARogueDeltaWithCorruptPayloadIsRejected) {
   net.pump();
   add_node(*net.nodes[a].g, "x");
   ASSERT_FALSE(net.inflight.empty());
-  // Corrupt the graph payload inside the frame: its last bytes, before the (empty, one-byte)
-  // signature that ends the frame.
-  Packet f = net.inflight.back();
+  // Corrupt the graph payload inside the sample: its last bytes.
+  Sample s = net.inflight.back().decoded();
   net.inflight.clear();
-  ASSERT_EQ(f.bytes.back(), 0) << "an unsigned delta ends with an empty signature";
-  f.bytes[f.bytes.size() - 4] = 0xff;
-  f.bytes[f.bytes.size() - 3] = 0xff;
-  f.bytes[f.bytes.size() - 2] = 0xff;
+  DeltaMsg& d = std::get<DeltaMsg>(s.message);
+  ASSERT_FALSE(d.signature && !d.signature->empty()) << "an unsigned delta";
+  auto payload = *d.payload;
+  payload[payload.size() - 3] = 0xff;
+  payload[payload.size() - 2] = 0xff;
+  payload[payload.size() - 1] = 0xff;
+  d.payload = std::make_shared<const std::vector<std::uint8_t>>(std::move(payload));
+  const CdrSample corrupt = encode_cdr_sample(s);
   auto before = net.nodes[b].g->digest();
-  net.nodes[b].rep->on_packet(f.bytes, 0);
+  deliver_cdr_sample(*net.nodes[b].rep, corrupt.topic, corrupt.bytes, 0);
   EXPECT_EQ(net.nodes[b].g->digest(), before);
   ASSERT_EQ(net.nodes[b].errors.size(), 1u);
   EXPECT_NE(net.nodes[b].errors[0].message.find("delta"), std::string::npos) << net.nodes[b].errors[0].message;

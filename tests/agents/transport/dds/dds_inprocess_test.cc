@@ -102,9 +102,9 @@ TEST(DdsInProcessTest, SummaryDigestAndPullFlagsTravelInSamples) {
     for (bool le : {true, false}) {
       SummaryMsg sm{"agent a", true, applied};
       sm.digest = 0x0123456789abcdefULL;
-      auto s = decode_cdr_sample(DdsTopic::kSummary, encode_cdr_sample(Envelope{a, PeerId{}, {sm}}, xcdr, le));
+      auto s = decode_cdr_sample(DdsTopic::kSummary, encode_cdr_sample(Sample{a, PeerId{}, sm}, xcdr, le).bytes);
       ASSERT_TRUE(s.ok()) << s.error().to_string();
-      const auto& got = std::get<SummaryMsg>(s->messages.at(0));
+      const auto& got = std::get<SummaryMsg>(s->message);
       EXPECT_EQ(got.digest, sm.digest);
       EXPECT_EQ(got.name, "agent a");
       EXPECT_TRUE(got.observer);
@@ -112,9 +112,9 @@ TEST(DdsInProcessTest, SummaryDigestAndPullFlagsTravelInSamples) {
       for (bool whole : {false, true})
         for (bool as_state : {false, true}) {
           PullMsg pm{77, applied, {Range{a, 2, 2}}, whole, as_state};
-          auto p = decode_cdr_sample(DdsTopic::kPull, encode_cdr_sample(Envelope{a, b, {pm}}, xcdr, le));
+          auto p = decode_cdr_sample(DdsTopic::kPull, encode_cdr_sample(Sample{a, b, pm}, xcdr, le).bytes);
           ASSERT_TRUE(p.ok()) << p.error().to_string();
-          const auto& gp = std::get<PullMsg>(p->messages.at(0));
+          const auto& gp = std::get<PullMsg>(p->message);
           EXPECT_EQ(gp.request, 77u);
           EXPECT_EQ(gp.whole_state, whole);
           EXPECT_EQ(gp.as_state, as_state);

@@ -33,7 +33,7 @@ namespace quiver::rogue {
 namespace {
 
 using agents::DdsTopic;
-using agents::Envelope;
+using agents::Sample;
 using agents::Message;
 using agents::PeerId;
 using agents::Range;
@@ -117,13 +117,7 @@ class Rogue {
     std::exit(2);
   }
 
-  static Envelope envelope(Message m, PeerId from = kRogue, PeerId to = {}) {
-    Envelope e;
-    e.from = from;
-    e.to = to;
-    e.messages.push_back(std::move(m));
-    return e;
-  }
+  static Sample sample(Message m, PeerId from = kRogue, PeerId to = {}) { return Sample{from, to, std::move(m)}; }
   // A well-formed typed sample of each topic (zeroed sequences are empty), for the sertype probe.
   static std::unique_ptr<void, void (*)(void*)> valid_sample(DdsTopic t) {
     const dds_topic_descriptor_t* descs[] = {&quiver_wire_Summary_desc, &quiver_wire_Delta_desc, &quiver_wire_Pull_desc,
@@ -138,8 +132,8 @@ class Rogue {
     if (write_raw(writers_[i], types_[i], bytes) != DDS_RETCODE_OK) ++write_errors_;
     ++sent_[kind];
   }
-  void send(const Envelope& e, const char* kind, int xcdr = 1, bool le = true) {
-    send(agents::topic_of(e.messages.front()), agents::encode_cdr_sample(e, xcdr, le), kind);
+  void send(const Sample& e, const char* kind, int xcdr = 1, bool le = true) {
+    send(agents::topic_of(e.message), agents::encode_cdr_sample(e, xcdr, le).bytes, kind);
   }
 
   // Learns the honest agents (and their sequence numbers) from their summaries and deltas.
@@ -192,7 +186,7 @@ class Rogue {
         break;
       }
       case 1: {  // a real-shaped sample, truncated
-        auto b = agents::encode_cdr_sample(envelope(agents::SummaryMsg{"rogue", false, {Range{kRogue, 1, 5}}}));
+        auto b = agents::encode_cdr_sample(sample(agents::SummaryMsg{"rogue", false, {Range{kRogue, 1, 5}}})).bytes;
         b.resize(4 + rng_.below(b.size() - 4));
         send(DdsTopic::kSummary, b, "truncated");
         break;
@@ -200,24 +194,24 @@ class Rogue {
       case 2: {  // oversized: a big payload that does not decode, and a chunk over the limit
         if (rng_.chance(0.05)) {
           auto big = std::make_shared<const std::vector<std::uint8_t>>(random_bytes(std::size_t{8} << 20));
-          send(envelope(agents::DeltaMsg{kRogue, 1, 1, big}), "oversized");
+          send(sample(agents::DeltaMsg{kRogue, 1, 1, big}), "oversized");
         }
         break;
       }
       case 3: {  // huge counts
         auto chunk = std::make_shared<const std::vector<std::uint8_t>>(std::vector<std::uint8_t>{1, 2});
-        send(envelope(agents::StateMsg{rng_.next(), 0xfffffffe, 0xffffffff, {}, chunk}), "huge_counts");
+        send(sample(agents::StateMsg{rng_.next(), 0xfffffffe, 0xffffffff, {}, chunk}), "huge_counts");
         if (rng_.chance(0.02)) {
           agents::RangeList many;
           for (std::uint64_t k = 0; k < 100'000; ++k) many.push_back(Range{PeerId{k + 1, 1}, 1, 2});
-          send(envelope(agents::SummaryMsg{"rogue", false, many}), "huge_counts");
+          send(sample(agents::SummaryMsg{"rogue", false, many}), "huge_counts");
         }
         break;
       }
       case 4: {  // counters at 2^64-1, lo = 0, hi < lo
         const Range bad[] = {Range{kRogue, 1, UINT64_MAX}, Range{kRogue, 0, 3}, Range{kRogue, 9, 2}};
         const Range& r = bad[rng_.below(3)];
-        send(envelope(rng_.chance(0.5) ? Message(agents::SummaryMsg{"rogue", false, {r}})
+        send(sample(rng_.chance(0.5) ? Message(agents::SummaryMsg{"rogue", false, {r}})
                                         : Message(agents::PullMsg{1, {r}, {r}})),
              "bad_counters");
         break;
@@ -230,20 +224,20 @@ class Rogue {
       case 8: {  // lying summary: claims far more of every victim than exists
         agents::RangeList lie;
         for (const auto& [id, v] : victims_) lie.push_back(Range{id, 1, v.next_seq + 100'000});
-        send(envelope(agents::SummaryMsg{"liar", false, lie}), "lying_summary");
+        send(sample(agents::SummaryMsg{"liar", false, lie}), "lying_summary");
         break;
       }
       case 9: {  // pull flood: "send me everything", as the rogue and as invented peers
         const PeerId from = rng_.chance(0.5) ? kRogue : PeerId{0x100 + rng_.below(5000), 1};
-        send(envelope(agents::PullMsg{rng_.next(), {}, {}}, from), "pull_flood");
+        send(sample(agents::PullMsg{rng_.next(), {}, {}}, from), "pull_flood");
         break;
       }
       case 10: {  // invented senders
-        send(envelope(agents::SummaryMsg{"sybil", false, {}}, PeerId{0x100 + rng_.below(100'000), 1}), "sybils");
+        send(sample(agents::SummaryMsg{"sybil", false, {}}, PeerId{0x100 + rng_.below(100'000), 1}), "sybils");
         break;
       }
       default: {  // other encodings of a bad sample
-        send(envelope(agents::SummaryMsg{"rogue", false, {Range{kRogue, 0, 0}}}), "bad_counters", 2, false);
+        send(sample(agents::SummaryMsg{"rogue", false, {Range{kRogue, 0, 0}}}), "bad_counters", 2, false);
         break;
       }
     }
@@ -262,25 +256,25 @@ class Rogue {
         empty.origin = victim;
         empty.seq_lo = v.next_seq;
         empty.seq_hi = v.next_seq + 1000;
-        send(envelope(agents::DeltaMsg{victim, empty.seq_lo, empty.seq_hi, bytes_of(empty)}), "claim_others_numbers");
+        send(sample(agents::DeltaMsg{victim, empty.seq_lo, empty.seq_hi, bytes_of(empty)}), "claim_others_numbers");
         break;
       }
       case 1: {  // one of its real payloads replayed under other numbers
         if (v.payload.empty()) return;
-        send(envelope(agents::DeltaMsg{victim, v.hi + 1, v.hi + 500,
+        send(sample(agents::DeltaMsg{victim, v.hi + 1, v.hi + 500,
                                        std::make_shared<const std::vector<std::uint8_t>>(v.payload)}),
              "replay");
         break;
       }
       case 2: {  // a delta of ours carrying the victim's dots
         graph::GraphDelta d = node_delta(kRogue, 1, 1, graph::Dot{victim, 1'000'000 + rng_.below(1000)}, "stolen");
-        send(envelope(agents::DeltaMsg{kRogue, 1, 1, bytes_of(d)}), "others_dots");
+        send(sample(agents::DeltaMsg{kRogue, 1, 1, bytes_of(d)}), "others_dots");
         break;
       }
       case 3: {  // the same (origin, seq) as one it published, with another payload: equivocation
         if (v.payload.empty()) return;
         graph::GraphDelta d = node_delta(victim, v.lo, v.hi, graph::Dot{victim, 5'000'000 + rng_.below(1000)}, "other");
-        send(envelope(agents::DeltaMsg{victim, v.lo, v.hi, bytes_of(d)}, victim), "equivocation");
+        send(sample(agents::DeltaMsg{victim, v.lo, v.hi, bytes_of(d)}, victim), "equivocation");
         break;
       }
       default: {  // a forgery under its name, far beyond its numbers, sent as if by it
@@ -288,7 +282,7 @@ class Rogue {
         forged_[victim] = true;
         const std::uint64_t seq = v.next_seq + 10'000;
         graph::GraphDelta d = node_delta(victim, seq, seq, graph::Dot{victim, 9'000'000}, "forged_by_rogue");
-        send(envelope(agents::DeltaMsg{victim, seq, seq, bytes_of(d)}, victim), "forgery");
+        send(sample(agents::DeltaMsg{victim, seq, seq, bytes_of(d)}, victim), "forgery");
       }
     }
   }

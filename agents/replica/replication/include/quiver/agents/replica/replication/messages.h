@@ -1,11 +1,13 @@
 #pragma once
 /// @file
-/// The replication protocol's messages, independent of how a transport carries them: the
-/// simulator encodes them as byte packets (packet_codec.h), the DDS transport as IDL types in CDR.
+/// The replication protocol's messages, independent of how a transport carries them. Every
+/// transport carries them the same way: one message is one sample of its kind's IDL type
+/// (agents/transport/wire), encoded in CDR by Cyclone's serializer, whether Cyclone DDS ships it or
+/// the simulator does.
 ///
 /// Messages hold what arrived, unchecked: transports fill them and hand them to
-/// Replicator::on_envelope(), which checks every envelope in one place (validate.h) before any
-/// of it is used. Sets of (replica, counter) pairs travel as range lists for that reason: a
+/// Replicator::on_sample(), which checks every sample in one place (validate.h) before any of it
+/// is used. Sets of (replica, counter) pairs travel as range lists for that reason: a
 /// CausalContext would normalise away what was wrong with them.
 
 #include <cstdint>
@@ -81,15 +83,14 @@ struct ByeMsg {};
 
 using Message = std::variant<SummaryMsg, DeltaMsg, PullMsg, StateMsg, ByeMsg>;
 
-/// Messages from one replica to one (or every, when `to` is null) other.
-struct Envelope {
+/// One message from one replica to one other (or to every other, when `to` is null): what one
+/// DDS sample carries.
+struct Sample {
   PeerId from;
   PeerId to;
-  std::vector<Message> messages;
+  Message message;
 };
 
-/// Approximate wire size of a message (for batching decisions).
-std::size_t approx_size(const Message& m);
 /// "summary", "delta", "pull", "state", "bye".
 const char* message_kind(const Message& m);
 

@@ -13,7 +13,7 @@
 ///    context diff of its whole state (chunked). A pull that times out is retried elsewhere.
 ///  - Nothing blocks; time comes in through `now` arguments, so the simulator runs this exactly.
 ///
-/// Hostile or broken peers (docs/protocol.md, "Bad input"): every envelope is checked once
+/// Hostile or broken peers (docs/protocol.md, "Bad input"): every sample is checked once
 /// (validate.h) before use; a delta's payload must name the interval it claims and carry only its
 /// origin's dots; the same (origin, seq) arriving with another payload is reported as an
 /// equivocation (kEquivocation), and both payloads are joined (so replicas that got them in
@@ -60,9 +60,8 @@ struct ReplicatorOptions {
   std::size_t buffer_bytes = 16u << 20;      ///< relay buffer of recent deltas (all origins)
   std::size_t chunk_bytes = 256u << 10;      ///< state transfer chunk size
   std::size_t max_state_bytes = 1u << 30;    ///< a state transfer larger than this is refused
-  std::size_t max_packet_bytes = 60u << 10;   ///< messages are batched into packets up to this
   bool coalesce = false;                     ///< hold local deltas until flush() or tick()
-  EnvelopeLimits limits;                     ///< what one envelope may hold (validate.h)
+  SampleLimits limits;                       ///< what one sample may hold (validate.h)
   std::size_t max_peers = 256;               ///< peers remembered at once (live or recently gone)
   std::size_t max_peer_ranges = 1u << 20;    ///< ranges of all peers' summaries kept together
   std::size_t equivocation_window = 1u << 16;  ///< (origin, seq) digests kept to detect equivocation
@@ -96,15 +95,16 @@ struct PeerInfo {
 enum class Membership : std::uint8_t { kJoined, kLeft };
 
 struct ReplicatorStats {
-  std::uint64_t envelopes_sent = 0, envelopes_received = 0, bytes_sent_estimate = 0;
+  std::uint64_t samples_sent = 0, samples_received = 0;
   std::uint64_t deltas_published = 0, deltas_applied = 0, deltas_duplicate = 0, deltas_relayed = 0;
   std::uint64_t pulls_sent = 0, pulls_timed_out = 0, pulls_answered_with_deltas = 0, pulls_answered_with_state = 0;
   std::uint64_t states_applied = 0, state_bytes_received = 0;
-  std::uint64_t rejected_packets = 0, buffer_evictions = 0;
+  std::uint64_t rejected = 0;  ///< samples refused: undecodable, malformed, or messages that did not hold
+  std::uint64_t buffer_evictions = 0;
   std::uint64_t equivocations = 0;        ///< (origin, seq) seen with two payloads, or forged under our name
   std::uint64_t states_unrequested = 0;   ///< state chunks that answered no pull of ours (dropped)
   std::uint64_t state_answers_throttled = 0;
-  std::uint64_t peers_refused = 0;        ///< envelopes from new peers while the table was full
+  std::uint64_t peers_refused = 0;        ///< samples from new peers while the table was full
   std::uint64_t suspects = 0;             ///< peers found claiming what they did not deliver
   std::uint64_t divergences = 0;          ///< same (origin, seq) set, other digest: whole state pulled
   std::uint64_t versions_not_relayed = 0;  ///< versions of one (origin, seq) beyond max_versions: joined only
@@ -132,12 +132,14 @@ class Replicator {
   /// the caller, outliving this). Refused deltas are reported (kPermissionDenied), counted and
   /// never applied; their interval counts as received (every replica refuses them alike).
   void set_admission(Admission* admission) { admission_ = admission; }
-  /// Handles one received envelope, from any transport: checked whole first (validate.h); then
-  /// messages that do not hold (e.g. a delta whose payload does not decode) are counted,
-  /// reported and dropped; the replica is unchanged by them.
-  void on_envelope(const Envelope& e, std::int64_t now_ns);
-  /// Decodes a byte packet (packet_codec.h) and handles it; a malformed packet is rejected whole.
-  void on_packet(std::span<const std::uint8_t> packet, std::int64_t now_ns);
+  /// Handles one received sample, from any transport: checked first (validate.h); then a message
+  /// that does not hold (e.g. a delta whose payload does not decode) is counted, reported and
+  /// dropped; the replica is unchanged by it. Samples from this replica, or addressed to another,
+  /// are ignored.
+  void on_sample(const Sample& s, std::int64_t now_ns);
+  /// A sample its transport could not decode (its CDR does not follow the IDL type): counted and
+  /// reported like any rejected sample.
+  void on_undecodable(const Error& e);
   /// A transport that detects departures itself (e.g. DDS liveliness) reports them here.
   /// `gone`: it left for good (its participant said so: a clean exit), so late packets of that
   /// incarnation are ignored; otherwise it may come back (a lease that ran out in a partition).
@@ -240,10 +242,6 @@ class Replicator {
       return (hi == hi_ && digest == d) || std::find(others.begin(), others.end(), Version{hi_, d}) != others.end();
     }
   };
-  struct Outgoing {
-    PeerId to;  // null = broadcast
-    Message msg;
-  };
 
   void on_local_delta(const graph::GraphDelta& d);
   void publish(std::vector<std::uint8_t> bytes, std::uint64_t lo, std::uint64_t hi);
@@ -326,7 +324,7 @@ class Replicator {
   std::int64_t gap_since_ns_ = 0;
   PeerId gap_peer_;
 
-  std::vector<Outgoing> outbox_;
+  std::vector<Sample> outbox_;
   bool announce_soon_ = false;
   graph::GraphDelta scratch_;
   ReplicatorStats stats_;

@@ -13,16 +13,19 @@ namespace quiver::agents::inline replica {
 /// A peer is one replica (agent incarnation).
 using PeerId = crdt::ReplicaId;
 
-struct Envelope;
+struct Sample;
 
-/// Best-effort delivery of envelopes: one may be lost, duplicated, delayed or reordered; the
-/// protocol recovers. Implementations must not call back into the replicator from send().
+/// Best-effort delivery of samples (one protocol message each): one may be lost, duplicated,
+/// delayed or reordered; the protocol recovers. Every transport carries a sample as the CDR
+/// encoding of its IDL type (agents/transport/wire), so the bytes the simulator moves are the
+/// bytes DDS ships.
 class Transport {
  public:
   virtual ~Transport() = default;
-  /// Sends `e` to `e.to`, or to every other replica when `e.to` is null. A transport may deliver
-  /// a unicast envelope to others too: receivers drop what is not addressed to them.
-  virtual void send(const Envelope& e) = 0;
+  /// Sends `s` to `s.to`, or to every other replica when `s.to` is null. A transport may deliver
+  /// a unicast sample to others too: receivers drop what is not addressed to them.
+  /// @pre `s.from` is this transport's replica. Must not call back into the replicator.
+  virtual void send(const Sample& s) = 0;
 };
 
 }  // namespace quiver::agents

@@ -1,8 +1,8 @@
 #pragma once
 /// @file
-/// The one check of everything a peer sends, whatever carried it: every transport (the
-/// simulator's byte packets, Cyclone DDS samples) hands envelopes to Replicator::on_envelope(),
-/// which calls validate() before it uses anything. What passes is well-formed and bounded:
+/// The one check of everything a peer sends, whatever carried it: every transport (Cyclone DDS,
+/// the simulator's network, the fuzzers) decodes the same CDR samples and hands them to
+/// Replicator::on_sample(), which calls validate() before it uses anything. What passes is well-formed and bounded:
 /// counts, sizes and ranges are within the limits below, counters within crdt::kMaxCounter, no
 /// range has lo = 0 or hi < lo. What fails is refused whole, with an error naming the sender, the
 /// message, the field and the value.
@@ -15,8 +15,7 @@
 
 namespace quiver::agents::inline replica {
 
-struct EnvelopeLimits {
-  std::size_t max_messages = 1u << 16;      ///< messages in one envelope
+struct SampleLimits {
   std::size_t max_ranges = 1u << 16;        ///< ranges in one range list
   std::size_t max_name_bytes = 1024;        ///< an agent's name in a summary
   std::uint64_t max_interval = 1u << 20;    ///< sequence numbers one delta interval covers
@@ -26,7 +25,8 @@ struct EnvelopeLimits {
   std::size_t max_signature_bytes = 512;    ///< a delta's signature
 };
 
-/// Checks an envelope against `limits`. @returns kMalformed or kTooLarge naming what was wrong.
-Status validate(const Envelope& e, const EnvelopeLimits& limits = {});
+/// Checks a sample against `limits`.
+/// @returns kMalformed or kTooLarge naming the sender, the message kind, the field and the value.
+Status validate(const Sample& s, const SampleLimits& limits = {});
 
 }  // namespace quiver::agents

@@ -2,7 +2,7 @@
 /// @file
 /// The replication protocol over Eclipse Cyclone DDS 0.10 (C API, wrapped once here).
 ///
-/// Messages are IDL types (agents/idl/quiver_wire.idl) serialized as CDR by Cyclone; each
+/// Messages are IDL types (agents/transport/wire/idl/quiver_wire.idl) serialized as CDR by Cyclone; each
 /// message kind has its own topic and QoS: summaries are keyed by sender with KEEP_LAST(1)
 /// (their instance goes NOT_ALIVE when the sender's participant loses liveliness: that is how a
 /// crashed agent is noticed within about one lease), deltas, pulls and state chunks are RELIABLE
@@ -74,8 +74,8 @@ std::string dds_security_plugin_dir();
 Status set_security_qos(struct dds_qos* qos, const security::DdsSecurityFiles& f);
 
 /// The largest sample the embedded configuration lets Cyclone accept or send: a delta at the
-/// protocol's limit (EnvelopeLimits::max_payload_bytes) with room for its header.
-inline constexpr std::size_t kMaxSampleBytes = EnvelopeLimits{}.max_payload_bytes + (64u << 10);
+/// protocol's limit (SampleLimits::max_payload_bytes) with room for its header.
+inline constexpr std::size_t kMaxSampleBytes = SampleLimits{}.max_payload_bytes + (64u << 10);
 
 /// The embedded loopback configuration for `cfg` (lease, loss, external domain id filled in).
 std::string loopback_config_xml(const DdsConfig& cfg);
@@ -101,14 +101,16 @@ class DdsTransport final : public Transport {
   DdsTransport(const DdsTransport&) = delete;
   DdsTransport& operator=(const DdsTransport&) = delete;
 
-  void send(const Envelope& e) override;
+  /// Writes `s` as one sample of its topic. A write that times out (a reader lags beyond
+  /// max_blocking_ns) is counted and dropped: the protocol recovers it.
+  void send(const Sample& s) override;
 
   /// Blocks until samples arrive, wake() is called, or `timeout_ns` passes.
   void wait(std::int64_t timeout_ns);
-  /// Takes every available sample: `on_envelope` per message (addressed to us or to all),
+  /// Takes every available sample: `on_sample` per message (addressed to us or to all),
   /// `on_lost(peer, gone)` per peer whose summary instance lost liveliness (gone = false: it may
   /// come back) or was disposed (gone = true: a clean exit).
-  void drain(const std::function<void(const Envelope&)>& on_envelope,
+  void drain(const std::function<void(const Sample&)>& on_sample,
              const std::function<void(const PeerId&, bool)>& on_lost);
   /// Thread-safe: makes a concurrent wait() return.
   void wake();

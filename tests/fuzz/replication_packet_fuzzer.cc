@@ -1,7 +1,0 @@
-// libFuzzer entry point (built with -DQUIVER_BUILD_FUZZERS=ON and clang).
-#include "fuzz_targets.h"
-
-extern "C" int LLVMFuzzerTestOneInput(const unsigned char* data, unsigned long size) {
-  (void)quiver::fuzz::replication_packet(data, size);
-  return 0;
-}
