@@ -3,6 +3,7 @@
 // the GIL held.
 
 #include <chrono>
+#include <cstdio>
 #include <future>
 
 #include "agent_core.h"
@@ -55,24 +56,20 @@ void AgentCore::loop() {
     started_ = true;
     cv_.notify_all();
   };
+  // The engine holds the locks and the grammar guard, and installs their checks.
+  opt_.replica.engine.locks_enabled = opt_.locks;
+  opt_.replica.engine.locks = opt_.lock_options;
+  opt_.replica.engine.grammar_file = opt_.grammar_file;
+  opt_.replica.engine.grammar_text = opt_.grammar_text;
   auto created = agents::DdsReplica::create(opt_.replica);
   if (!created.ok()) return fail(created.error());
   std::unique_ptr<agents::DdsReplica> replica = std::move(*created);
   graph::Graph& g = replica->graph();
-  if (!opt_.grammar_file.empty() || !opt_.grammar_text.empty()) {
-    auto grammar = opt_.grammar_text.empty() ? agents::load_grammar_file(opt_.grammar_file)
-                                             : agents::parse_grammar(opt_.grammar_text, "grammar");
-    if (!grammar.ok()) return fail(grammar.error());
-    guard_ = std::make_unique<agents::GrammarGuard>(g, agents::GrammarChecker(std::move(*grammar)),
-                                                    opt_.replica.name);
-  }
-  if (opt_.locks) {
-    locks_ = std::make_unique<agents::LockManager>(g, &replica->replicator(), agents::monotonic_ns,
-                                                   opt_.lock_options);
-    locks_->install(guard_ ? guard_->validator() : graph::Graph::CommitValidator{});
-  } else if (guard_) {
-    guard_->install();
-  }
+  if (Status s = replica->engine().start(); !s.ok()) return fail(s.error());
+  if (opt_.hang_ns > 0)
+    replica->keep_alive(opt_.hang_ns, [](const std::string& line) {
+      std::fprintf(stderr, "quiver: warning: %s\n", line.c_str());
+    }, [](const std::string& line) { std::fprintf(stderr, "quiver: %s\n", line.c_str()); });
   if (opt_.frames) frames_ = std::make_unique<kinematics::FrameTree>(g);
   {
     std::lock_guard<std::mutex> lock(mu_);
@@ -81,11 +78,7 @@ void AgentCore::loop() {
     started_ = true;
     cv_.notify_all();
   }
-  while (!stop_) {
-    replica_->spin_once(opt_.replica.tick_ns);
-    if (locks_) locks_->tick();
-    if (guard_) guard_->tick();
-  }
+  while (!stop_) replica_->spin_once(opt_.replica.tick_ns);
   if (opt_.hand_over_ns > 0) replica_->hand_over(opt_.hand_over_ns);
   std::unique_ptr<agents::DdsReplica> leaving;
   {
@@ -95,8 +88,6 @@ void AgentCore::loop() {
   }
   // Python callbacks go with these (their holders take the GIL to let go).
   frames_.reset();
-  guard_.reset();
-  locks_.reset();
   leaving.reset();
 }
 
@@ -145,6 +136,13 @@ PyCallback::~PyCallback() {
     py::gil_scoped_acquire gil;
     delete fn_;
   }
+}
+
+std::optional<agents::CallbackWatch::Scope> mark_user_code(const std::weak_ptr<AgentCore>& agent) {
+  std::optional<agents::CallbackWatch::Scope> in;
+  if (auto core = agent.lock(); core && core->running() && core->on_thread())
+    in.emplace(core->replica().engine().user_code("a Python callback"));
+  return in;
 }
 
 void report_callback_error(py::error_already_set& e, const std::weak_ptr<AgentCore>& agent) {
@@ -273,7 +271,8 @@ void bind_agent(py::module_& m) {
                       "Network safety: dds_config='loopback' (the default) binds 127.0.0.1 with multicast off.")
       .def(py::init([](const std::string& name, std::uint32_t domain, const std::string& dds_config,
                        std::optional<std::string> grammar, std::optional<std::string> grammar_text, bool locks,
-                       double lock_lease, bool frames, bool observer, double lease, double hand_over) {
+                       double lock_lease, bool frames, bool observer, double lease, double hand_over,
+                       double hang) {
              AgentOptions o;
              o.replica.name = name;
              o.replica.observer = observer;
@@ -290,6 +289,9 @@ void bind_agent(py::module_& m) {
              if (!(hand_over >= 0 && hand_over <= 60))
                raise(make_error(ErrorCode::kInvalidArgument, "Agent(): hand_over must be 0..60 seconds"));
              o.hand_over_ns = static_cast<std::int64_t>(hand_over * 1e9);
+             if (!(hang >= 0 && hang <= 3600))
+               raise(make_error(ErrorCode::kInvalidArgument, "Agent(): hang must be 0..3600 seconds"));
+             o.hang_ns = static_cast<std::int64_t>(hang * 1e9);
              Result<std::shared_ptr<AgentCore>> started = make_error(ErrorCode::kInternal, "");
              {
                py::gil_scoped_release release;
@@ -313,11 +315,13 @@ void bind_agent(py::module_& m) {
            py::arg("name"), py::kw_only(), py::arg("domain") = 0, py::arg("dds_config") = "loopback",
            py::arg("grammar") = py::none(), py::arg("grammar_text") = py::none(), py::arg("locks") = true,
            py::arg("lock_lease") = 2.0, py::arg("frames") = true, py::arg("observer") = false,
-           py::arg("lease") = 1.0, py::arg("hand_over") = 2.0,
+           py::arg("lease") = 1.0, py::arg("hand_over") = 2.0, py::arg("hang") = 1.0,
            "Starts an agent named `name` (its id derives from it) on DDS domain `domain`. `grammar` (a file) "
            "or `grammar_text` makes every local transaction follow that grammar; `locks` enables priority "
            "locks; `frames` keeps a frame tree for RT lookups (frames()). On stop() the agent keeps "
-           "replicating up to `hand_over` seconds until every live agent peer holds all it holds.")
+           "replicating up to `hand_over` seconds until every live agent peer holds all it holds. A callback "
+           "that blocks keeps the agent alive for its peers (its heartbeats go on); one running longer than "
+           "`hang` seconds (0: never) is reported on stderr.")
       .def_readonly("name", &PyAgent::name)
       .def_property_readonly("id", [](PyAgent& a) { return a.on_thread([&]() -> graph::ReplicaId { return a.core->replica().id(); }); })
       .def_property_readonly("graph", [](PyAgent& a) { return a.graph; },

@@ -135,7 +135,7 @@ void bind_agent_base(py::module_& m) {
       "run_agent",
       [](agents::Agent& agent, std::uint32_t domain, const std::string& dds_config,
          std::optional<std::string> world, std::optional<std::string> world_text, double run_for,
-         std::uint64_t seed, int status_ms, double join_wait, int loss_permille) {
+         std::uint64_t seed, int status_ms, double join_wait, int loss_permille, double hang) {
         if (current_run() != nullptr)
           raise(make_error(ErrorCode::kInvalidArgument,
                            "run_agent(): this thread already runs an agent"));
@@ -149,12 +149,13 @@ void bind_agent_base(py::module_& m) {
         f.status_ms = status_ms;
         f.join_wait_s = join_wait;
         f.loss_permille = loss_permille;
+        f.hang_s = hang;
         if (domain > 230)
           raise(make_error(ErrorCode::kInvalidArgument,
                            "run_agent(): domain " + std::to_string(domain) + " is above 230"));
-        if (run_for < 0 || join_wait < 0)
+        if (run_for < 0 || join_wait < 0 || hang < 0)
           raise(make_error(ErrorCode::kInvalidArgument,
-                           "run_agent(): negative run_for or join_wait"));
+                           "run_agent(): negative run_for, join_wait or hang"));
         AgentRun run;
         int rc = 0;
         {
@@ -182,10 +183,13 @@ void bind_agent_base(py::module_& m) {
       py::arg("agent"), py::kw_only(), py::arg("domain") = 0, py::arg("dds_config") = "loopback",
       py::arg("world") = py::none(), py::arg("world_text") = py::none(), py::arg("run_for") = 0.0,
       py::arg("seed") = 1, py::arg("status_ms") = 0, py::arg("join_wait") = 1.5,
-      py::arg("loss_permille") = 0,
+      py::arg("loss_permille") = 0, py::arg("hang") = 1.0,
       "Runs `agent` (an AgentBase) as this process's agent over Cyclone DDS until SIGINT/SIGTERM, "
       "or `run_for` "
       "seconds (0: until a signal). The GIL is released meanwhile and taken for every callback. A "
+      "callback that blocks keeps the agent alive for its peers (its heartbeats go on, its locks "
+      "hold); one running longer than `hang` seconds (0: never) is reported once in the log; long "
+      "work belongs in ctx.run_job(work, done). A "
       "world file "
       "`world` (or `world_text`) seeds the shared graph. Prints a JSON status line on stdout every "
       "`status_ms` "

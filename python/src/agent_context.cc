@@ -31,6 +31,19 @@ std::function<void()> timer_callback(py::function fn) {
   return [holder] { guarded([&] { holder->fn()(); }); };
 }
 
+// What a job's work returned or raised, handed from the worker thread to done() on the agent's
+// thread; its Python objects are let go with the GIL held.
+struct JobOutcome {
+  py::object* result = nullptr;
+  std::optional<py::error_already_set>* error = nullptr;
+  ~JobOutcome() {
+    if (!Py_IsInitialized()) return;
+    py::gil_scoped_acquire gil;
+    delete result;
+    delete error;
+  }
+};
+
 }  // namespace
 
 AgentRun* current_run() { return t_run; }
@@ -134,6 +147,37 @@ void bind_agent_context(py::module_& m) {
       .def(
           "cancel", [](const PyContext& c, agents::TimerId id) { c.get("cancel").cancel(id); },
           py::arg("timer"), "Cancels a timer (nothing if it already ran).")
+      .def(
+          "run_job",
+          [](const PyContext& c, py::function work, std::optional<py::function> done) {
+            auto w = std::make_shared<PyCallback>(std::move(work));
+            auto d = done ? std::make_shared<PyCallback>(std::move(*done)) : nullptr;
+            auto outcome = std::make_shared<JobOutcome>();
+            c.get("run_job").run_job(
+                [w, outcome] {
+                  py::gil_scoped_acquire gil;
+                  try {
+                    outcome->result = new py::object(w->fn()());
+                  } catch (py::error_already_set& e) {
+                    outcome->error = new std::optional<py::error_already_set>(std::move(e));
+                  }
+                },
+                [d, outcome] {
+                  guarded([&] {
+                    if (outcome->error != nullptr && outcome->error->has_value()) {
+                      py::error_already_set e = std::move(**outcome->error);
+                      outcome->error->reset();
+                      throw e;
+                    }
+                    if (d) d->fn()(outcome->result != nullptr ? *outcome->result : py::none());
+                  });
+                });
+          },
+          py::arg("work"), py::arg("done") = py::none(),
+          "Long work off the agent's thread: calls work() on a worker thread (it must not touch the "
+          "graph or this context; the agent's loop goes on meanwhile), then done(result) on the agent's "
+          "thread, where it may. Jobs of one agent run one at a time, in order. What work() raises is "
+          "raised on the agent's thread, as a callback's would be.")
       .def(
           "acquire",
           [](const PyContext& c, py::handle root, std::int64_t priority) {

@@ -1,7 +1,9 @@
 #pragma once
-// The C++ side of quiver.Agent: one DDS replica driven by its own thread. Everything that touches
-// the replica (graph reads and writes, locks, the grammar guard, the frame tree, Python
-// callbacks) runs on that thread; other threads hand it work through post().
+// The C++ side of quiver.Agent: one DDS replica and its engine (the agent engine: timers, posted
+// tasks, locks, the grammar guard) driven by its own thread. Everything that touches the replica
+// (graph reads and writes, locks, the grammar guard, the frame tree, Python callbacks) runs on
+// that thread; other threads hand it work through post(). A keeper thread keeps the agent alive
+// for its peers while a Python callback blocks, and reports one that does not return.
 
 #include <atomic>
 #include <condition_variable>
@@ -29,6 +31,8 @@ struct AgentOptions {
   bool frames = true;
   /// On stop: replicate up to this long until every live agent peer holds all this replica holds.
   std::int64_t hand_over_ns = 2'000'000'000;
+  /// A callback running longer is reported as hung on stderr (0: never).
+  std::int64_t hang_ns = 1'000'000'000;
 };
 
 class AgentCore : public std::enable_shared_from_this<AgentCore> {
@@ -48,8 +52,8 @@ class AgentCore : public std::enable_shared_from_this<AgentCore> {
 
   // Owner thread only:
   agents::DdsReplica& replica() { return *replica_; }
-  agents::LockManager* locks() { return locks_.get(); }
-  agents::GrammarGuard* guard() { return guard_.get(); }
+  agents::LockManager* locks() { return replica_->engine().lock_manager(); }
+  agents::GrammarGuard* guard() { return replica_->engine().guard(); }
   kinematics::FrameTree* frames() { return frames_.get(); }
   const AgentOptions& options() const { return opt_; }
 
@@ -67,8 +71,6 @@ class AgentCore : public std::enable_shared_from_this<AgentCore> {
   std::atomic<bool> running_{false};
   std::atomic<bool> stop_{false};
   std::unique_ptr<agents::DdsReplica> replica_;
-  std::unique_ptr<agents::LockManager> locks_;
-  std::unique_ptr<agents::GrammarGuard> guard_;
   std::unique_ptr<kinematics::FrameTree> frames_;
 
   std::mutex mu_;  // guards the fields below and replica_'s lifetime against post_quietly()

@@ -8,9 +8,11 @@
 
 #include <atomic>
 #include <memory>
+#include <optional>
 #include <string>
 #include <thread>
 
+#include "quiver/agents/runtime/engine/callback_watch.h"
 #include "quiver/graph/graph.h"
 #include "quiver/base/result.h"
 
@@ -94,6 +96,9 @@ class PyCallback {
 /// A Python exception a callback raised (GIL held): an agent keeps the first one and raises it
 /// from Agent.stop() / Agent.check(); elsewhere it is printed as unraisable.
 void report_callback_error(py::error_already_set& e, const std::weak_ptr<AgentCore>& agent);
+/// On `agent`'s thread while it runs: marks a call into Python code on its engine's watch (for the
+/// keeper that keeps a blocked agent alive and reports it); elsewhere nothing.
+std::optional<agents::CallbackWatch::Scope> mark_user_code(const std::weak_ptr<AgentCore>& agent);
 
 /// Wraps a Python callable as a C++ callback that takes the GIL, converts its arguments and
 /// reports what it raises.
@@ -102,6 +107,7 @@ std::function<void(const Args&...)> make_callback(py::function fn, const Owner& 
   auto holder = std::make_shared<PyCallback>(std::move(fn));
   std::weak_ptr<AgentCore> agent = owner.agent;
   return [holder, agent](const Args&... args) {
+    auto in = mark_user_code(agent);  // a keeper sees a callback that blocks
     py::gil_scoped_acquire gil;
     try {
       holder->fn()(args...);

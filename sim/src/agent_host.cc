@@ -13,7 +13,8 @@ struct AgentHost::Slot {
   std::unique_ptr<graph::Graph> graph;
   std::unique_ptr<agents::Replicator> replicator;
   std::unique_ptr<agents::Agent> agent;
-  std::unique_ptr<agents::AgentRuntime> runtime;
+  std::unique_ptr<agents::Engine> engine;  // from boot on; runs the agent once it is set up
+  bool agent_running = false;
 };
 
 AgentHost::AgentHost(std::vector<SimAgentSpec> agents, AgentHostOptions o)
@@ -26,9 +27,9 @@ AgentHost::AgentHost(std::vector<SimAgentSpec> agents, AgentHostOptions o)
 }
 
 AgentHost::~AgentHost() {
-  // Runtimes first: they refer to the replicas and agents.
+  // Engines first: they refer to the replicas and agents.
   for (auto& s : agents_) {
-    s->runtime.reset();
+    s->engine.reset();
     s->agent.reset();
     s->replicator.reset();
     s->graph.reset();
@@ -60,10 +61,13 @@ bool AgentHost::up(int i) const { return agents_[static_cast<std::size_t>(i)]->u
 int AgentHost::incarnation(int i) const { return agents_[static_cast<std::size_t>(i)]->incarnation; }
 agents::Agent* AgentHost::agent(int i) {
   Slot& s = *agents_[static_cast<std::size_t>(i)];
-  return s.runtime ? s.agent.get() : nullptr;
+  return s.agent_running ? s.agent.get() : nullptr;
 }
 graph::Graph* AgentHost::graph(int i) { return agents_[static_cast<std::size_t>(i)]->graph.get(); }
-agents::AgentRuntime* AgentHost::runtime(int i) { return agents_[static_cast<std::size_t>(i)]->runtime.get(); }
+agents::Engine* AgentHost::runtime(int i) {
+  Slot& s = *agents_[static_cast<std::size_t>(i)];
+  return s.agent_running ? s.engine.get() : nullptr;
+}
 agents::Replicator* AgentHost::replicator(int i) { return agents_[static_cast<std::size_t>(i)]->replicator.get(); }
 
 void AgentHost::every(std::int64_t period_ns, std::function<void()> fn) {
@@ -88,10 +92,21 @@ void AgentHost::boot(int i) {
   agents::ReplicatorOptions ro = opt_.replicator;
   ro.name = s.spec.name;
   s.replicator = std::make_unique<agents::Replicator>(*s.graph, net_.endpoint(i), ro);
-  net_.set_receiver(i, [this, i](const agents::CdrSample& sample, std::int64_t now) {
+  // The engine runs this replica now, and its agent once it is set up (the same loop as a process).
+  agents::EngineOptions eo;
+  eo.seed = opt_.seed ^ fnv1a64(s.spec.name) ^ static_cast<std::uint64_t>(inc);
+  eo.locks = opt_.locks;
+  eo.clock = [this] { return net_.now(); };
+  eo.log = [this, i](std::string_view line) { note(name(i) + ": " + std::string(line)); };
+  eo.jobs = agents::JobRunner::Mode::kInline;  // a seed replays exactly
+  s.engine = std::make_unique<agents::Engine>(*s.graph, s.replicator.get(), std::move(eo));
+  s.agent_running = false;
+  net_.set_receiver(i, [this, i](const agents::CdrSample& sample, std::int64_t) {
     Slot& t = *agents_[static_cast<std::size_t>(i)];
-    agents::deliver_cdr_sample(*t.replicator, sample.topic, sample.bytes, now);
-    if (t.runtime) t.runtime->pump();
+    auto decoded = agents::decode_cdr_sample(sample.topic, sample.bytes);
+    if (decoded.ok()) t.engine->on_sample(*decoded);
+    else t.replicator->on_undecodable(decoded.error());
+    t.engine->pump();
   });
   s.replicator->on_error([this, i](const Error& e) {
     ++rejected_;
@@ -107,7 +122,7 @@ void AgentHost::boot(int i) {
 
 void AgentHost::try_setup(int i, int inc, std::int64_t give_up_at) {
   Slot& s = *agents_[static_cast<std::size_t>(i)];
-  if (!s.up || s.incarnation != inc || s.runtime) return;
+  if (!s.up || s.incarnation != inc || s.agent) return;
   // Join the peers first, so that setup() sees the shared graph (as the process host does).
   const bool ready = s.replicator->live_peer_count() == 0 || s.replicator->synced();
   if (!ready && net_.now() < give_up_at) {
@@ -115,32 +130,29 @@ void AgentHost::try_setup(int i, int inc, std::int64_t give_up_at) {
     return;
   }
   s.agent = s.spec.make();
-  agents::RuntimeOptions ro;
-  ro.seed = opt_.seed ^ fnv1a64(s.spec.name) ^ static_cast<std::uint64_t>(inc);
-  ro.locks = opt_.locks;
-  ro.clock = [this] { return net_.now(); };
-  ro.log = [this, i](std::string_view line) { note(name(i) + ": " + std::string(line)); };
-  s.runtime = std::make_unique<agents::AgentRuntime>(*s.agent, *s.graph, s.replicator.get(), ro);
-  s.runtime->on_action_event([this, i](const agents::ActionEvent& e) {
+  s.engine->attach(*s.agent);
+  s.engine->on_action_event([this, i](const agents::ActionEvent& e) {
     if (action_cb_) action_cb_(i, e);
   });
-  if (Status st = s.runtime->start(); !st.ok()) {
+  if (Status st = s.engine->start(); !st.ok()) {
     note(name(i) + " could not start: " + st.error().to_string());
-    s.runtime.reset();
+    // An engine holds the agent it ran: both go, and the replica runs on under a fresh one.
+    s.engine.reset();
     s.agent.reset();
+    agents::EngineOptions eo;
+    eo.clock = [this] { return net_.now(); };
+    eo.jobs = agents::JobRunner::Mode::kInline;
+    s.engine = std::make_unique<agents::Engine>(*s.graph, s.replicator.get(), std::move(eo));
     return;
   }
+  s.agent_running = true;
   if (started_cb_) started_cb_(i);
 }
 
 void AgentHost::tick(int i, int inc) {
   Slot& s = *agents_[static_cast<std::size_t>(i)];
   if (!s.up || s.incarnation != inc) return;
-  s.replicator->tick(net_.now());
-  if (s.runtime) {
-    s.runtime->pump();
-    s.runtime->tick();
-  }
+  s.engine->step();
   net_.at(net_.now() + opt_.tick_ns, [this, i, inc] { tick(i, inc); });
 }
 
@@ -149,7 +161,8 @@ void AgentHost::kill(int i) {
   if (!s.up) return;
   s.up = false;
   net_.set_up(i, false);
-  s.runtime.reset();
+  s.engine.reset();
+  s.agent_running = false;
   s.agent.reset();
   s.replicator.reset();
   s.graph.reset();

@@ -11,6 +11,7 @@
 
 #include "quiver/agents/rules/grammar/grammar_guard.h"
 #include "quiver/agents/rules/locks/locks.h"
+#include "quiver/agents/runtime/engine/engine.h"
 #include "quiver/base/hash.h"
 #include "quiver/base/rng.h"
 
@@ -43,8 +44,10 @@ struct Agent {
   std::unique_ptr<agents::Store> store;  // declared before the replicator: destroyed after it
   std::unique_ptr<graph::Graph> graph;
   std::unique_ptr<agents::Replicator> replicator;
-  std::unique_ptr<agents::LockManager> locks;
-  std::unique_ptr<agents::GrammarGuard> guard;
+  /// Runs the replica (the same engine as an agent's, with no agent): its timers, locks, guard.
+  std::unique_ptr<agents::Engine> engine;
+  agents::LockManager* locks = nullptr;   // the engine's (lock workload)
+  agents::GrammarGuard* guard = nullptr;  // the engine's (rooms workload)
 };
 
 std::string rooms_grammar(bool repair) {
@@ -72,8 +75,6 @@ class Simulation {
     ChurnMix mix = cfg.mix;
     if (cfg.locks.enabled) mix.delete_node = 0;  // keep the scope roots alive
     churn_ = Churn(mix);
-    if (cfg.rooms.enabled)
-      rooms_grammar_ = *agents::parse_grammar(rooms_grammar(cfg.rooms.repair), "rooms");
     agents_.resize(cfg.agents);
     net_.after_each_event([this] { account_overlap(); });
     boot_pending_.assign(cfg.agents, false);
@@ -82,8 +83,7 @@ class Simulation {
 
   ~Simulation() {
     for (auto& a : agents_) {
-      a.guard.reset();
-      a.locks.reset();
+      a.engine.reset();
       a.replicator.reset();
       a.store.reset();
     }
@@ -429,8 +429,11 @@ class Simulation {
     agents::ReplicatorOptions opt = cfg_.replicator;
     opt.name = "agent" + std::to_string(i);
     a.replicator = std::make_unique<agents::Replicator>(*a.graph, net_.endpoint(i), opt);
-    net_.set_receiver(i, [this, i](const agents::CdrSample& sample, std::int64_t now) {
-      agents::deliver_cdr_sample(*agents_[i].replicator, sample.topic, sample.bytes, now);
+    net_.set_receiver(i, [this, i](const agents::CdrSample& sample, std::int64_t) {
+      Agent& t = agents_[i];
+      auto decoded = agents::decode_cdr_sample(sample.topic, sample.bytes);
+      if (decoded.ok()) t.engine->on_sample(*decoded);
+      else t.replicator->on_undecodable(decoded.error());
     });
     a.replicator->on_error([this, i](const Error& e) {
       const std::string line = "agent" + std::to_string(i) + " rejected: " + e.to_string();
@@ -442,14 +445,18 @@ class Simulation {
       a.replicator->set_journal(a.store.get());
     }
     a.replicator->start(net_.now());
-    if (rooms_grammar_)
-      a.guard = std::make_unique<agents::GrammarGuard>(
-          *a.graph, agents::GrammarChecker(*rooms_grammar_), opt.name);
-    if (cfg_.locks.enabled) {
-      agents::LockOptions lo;
-      lo.lease_ns = cfg_.locks.lease_ns;
-      a.locks = std::make_unique<agents::LockManager>(
-          *a.graph, a.replicator.get(), [this] { return net_.now(); }, lo);
+    agents::EngineOptions eo;
+    eo.clock = [this] { return net_.now(); };
+    eo.jobs = agents::JobRunner::Mode::kInline;
+    eo.locks_enabled = cfg_.locks.enabled;
+    eo.locks.lease_ns = cfg_.locks.lease_ns;
+    if (cfg_.rooms.enabled) {
+      eo.grammar_text = rooms_grammar(cfg_.rooms.repair);
+      eo.grammar_source = "rooms";
+    }
+    a.engine = std::make_unique<agents::Engine>(*a.graph, a.replicator.get(), std::move(eo));
+    a.locks = a.engine->lock_manager();
+    if (a.locks)
       a.locks->on_event([this](const agents::LockEvent& e) {
         if (e.kind == agents::LockEventKind::kAcquired) {
           ++result_.lock_acquired;
@@ -458,17 +465,12 @@ class Simulation {
         if (e.kind == agents::LockEventKind::kLost) ++result_.lock_lost;
         if (e.kind == agents::LockEventKind::kExpired) ++result_.lock_expired;
       });
-    }
-    install_validators(a);
+    // The grammar and lock checks go on the graph.
+    if (Status st = a.engine->start(); !st.ok()) note("agent" + std::to_string(i) + ": " + st.error().to_string());
+    a.guard = a.engine->guard();
   }
 
-  // The graph has one commit validator: the grammar check, or the lock check chained after it.
-  static void install_validators(Agent& a) {
-    if (a.locks)
-      a.locks->install(a.guard ? a.guard->validator() : graph::Graph::CommitValidator{});
-    else if (a.guard)
-      a.guard->install();
-  }
+
 
   // Scope roots, each with two RT children, created by agent 0 before the workload starts.
   void create_scopes() {
@@ -497,7 +499,7 @@ class Simulation {
     // The world is set up before any rule applies.
     g.set_commit_validator(nullptr);
     (void)tx.commit();
-    install_validators(agents_[0]);
+    agents_[0].engine->install_checks();
   }
 
   // One changeRoom attempt by agent `who`, checked by its grammar.
@@ -581,8 +583,9 @@ class Simulation {
     a.up = false;
     net_.set_up(i, false);
     add_stats(a);
-    a.guard.reset();
-    a.locks.reset();
+    a.engine.reset();
+    a.locks = nullptr;
+    a.guard = nullptr;
     a.replicator.reset();
     if (a.store) {
       // The power is off: what the store had not written is lost (its last sync() fails).
@@ -641,9 +644,7 @@ class Simulation {
 
   void tick(int i) {
     if (agents_[i].up && !agents_[i].failing) {
-      agents_[i].replicator->tick(net_.now());
-      if (agents_[i].locks) agents_[i].locks->tick();
-      if (agents_[i].guard) agents_[i].guard->tick();
+      agents_[i].engine->step();
     }
     net_.at(net_.now() + cfg_.tick_interval_ns, [this, i] { tick(i); });
   }
@@ -729,7 +730,6 @@ class Simulation {
   Rng rng_;
   VirtualNetwork net_;
   std::vector<Agent> agents_;
-  std::optional<agents::Grammar> rooms_grammar_;  // parsed once, copied into every agent's guard
   std::vector<graph::NodeId> scope_roots_;        // "scope0", ... as create_scopes made them
   Churn churn_{ChurnMix{}};
   SimResult result_;

@@ -8,7 +8,7 @@
 #include <future>
 
 #include "quiver/agents/runtime/process/dds_replica.h"
-#include "quiver/agents/runtime/engine/agent_runtime.h"
+#include "quiver/agents/runtime/engine/engine.h"
 #include "quiver/graph/world_file.h"
 #include "quiver/kinematics/eigen_pose.h"
 #include "quiver/kinematics/frames.h"

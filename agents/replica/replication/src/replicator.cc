@@ -266,11 +266,21 @@ bool Replicator::synced() const {
 
 void Replicator::send_summary(bool with_digest) {
   SummaryMsg m{opt_.name, opt_.observer, to_ranges(applied_)};
+  {
+    // Kept (without the digest) for a keeper to send again while the owner thread is busy.
+    auto copy = std::make_shared<const Sample>(Sample{self_, PeerId{}, m});
+    std::lock_guard<std::mutex> lock(heartbeat_mu_);
+    heartbeat_ = std::move(copy);
+  }
   // Coalesced local changes not yet published would make the digest differ for a while.
   if (with_digest && pending_lo_ == 0) m.digest = state_digest();
   queue(PeerId{}, std::move(m));
 }
 
+std::shared_ptr<const Sample> Replicator::last_heartbeat() const {
+  std::lock_guard<std::mutex> lock(heartbeat_mu_);
+  return heartbeat_;
+}
 
 std::uint64_t Replicator::state_digest() {
   if (digest_version_ != state_version_) {

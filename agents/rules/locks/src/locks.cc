@@ -70,8 +70,11 @@ bool LockManager::live(const PeerId& p) const {
 
 bool LockManager::expired(const Seen& s) const {
   if (s.winner.free || s.winner.holder == g_.replica()) return false;
-  if (!live(s.winner.holder)) return true;  // the holder left (crash or partition)
-  return now_() - s.changed_at > s.winner.lease_ns;
+  // A claim lives while this replica hears its holder: the holder's engine is alive (its
+  // heartbeats go on even while its code blocks), so a claim needs no renewal writes. A holder not
+  // heard (it left, crashed, a partition cut it off, or it is an incarnation that is gone) no
+  // longer holds.
+  return !live(s.winner.holder);
 }
 
 void LockManager::emit(NodeId root, LockEventKind k, const LockClaim& c, std::string reason, std::int64_t latency) {
@@ -100,7 +103,7 @@ void LockManager::refresh(NodeId root) {
       }
     }
   if (wv == nullptr) return;  // no claim decodes
-  // A new write of the winning claim (a renewal or a new claim) restarts the lease clock.
+  // A new write of the winning claim (a new claim) restarts the clock.
   if (!(wv->dot == s.winner_dot)) {
     s.winner_dot = wv->dot;
     s.changed_at = now_();
@@ -195,7 +198,7 @@ Status LockManager::acquire(NodeId root, std::int64_t priority) {
                                                  " (asked " + std::to_string(priority) + ")");
   }
   LockClaim c{max_epoch + 1, priority, g_.replica(), opt_.lease_ns, false};
-  mine_[root] = Mine{c.epoch, 0, priority, now_(), now_(), false};
+  mine_[root] = Mine{c.epoch, 0, priority, now_(), false};
   Status s = write_claim(root, c);
   if (!s.ok()) {
     mine_.erase(root);
@@ -239,14 +242,6 @@ Status LockManager::acquire_all(std::vector<NodeId> roots, std::int64_t priority
 
 void LockManager::tick() {
   const std::int64_t now = now_();
-  for (auto& [root, m] : mine_) {
-    auto w = winner(root);
-    bool ours = w && w->holder == g_.replica() && w->epoch == m.epoch;
-    if (ours && now - m.renewed_at > opt_.lease_ns / 3 && !g_.transaction_open()) {
-      m.renewed_at = now;
-      (void)write_claim(root, LockClaim{m.epoch, m.priority, g_.replica(), opt_.lease_ns, false});
-    }
-  }
   // Acquired / lost transitions of our claims (refresh() reports losses seen in merges).
   for (auto it = mine_.begin(); it != mine_.end();) {
     NodeId root = it->first;
@@ -266,7 +261,7 @@ void LockManager::tick() {
       s.expiry_reported = true;
       scopes_dirty_ = true;
       emit(root, LockEventKind::kExpired, s.winner,
-           live(s.winner.holder) ? "the lease ran out" : "the holder left");
+           "the holder left");
     }
   }
   if (scopes_dirty_) rebuild_scopes();

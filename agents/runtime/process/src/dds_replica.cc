@@ -1,5 +1,6 @@
 #include "quiver/agents/runtime/process/dds_replica.h"
 
+#include <algorithm>
 #include <chrono>
 #include <random>
 
@@ -54,6 +55,12 @@ Result<std::unique_ptr<DdsReplica>> DdsReplica::create(DdsReplicaOptions options
     a->replicator_->set_admission(a->opt_.permissions.get());
     a->graph_->set_permission_check(a->opt_.permissions->commit_check(a->graph_->replica().agent));
   }
+  EngineOptions eo = a->opt_.engine;
+  eo.clock = monotonic_ns;
+  eo.seed ^= a->graph_->replica().incarnation;  // each incarnation draws its own numbers
+  a->engine_ = std::make_unique<Engine>(*a->graph_, a->replicator_.get(), std::move(eo));
+  // A task posted from another thread wakes a round that waits on the transport.
+  a->engine_->on_posted([t = a->transport_.get()] { t->wake(); });
   const std::int64_t now = monotonic_ns();
   a->replicator_->start(now);
   a->next_tick_ = now + a->opt_.tick_ns;
@@ -86,8 +93,10 @@ Result<crdt::CausalContext> DdsReplica::open_store(std::uint64_t incarnation) {
 }
 
 DdsReplica::~DdsReplica() {
+  keeper_.reset();  // before the transport it sends through
   if (replicator_) replicator_->leave();
   if (transport_) transport_->dispose_self();
+  engine_.reset();
   replicator_.reset();
   transport_.reset();
 }
@@ -95,24 +104,23 @@ DdsReplica::~DdsReplica() {
 void DdsReplica::spin_once(std::int64_t max_wait_ns) {
   replicator_->flush();  // commits made since the last round (outside it) leave before we block
   std::int64_t now = monotonic_ns();
-  std::int64_t wait = std::min(max_wait_ns, next_tick_ - now);
-  if (!timers_.empty()) wait = std::min(wait, timers_.top().due - now);
-  if (wait > 0) transport_->wait(wait);
-  transport_->drain([&](const Sample& s) { replicator_->on_sample(s, monotonic_ns()); },
-                    [&](const PeerId& p, bool gone) { replicator_->on_peer_lost(p, gone); });
+  std::int64_t wait = std::min({max_wait_ns, next_tick_ - now, engine_->next_timer() - now});
+  if (wait > 0 && !engine_->tasks_waiting()) transport_->wait(wait);
+  bool received = false;
+  transport_->drain(
+      [&](const Sample& s) {
+        engine_->on_sample(s);
+        received = true;
+      },
+      [&](const PeerId& p, bool gone) { replicator_->on_peer_lost(p, gone); });
+  if (received) engine_->pump();
   // A newcomer matched: announce ourselves now so it does not wait for a heartbeat.
   if (transport_->take_new_match()) replicator_->announce();
-  std::vector<std::function<void()>>
-      tasks;  // empty vectors own no memory: nothing allocated when idle
-  {
-    std::lock_guard<std::mutex> lock(mu_);
-    tasks.swap(posted_);
-  }
-  for (auto& f : tasks) f();
+  engine_->run_posted();
+  engine_->run_timers();
   now = monotonic_ns();
-  run_timers(now);
   if (now >= next_tick_) {
-    replicator_->tick(now);
+    engine_->step();
     next_tick_ = now + opt_.tick_ns;
   }
   replicator_->flush();  // coalesced commits (signed replicas) leave at the end of each round
@@ -137,47 +145,19 @@ void DdsReplica::spin() {
   while (!stop_.load()) spin_once(50'000'000);
 }
 
-void DdsReplica::post(std::function<void()> fn) {
-  {
-    std::lock_guard<std::mutex> lock(mu_);
-    posted_.push_back(std::move(fn));
-  }
-  transport_->wake();
-}
-
-DdsReplica::TimerId DdsReplica::after(std::int64_t delay_ns, std::function<void()> fn) {
-  const TimerId id = next_timer_++;
-  timer_fns_.emplace(id, std::move(fn));
-  timers_.push(Timer{monotonic_ns() + std::max<std::int64_t>(delay_ns, 0), id, 0});
-  return id;
-}
-
-DdsReplica::TimerId DdsReplica::every(std::int64_t period_ns, std::function<void()> fn) {
-  if (period_ns <= 0) period_ns = 1;
-  const TimerId id = next_timer_++;
-  timer_fns_.emplace(id, std::move(fn));
-  timers_.push(Timer{monotonic_ns() + period_ns, id, period_ns});
-  return id;
-}
-
-void DdsReplica::cancel(TimerId id) { timer_fns_.erase(id); }
-
-void DdsReplica::run_timers(std::int64_t now) {
-  while (!timers_.empty() && timers_.top().due <= now) {
-    Timer t = timers_.top();
-    timers_.pop();
-    auto it = timer_fns_.find(t.id);
-    if (it == timer_fns_.end()) continue;  // cancelled
-    std::function<void()> fn = t.period > 0 ? it->second : std::move(it->second);
-    if (t.period > 0) {
-      // The next due time after now: a slow round does not make the timer fire in a burst.
-      t.due += t.period * ((now - t.due) / t.period + 1);
-      timers_.push(t);
-    } else {
-      timer_fns_.erase(it);
-    }
-    fn();
-  }
+void DdsReplica::keep_alive(std::int64_t hang_ns, std::function<void(const std::string&)> warn,
+                            std::function<void(const std::string&)> info) {
+  keeper_.reset();
+  KeeperOptions ko;
+  ko.beat_ns = replicator_->options().heartbeat_ns;
+  ko.hang_ns = hang_ns;
+  ko.clock = monotonic_ns;
+  keeper_ = std::make_unique<LivenessKeeper>(
+      engine_->watch(), ko,
+      [this] {
+        if (auto beat = replicator_->last_heartbeat()) transport_->send(*beat);
+      },
+      std::move(warn), std::move(info));
 }
 
 void DdsReplica::stop() {
@@ -185,4 +165,4 @@ void DdsReplica::stop() {
   transport_->wake();
 }
 
-}  // namespace quiver::agents
+}  // namespace quiver::agents::inline runtime

@@ -14,7 +14,7 @@
 
 #include "quiver/agents/replica/replication/error_limiter.h"
 #include "quiver/agents/runtime/process/logging.h"
-#include "quiver/agents/runtime/engine/agent_runtime.h"
+#include "quiver/agents/runtime/engine/engine.h"
 #include "quiver/agents/runtime/process/security_setup.h"
 #include "quiver/graph/world_file.h"
 
@@ -31,7 +31,7 @@ void install_signal_handlers() {
   sigaction(SIGTERM, &sa, nullptr);
 }
 
-nlohmann::json status(Agent& agent, DdsReplica& r, const AgentRuntime& rt) {
+nlohmann::json status(Agent& agent, DdsReplica& r, const Engine& rt) {
   const auto& st = r.replicator().stats();
   nlohmann::json j;
   j["name"] = agent.name();
@@ -105,6 +105,11 @@ void ProcessFlags::add_all(CLI::App* cmd) {
   cmd->add_option("--join-wait", join_wait_s, "before starting, wait this long to join the peers")
       ->check(CLI::Range(0.0, 60.0))
       ->capture_default_str();
+  cmd->add_option("--hang", hang_s,
+                  "report an agent callback that has not returned after this many seconds (the agent stays "
+                  "alive for its peers meanwhile; 0: never)")
+      ->check(CLI::Range(0.0, 3600.0))
+      ->capture_default_str();
   cmd->add_option("--hand-over", hand_over_s,
                   "on a clean stop, keep replicating up to this long until every live peer holds all this agent "
                   "published (0: leave at once)")
@@ -169,6 +174,8 @@ int run_process(Agent& agent, const ProcessFlags& f) {
     so.compact_log_bytes = static_cast<std::size_t>(f.store_compact_mb * (1 << 20));
     o.store = so;
   }
+  o.engine.seed = f.seed;  // mixed with the incarnation by DdsReplica::create()
+  o.engine.log = [&](std::string_view line) { log->info("{}", line); };
   auto created = DdsReplica::create(o);
   if (!created.ok()) {
     log->error("{}", created.error().to_string());
@@ -222,35 +229,31 @@ int run_process(Agent& agent, const ProcessFlags& f) {
     if (r.replicator().live_peer_count() > 0)
       r.spin_until([&] { return r.replicator().synced() || g_stop.load(); }, 4 * wait);
   }
-  RuntimeOptions ro;
-  ro.seed = f.seed ^ r.id().incarnation;
-  ro.clock = [] { return monotonic_ns(); };
-  ro.log = [&](std::string_view line) { log->info("{}", line); };
-  AgentRuntime rt(agent, r.graph(), &r.replicator(), ro);
+  // The engine runs the agent on this thread (the owner); a keeper thread keeps it alive for its
+  // peers while one of its callbacks blocks, and reports a callback that does not return.
+  Engine& rt = r.engine();
+  rt.attach(agent);
   if (Status s = rt.start(); !s.ok()) {
     log->error("{}", s.error().to_string());
     return 2;
   }
   if (rt.guard())
     rt.guard()->on_violation([&](const Violation& v) { log->warn("violation {}", v.to_string(r.graph())); });
+  r.keep_alive(
+      static_cast<std::int64_t>(f.hang_s * 1e9), [&](const std::string& line) { log->warn("{}", line); },
+      [&](const std::string& line) { log->info("{}", line); });
   const std::int64_t start = monotonic_ns();
-  std::int64_t next_tick = start, next_status = start;
-  constexpr std::int64_t kTick = 10'000'000;
+  std::int64_t next_status = start;
   while (!g_stop.load()) {
     std::int64_t now = monotonic_ns();
     if (f.run_for_s > 0 && now - start > static_cast<std::int64_t>(f.run_for_s * 1e9)) break;
-    r.spin_once(std::clamp<std::int64_t>(next_tick - now, 0, kTick));
-    rt.pump();
+    r.spin_once(10'000'000);
     now = monotonic_ns();
-    if (now >= next_tick) {
-      rt.tick();
-      next_tick = now + kTick;
-      {
-        std::lock_guard<std::mutex> lock(errors_mu);
-        errors.tick(now);
-      }
-      membership.tick(now);
+    {
+      std::lock_guard<std::mutex> lock(errors_mu);
+      errors.tick(now);
     }
+    membership.tick(now);
     if (f.status_ms > 0 && now >= next_status) {
       std::cout << status(agent, r, rt).dump() << std::endl;
       next_status = now + f.status_ms * 1'000'000LL;

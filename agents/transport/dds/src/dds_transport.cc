@@ -228,6 +228,7 @@ std::string loopback_config_xml(const DdsConfig& cfg) {
 // ------------------------------------------------------------------ transport
 
 struct DdsTransport::Impl {
+  std::mutex send_mu;  // send() may come from a keeper thread too (DdsReplica::keep_alive())
   dds_domainid_t domain_id = 0;
   bool shared_domain = false;
   bool secured_private = false;  // domain_id is in g_secured_private
@@ -423,6 +424,7 @@ DdsTransport::~DdsTransport() = default;
 
 void DdsTransport::send(const Sample& s) {
   Impl& d = *impl_;
+  std::lock_guard<std::mutex> lock(d.send_mu);
   auto [topic, sample] = d.builder.build(s.message, self_, s.to);
   dds_return_t rc = dds_write(d.writers[static_cast<int>(topic)].get(), sample);
   if (rc == DDS_RETCODE_OK) ++stats_.samples_written;

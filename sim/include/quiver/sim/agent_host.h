@@ -15,7 +15,7 @@
 
 #include "quiver/agents/rules/locks/locks.h"
 #include "quiver/agents/replica/replication/replicator.h"
-#include "quiver/agents/runtime/engine/agent_runtime.h"
+#include "quiver/agents/runtime/engine/engine.h"
 #include "quiver/sim/network.h"
 
 namespace quiver::sim {
@@ -60,7 +60,8 @@ class AgentHost {
   /// While up: the agent, its replica, its runtime (null while down or before its setup()).
   agents::Agent* agent(int i);
   graph::Graph* graph(int i);
-  agents::AgentRuntime* runtime(int i);
+  /// The engine running agent i (null while down or before its setup()).
+  agents::Engine* runtime(int i);
   agents::Replicator* replicator(int i);
   int incarnation(int i) const;
 

@@ -10,7 +10,7 @@
 #include "quiver/agents/apps/agm/agm_roles.h"
 #include "quiver/agents/apps/agm/agm_schema.h"
 #include "quiver/agents/rules/grammar/grammar.h"
-#include "quiver/agents/runtime/engine/agent_runtime.h"
+#include "quiver/agents/runtime/engine/engine.h"
 #include "quiver/graph/world_file.h"
 #include "quiver/base/hash.h"
 

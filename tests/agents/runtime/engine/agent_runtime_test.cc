@@ -2,7 +2,7 @@
 // start, process, finish), cancellation when the precondition goes or the lock is lost, timers
 // on the host's clock, and filtered subscriptions.
 
-#include "quiver/agents/runtime/engine/agent_runtime.h"
+#include "quiver/agents/runtime/engine/engine.h"
 
 #include <gtest/gtest.h>
 

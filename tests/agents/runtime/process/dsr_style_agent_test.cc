@@ -9,7 +9,7 @@
 #include <thread>
 
 #include "quiver/agents/runtime/process/dds_replica.h"
-#include "quiver/agents/runtime/engine/agent_runtime.h"
+#include "quiver/agents/runtime/engine/engine.h"
 
 namespace quiver::agents {
 namespace {

@@ -24,7 +24,8 @@
 /// claim changes it never delivers is ignored for a while; full-state answers to one peer are
 /// rate-limited.
 ///
-/// Threading: a Replicator and its Graph belong to one thread.
+/// Threading: a Replicator and its Graph belong to one thread (the owner); only last_heartbeat()
+/// may be called from any thread.
 
 #include <cstdint>
 #include <algorithm>
@@ -32,6 +33,7 @@
 #include <list>
 #include <map>
 #include <memory>
+#include <mutex>
 #include <span>
 #include <string>
 #include <unordered_map>
@@ -176,6 +178,9 @@ class Replicator {
   void on_error(std::function<void(const Error&)> cb) { error_cb_ = std::move(cb); }
   /// True if `peer` is currently heard from.
   bool peer_alive(const PeerId& peer) const;
+  /// True if `peer` was heard from at some time and is still remembered (the peer table keeps
+  /// peers that left until it needs their room).
+  bool peer_known(const PeerId& peer) const { return peers_.count(peer) > 0; }
   /// True if every live peer has told us (in its last summary) that it holds (origin, seq).
   bool all_peers_hold(const PeerId& origin, std::uint64_t seq) const {
     return all_peers_hold(origin, seq, seq);
@@ -185,6 +190,10 @@ class Replicator {
   /// True if every live agent peer (observers aside) whose summaries are believed has told us
   /// that it holds everything this replica holds: what a clean stop waits for (hand-over).
   bool peers_hold_all() const;
+  /// Thread-safe: the last heartbeat this replica sent (its summary, without the state digest),
+  /// or null before the first: what a keeper thread sends again while the owner thread is busy
+  /// in user code (DdsReplica::keep_alive()), so that peers keep hearing a live agent.
+  std::shared_ptr<const Sample> last_heartbeat() const;
   /// The last sequence number this replica published.
   std::uint64_t last_seq() const { return seq_; }
   /// The (origin, seq) pairs whose effects this replica holds.
@@ -325,6 +334,8 @@ class Replicator {
   PeerId gap_peer_;
 
   std::vector<Sample> outbox_;
+  mutable std::mutex heartbeat_mu_;
+  std::shared_ptr<const Sample> heartbeat_;  // guarded by heartbeat_mu_
   bool announce_soon_ = false;
   graph::GraphDelta scratch_;
   ReplicatorStats stats_;

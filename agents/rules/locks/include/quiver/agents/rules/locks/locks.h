@@ -13,10 +13,11 @@
 ///    hear each other never both hold one scope: the second cannot be acknowledged by the first
 ///    without the first seeing a competing claim first.
 ///  - A higher priority preempts (the old holder is told: Lost). An equal or lower priority is
-///    refused while the holder's lease runs.
-///  - A holder renews its claim every lease/3. A claim whose holder left (crash detected by the
-///    transport or by missed heartbeats) or that was not renewed for a lease has expired: others
-///    may then claim the next epoch.
+///    refused while the holder's claim lives.
+///  - A claim lives while its holder is heard: its engine's heartbeats are the renewal (they go
+///    on while the holder's code blocks, DdsReplica::keep_alive()), so claims are written once.
+///    A claim whose holder is not heard (it left, crashed, a partition cut it off) has expired:
+///    others may then claim the next epoch.
 ///  - During a partition each side may hold (availability); after the heal the replicas merge
 ///    the claims, agree on one winner, and the loser gets Lost.
 ///  - Writes into a scope locked by someone else are refused locally; the holder's writes carry
@@ -56,6 +57,8 @@ struct LockEvent {
 };
 
 struct LockOptions {
+  /// Written into claims (their format keeps it); a claim no longer expires by it but with its
+  /// holder's liveness (see above).
   std::int64_t lease_ns = 2'000'000'000;
 };
 
@@ -92,7 +95,7 @@ class LockManager {
   /// The fencing epoch this replica's writes to `node` carry (0 outside its scopes).
   std::uint64_t fence(graph::NodeId node) const;
 
-  /// Renews our claims, notices expiry and acknowledgement, fires events. Call periodically.
+  /// Notices expiry and acknowledgement, fires events. Call periodically.
   void tick();
   void on_event(std::function<void(const LockEvent&)> cb) { cb_ = std::move(cb); }
 
@@ -108,7 +111,6 @@ class LockManager {
     std::uint64_t epoch = 0;
     std::uint64_t seq = 0;  // the delta that carried the claim (for acknowledgement)
     std::int64_t priority = 0;
-    std::int64_t renewed_at = 0;
     std::int64_t requested_at = 0;
     bool held = false;
   };

@@ -48,6 +48,13 @@ class AgentContext {
   virtual TimerId every(std::int64_t period_ns, std::function<void()> fn) = 0;
   /// Cancels a timer (nothing if it already ran or never was).
   virtual void cancel(TimerId id) = 0;
+
+  /// Long work (synthesis, planning, a camera frame) off the agent's thread: `work` runs on a
+  /// worker thread and must not touch the graph or this context; then `done` (may be empty) runs
+  /// on the agent's thread, where it may. Jobs of one agent run one at a time, in order. A
+  /// callback that blocks instead keeps its agent alive for its peers (its heartbeats go on) but
+  /// joins nothing until it returns, and is reported as hung past the host's limit.
+  virtual void run_job(std::function<void()> work, std::function<void()> done) = 0;
 };
 
 }  // namespace quiver::agents

@@ -1,28 +1,32 @@
 #pragma once
 /// @file
-/// A replica on DDS: one graph replica, its replicator, and the Cyclone DDS transport, driven by one
-/// owner thread. The owner thread is whichever thread calls spin_*(); every graph read and
-/// write, every change event and every protocol step happens there. Other threads talk to the
-/// agent only through post() and stop(), which are thread-safe.
+/// A replica on DDS: one graph replica, its replicator and the Cyclone DDS transport, driven by
+/// the agent engine (engine.h) on one owner thread. This is the engine's DDS driver: it waits on
+/// the transport, hands every sample to the engine and calls its round every tick. The owner
+/// thread is whichever thread calls spin_*(); every graph read and write, every change event,
+/// every protocol step and every agent callback happens there. Other threads talk to it only
+/// through post(), call() and stop(), which are thread-safe.
+///
+/// While the owner thread is inside user code (an agent's callback, a posted task) for longer
+/// than a heartbeat, a keeper thread (keep_alive()) sends the replica's last heartbeat again, so
+/// that a blocking callback does not make the agent look gone, and reports a callback that does
+/// not return.
 
 #include <atomic>
 #include <cstdint>
 #include <functional>
 #include <future>
-#include <map>
 #include <memory>
-#include <mutex>
 #include <optional>
-#include <queue>
 #include <string>
 #include <type_traits>
-#include <vector>
 
-#include "quiver/agents/runtime/api/posted_call.h"
-#include "quiver/agents/transport/dds/dds_transport.h"
-#include "quiver/agents/rules/permissions/policy_admission.h"
 #include "quiver/agents/replica/replication/replicator.h"
 #include "quiver/agents/replica/store/store.h"
+#include "quiver/agents/rules/permissions/policy_admission.h"
+#include "quiver/agents/runtime/engine/engine.h"
+#include "quiver/agents/runtime/engine/liveness_keeper.h"
+#include "quiver/agents/transport/dds/dds_transport.h"
 #include "quiver/graph/graph.h"
 
 namespace quiver::agents::inline runtime {
@@ -33,7 +37,9 @@ struct DdsReplicaOptions {
   std::uint64_t incarnation = 0;   ///< 0: a fresh one (see fresh_incarnation())
   DdsConfig dds;
   ReplicatorOptions replicator;    ///< name and observer are taken from above
-  std::int64_t tick_ns = 10'000'000;
+  std::int64_t tick_ns = 10'000'000;  ///< the engine's round (replicator timers, the agent's turn)
+  /// The engine's options (the clock is the monotonic clock; the log is given by the host).
+  EngineOptions engine;
   /// A durable store (docs/persistence.md): the replica is loaded from it on start and every
   /// change it joins is logged. A store that cannot be read is set aside (DIR.corrupt-N) and
   /// the replica starts empty under a new incarnation, to be filled by its peers.
@@ -53,6 +59,7 @@ std::int64_t monotonic_ns();
 
 class DdsReplica {
  public:
+  /// @returns the replica, or the error of its store, transport or options (naming what failed).
   static Result<std::unique_ptr<DdsReplica>> create(DdsReplicaOptions options);
   /// Leaves cleanly: peers see this replica go at once.
   ~DdsReplica();
@@ -62,6 +69,8 @@ class DdsReplica {
   graph::Graph& graph() { return *graph_; }
   Replicator& replicator() { return *replicator_; }
   DdsTransport& transport() { return *transport_; }
+  /// The engine that runs this replica (and the agent attached to it, if any).
+  Engine& engine() { return *engine_; }
   const DdsReplicaOptions& options() const { return opt_; }
   /// The replica's store (null without one).
   Store* store() { return store_.get(); }
@@ -69,24 +78,37 @@ class DdsReplica {
   const std::optional<Error>& store_recovery() const { return store_recovery_; }
   const PeerId& id() const { return graph_->replica(); }
 
-  /// One round of the loop: waits up to `max_wait_ns` for traffic (less if a timer is due),
-  /// handles what arrived, runs posted tasks and timers.
+  /// Owner thread: one round of the loop: waits up to `max_wait_ns` for traffic (less if a timer
+  /// is due, none if tasks wait), hands what arrived to the engine, runs posted tasks and due
+  /// timers, and the engine's round when its tick is due.
   void spin_once(std::int64_t max_wait_ns);
-  /// Spins until `done()` holds (checked after every round) or `timeout_ns` passes.
+  /// Owner thread: spins until `done()` holds (checked after every round) or `timeout_ns` passes.
+  /// @returns whether `done()` held.
   bool spin_until(const std::function<bool()>& done, std::int64_t timeout_ns);
+  /// Owner thread: spins for `duration_ns` (or until stop()).
   void spin_for(std::int64_t duration_ns);
-  /// Before leaving cleanly: spins until every live agent peer holds everything this replica
-  /// holds (Replicator::peers_hold_all), or `timeout_ns` passes. A peer that was away may still
-  /// be pulling what it missed from this replica, perhaps its only holder. @returns true when
-  /// handed over.
+  /// Owner thread: before leaving cleanly, spins until every live agent peer holds everything
+  /// this replica holds (Replicator::peers_hold_all), or `timeout_ns` passes. A peer that was
+  /// away may still be pulling what it missed from this replica, perhaps its only holder.
+  /// @returns true when handed over.
   bool hand_over(std::int64_t timeout_ns) {
     return spin_until([this] { return replicator_->peers_hold_all(); }, timeout_ns);
   }
-  /// Spins until stop() is called.
+  /// Owner thread: spins until stop() is called.
   void spin();
 
+  /// Owner thread: starts the keeper thread (liveness_keeper.h): while the owner thread is in
+  /// user code for longer than a heartbeat, the replica's last heartbeat is sent again once a
+  /// heartbeat period; a callback running longer than `hang_ns` (0: never) is reported once
+  /// through `warn`, and its return through `info`. Stopped with the replica, or by calling
+  /// keep_alive() again.
+  void keep_alive(std::int64_t hang_ns, std::function<void(const std::string&)> warn,
+                  std::function<void(const std::string&)> info = {});
+  /// Heartbeats the keeper sent on this replica's behalf (0 without a keeper).
+  std::uint64_t kept_beats() const { return keeper_ ? keeper_->beats() : 0; }
+
   /// Thread-safe: runs `fn` on the owner thread at its next round.
-  void post(std::function<void()> fn);
+  void post(std::function<void()> fn) { engine_->post(std::move(fn)); }
   /// Thread-safe: runs `fn` on the owner thread at its next round and returns a future of its
   /// result (or of the exception it threw). A replica destroyed before the task ran leaves the
   /// future with std::future_error (broken_promise).
@@ -94,20 +116,20 @@ class DdsReplica {
   /// wait for itself).
   template <class F>
   auto call(F fn) -> std::future<std::invoke_result_t<F&>> {
-    return posted_call([this](std::function<void()> task) { post(std::move(task)); }, std::move(fn));
+    return engine_->call(std::move(fn));
   }
 
   /// Identifies a timer (to cancel it). 0 is never a timer.
-  using TimerId = std::uint64_t;
+  using TimerId = runtime::TimerId;
   /// Owner thread: runs `fn` once on the owner thread, `delay_ns` from now (spin_*() wakes for
   /// it). @returns its id.
-  TimerId after(std::int64_t delay_ns, std::function<void()> fn);
+  TimerId after(std::int64_t delay_ns, std::function<void()> fn) { return engine_->after(delay_ns, std::move(fn)); }
   /// Owner thread: runs `fn` every `period_ns` (> 0; the first time one period from now).
   /// A round that falls behind runs it once, not once per missed period.
-  TimerId every(std::int64_t period_ns, std::function<void()> fn);
+  TimerId every(std::int64_t period_ns, std::function<void()> fn) { return engine_->every(period_ns, std::move(fn)); }
   /// Owner thread: cancels a timer (nothing if it already ran or never was). A timer may cancel
   /// itself from its own function.
-  void cancel(TimerId id);
+  void cancel(TimerId id) { engine_->cancel(id); }
   /// Thread-safe: makes spin() return.
   void stop();
 
@@ -120,19 +142,9 @@ class DdsReplica {
   std::unique_ptr<graph::Graph> graph_;
   std::unique_ptr<DdsTransport> transport_;
   std::unique_ptr<Replicator> replicator_;
+  std::unique_ptr<Engine> engine_;
+  std::unique_ptr<LivenessKeeper> keeper_;  // stopped before the engine and the transport
   std::int64_t next_tick_ = 0;
-  struct Timer {
-    std::int64_t due = 0;
-    TimerId id = 0;
-    std::int64_t period = 0;  // 0: once
-    bool operator>(const Timer& o) const { return due != o.due ? due > o.due : id > o.id; }
-  };
-  void run_timers(std::int64_t now);
-  std::priority_queue<Timer, std::vector<Timer>, std::greater<Timer>> timers_;
-  std::map<TimerId, std::function<void()>> timer_fns_;
-  TimerId next_timer_ = 1;
-  std::mutex mu_;
-  std::vector<std::function<void()>> posted_;  // guarded by mu_
   std::atomic<bool> stop_{false};
 };
 

@@ -35,6 +35,7 @@ struct ProcessFlags {
   double run_for_s = 0;
   double join_wait_s = 1.5;
   double hand_over_s = 2;  ///< on a clean stop, replicate up to this long until the peers hold all it published
+  double hang_s = 1;       ///< a callback running longer is reported as hung (0: never)
   std::string store;                ///< durable store directory (empty: none)
   std::string durability = "batch";  ///< none | batch | always
   double store_compact_mb = 64;      ///< compact when the log holds this much (and more than the snapshot)
@@ -44,7 +45,8 @@ struct ProcessFlags {
 
   /// --domain, --dds-config, --loss-permille (the DDS ones) on `cmd`.
   void add_dds(CLI::App* cmd);
-  /// The DDS ones and --world, --seed, --status-ms, --run-for, --join-wait, --hand-over, --store, --durability.
+  /// The DDS ones and --world, --seed, --status-ms, --run-for, --join-wait, --hang, --hand-over, --store,
+  /// --durability.
   void add_all(CLI::App* cmd);
   /// Sets the DDS configuration these flags choose (domain, source, loss) on `c`.
   Status apply_to(DdsConfig& c) const;

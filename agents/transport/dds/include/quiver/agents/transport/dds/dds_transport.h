@@ -101,8 +101,8 @@ class DdsTransport final : public Transport {
   DdsTransport(const DdsTransport&) = delete;
   DdsTransport& operator=(const DdsTransport&) = delete;
 
-  /// Writes `s` as one sample of its topic. A write that times out (a reader lags beyond
-  /// max_blocking_ns) is counted and dropped: the protocol recovers it.
+  /// Thread-safe: writes `s` as one sample of its topic. A write that times out (a reader lags
+  /// beyond max_blocking_ns) is counted and dropped: the protocol recovers it.
   void send(const Sample& s) override;
 
   /// Blocks until samples arrive, wake() is called, or `timeout_ns` passes.
