@@ -19,6 +19,9 @@
 /// within limits::kMaxNameBytes (node names without '~'); a delta (kDelta) changes something,
 /// and every dot it adds, and every range of its context, is its origin's (a replica can only
 /// mint its own dots), each added dot inside the context.
+///
+/// Threading: every function here is thread-safe on distinct arguments (the table of names it
+/// interns into is thread-safe). Errors are returned as values; nothing throws on bad input.
 
 #include <cstdint>
 #include <span>
@@ -41,14 +44,23 @@ struct DecodeLimits {
 inline constexpr std::uint8_t kCodecVersion = 2;
 
 /// Appends the encoding of `d` to `out`.
+/// @pre `d`'s spans index its own arrays (as a Graph or decode() builds it), and d.seq_lo <=
+///      d.seq_hi unless d.seq_lo is 0 (unbound). A fragment that breaks the checks listed above
+///      still encodes, but decode() refuses it.
 void encode(const GraphDelta& d, std::vector<std::uint8_t>& out);
 /// The same, naming the sequence interval [seq_lo, seq_hi] in place of d's own.
+/// @pre as above, for these seq_lo and seq_hi.
 void encode(const GraphDelta& d, std::vector<std::uint8_t>& out, std::uint64_t seq_lo, std::uint64_t seq_hi);
+/// @returns the encoding of `d` in a new buffer. @pre as above.
 std::vector<std::uint8_t> encode(const GraphDelta& d);
 
 /// Decodes into `out` (cleared first; its capacity is reused). On error `out` is unspecified
 /// and the error names what was wrong and where.
+/// @returns kMalformed (bad magic, kind, flags or structure; a check above fails), kTruncated
+///          (input ends early), kTooLarge (a count or length over `limits`, or the table of
+///          names is full), kUnsupportedVersion (another format version).
 Status decode(std::span<const std::uint8_t> in, GraphDelta& out, const DecodeLimits& limits = {});
+/// The same into a new GraphDelta. @returns the fragment or decode()'s error.
 Result<GraphDelta> decode(std::span<const std::uint8_t> in, const DecodeLimits& limits = {});
 
 }  // namespace quiver::graph

@@ -7,6 +7,8 @@
 /// Layout: flat arrays with index ranges, so that building and decoding allocate nothing once
 /// warm. Every dot a delta removes is listed under the key it was removed from ("attributed"),
 /// which lets a receiver join a delta in time proportional to the delta, not to its own state.
+///
+/// Threading: a plain value; no shared state.
 
 #include <cstdint>
 #include <string>
@@ -27,7 +29,10 @@ struct GraphDelta {
   struct Span {
     std::uint32_t begin = 0;
     std::uint32_t end = 0;
+    /// @returns the number of indices in [begin, end).
+    /// @pre begin <= end.
     std::uint32_t size() const { return end - begin; }
+    /// @returns true if the span holds no index.
     bool empty() const { return begin == end; }
   };
   /// Changes of one attribute register.
@@ -79,14 +84,22 @@ struct GraphDelta {
   std::string rule;
   std::vector<std::pair<std::string, NodeId>> binding;
 
+  /// Resets every field to its default (kind kDelta, null origin, no claim), keeping capacity.
   void clear();
+  /// @returns true if the fragment carries no node op, no edge op and an empty context.
   bool empty() const { return nodes.empty() && edges.empty() && context.empty(); }
   /// Number of entry-level changes (for statistics).
+  /// @returns the count of entries added and removed: values, existence dots, headers, node
+  ///          removals, claims and samples.
   std::size_t change_count() const;
   /// Appends `other` (a later delta of the same origin) to this one: sequential application of
-  /// the result equals applying both in order.
+  /// the result equals applying both in order. Contexts are joined; the rule claim is dropped
+  /// (an interval applies several rules).
+  /// @pre Both are kDelta fragments of one origin, `other` later; their spans index their own
+  ///      arrays (as built by a Graph or decode()). `other` is not `*this`.
   void append(const GraphDelta& other);
   /// Calls f(dot) for every dot this fragment adds or removes (its context beyond `context`).
+  /// Includes the ids of nodes it creates or deletes.
   template <class F>
   void for_each_mentioned_dot(F&& f) const {
     for (const Dot& d : removed) f(d);

@@ -1,6 +1,9 @@
 #pragma once
 /// @file
 /// Identifiers of the world graph and the payloads of kinematic (RT) edges.
+///
+/// Threading: plain values with no shared state; every function here is thread-safe on
+/// distinct objects (and on shared ones that nobody writes).
 
 #include <array>
 #include <compare>
@@ -20,10 +23,11 @@ using crdt::ReplicaId;
 struct NodeId {
   Dot dot;
 
+  /// @returns true for the null id (a null dot: counter 0), which names no node.
   bool is_null() const { return dot.is_null(); }
   friend auto operator<=>(const NodeId&, const NodeId&) = default;
   friend bool operator==(const NodeId&, const NodeId&) = default;
-  /// "00000000000000ab.3:42".
+  /// @returns the dot as text: "00000000000000ab.3:42" (agent in hex, incarnation, counter).
   std::string to_string() const { return dot.to_string(); }
 };
 
@@ -34,10 +38,12 @@ struct EdgeKey {
   Symbol type;
 
   friend bool operator==(const EdgeKey&, const EdgeKey&) = default;
+  /// @returns "<from> -[<type>]-> <to>", with ids as NodeId::to_string() writes them.
   std::string to_string() const;
 };
 
 /// Deterministic order of edge keys (types by text).
+/// @returns true if `a` sorts before `b`: by `from`, then `to` (NodeId order), then type text.
 bool canonical_less(const EdgeKey& a, const EdgeKey& b);
 
 /// A rigid transform X_PC: the pose of a child frame C in its parent frame P, as a translation
@@ -47,6 +53,7 @@ struct Pose {
   std::array<double, 4> rotation{1.0, 0.0, 0.0, 0.0};
 
   friend bool operator==(const Pose&, const Pose&) = default;
+  /// @returns the identity transform (zero translation, rotation (1, 0, 0, 0)).
   static Pose identity() { return Pose{}; }
 };
 
@@ -77,6 +84,7 @@ struct RtSample {
 };
 
 /// Samples ordered by (stamp, dot).
+/// @returns true if `a` sorts before `b`: by stamp, then by dot in Lamport order.
 inline bool sample_less(const RtSample& a, const RtSample& b) {
   if (a.stamp != b.stamp) return a.stamp < b.stamp;
   return crdt::lamport_less(a.dot, b.dot);
@@ -90,10 +98,12 @@ inline constexpr std::size_t kRtHistoryDepth = 32;
 
 template <>
 struct std::hash<quiver::graph::NodeId> {
+  /// @returns hash_value() of the id's dot (stable across processes).
   std::size_t operator()(const quiver::graph::NodeId& n) const noexcept { return hash_value(n.dot); }
 };
 template <>
 struct std::hash<quiver::graph::EdgeKey> {
+  /// @returns a hash of both endpoints and the type's stable_hash() (stable across processes).
   std::size_t operator()(const quiver::graph::EdgeKey& k) const noexcept {
     return quiver::hash_combine(quiver::hash_combine(hash_value(k.from.dot), hash_value(k.to.dot)),
                                 k.type.stable_hash());

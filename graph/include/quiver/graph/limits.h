@@ -3,6 +3,8 @@
 /// The one table of size limits for graph data. Every producer (a local commit, a world file)
 /// and every decoder of untrusted bytes applies these same numbers, so that whatever a local
 /// commit accepts, every peer's decoder accepts, and nothing a decoder refuses can be committed.
+///
+/// Threading: the functions here are pure and thread-safe; they return errors as values.
 
 #include <cstdint>
 #include <string_view>
@@ -29,6 +31,7 @@ inline constexpr std::uint64_t kMaxSymbolBytes = 64ull << 20;
 }  // namespace limits
 
 /// True if `s` is well-formed UTF-8 (no overlong forms, no surrogates, at most U+10FFFF).
+/// @returns true for the empty string.
 bool valid_utf8(std::string_view s);
 
 /// Checks a name against the table: non-empty, at most limits::kMaxNameBytes, valid UTF-8.
@@ -38,9 +41,11 @@ bool valid_utf8(std::string_view s);
 Status check_name(std::string_view what, std::string_view name);
 
 /// Checks a value's payload against limits::kMaxValueBytes (kTooLarge naming `what`).
+/// @returns kTooLarge if Value::payload_bytes() exceeds the limit; OK otherwise.
 Status check_value(std::string_view what, const Value& v);
 
 /// A name shortened for an error message ("abc…(5000 bytes)").
+/// @returns `name` in single quotes; past 40 bytes, its first 40 bytes then "...(<n> bytes)".
 std::string quote_name(std::string_view name);
 
 }  // namespace quiver::graph

@@ -1,6 +1,10 @@
 #pragma once
 /// @file
 /// Typed attribute values: a superset of CORTEX DSR's 14 types.
+///
+/// Threading: Value is a plain value type with no shared state (like std::variant): const
+/// members may run concurrently on one object, anything else needs exclusive access. Nothing here
+/// throws on purpose; failures are values (as<T>(), decode()).
 
 #include <array>
 #include <cstdint>
@@ -40,8 +44,10 @@ enum class ValueType : std::uint8_t {
 inline constexpr int kValueTypeCount = 17;
 
 /// Stable name of a type ("double", "vec3f", ...), as used in world files and errors.
+/// @returns a static string; "unknown" for a value outside the enum.
 const char* to_string(ValueType t);
 /// Inverse of to_string; nullopt for an unknown name.
+/// @returns the type whose to_string() equals `name` exactly (case-sensitive).
 std::optional<ValueType> value_type_from_string(std::string_view name);
 
 using Bytes = std::vector<std::uint8_t>;
@@ -55,6 +61,7 @@ using Vec6f = std::array<float, 6>;
 /// A 4x4 matrix of doubles, row-major.
 struct Mat4d {
   std::array<double, 16> m{};
+  /// @returns the 4x4 identity matrix.
   static Mat4d identity() {
     Mat4d r;
     r.m[0] = r.m[5] = r.m[10] = r.m[15] = 1.0;
@@ -90,10 +97,15 @@ inline constexpr ValueType value_type_of = [] {
 /// register does not pay for 128 bytes.
 class Value {
  public:
+  /// The empty string (kString).
   Value() : v_(std::string()) {}
+  /// A kString value.
   Value(std::string v) : v_(std::move(v)) {}          // NOLINT(google-explicit-constructor)
+  /// A kString value. @pre `v` is a NUL-terminated string, not nullptr.
   Value(const char* v) : v_(std::string(v)) {}        // NOLINT
+  /// A kString value (a copy of `v`).
   Value(std::string_view v) : v_(std::string(v)) {}   // NOLINT
+  /// A kBool value.
   Value(bool v) : v_(v) {}                            // NOLINT
   /// Any signed integer is stored as int64 and any unsigned one as uint64, so that `Value(4)`
   /// or `tx.set(n, "count", 4)` never makes an int32 by accident (an int literal is an int).
@@ -102,25 +114,38 @@ class Value {
     requires(std::is_integral_v<I> && !std::is_same_v<I, bool>)
   Value(I v)  // NOLINT(google-explicit-constructor)
       : v_(std::in_place_type<std::conditional_t<std::is_signed_v<I>, std::int64_t, std::uint64_t>>, v) {}
-  /// An int32 value (DSR's `int` attributes; world files' "int32").
+  /// @returns an int32 value (DSR's `int` attributes; world files' "int32").
   static Value int32(std::int32_t v) { return Value(std::in_place_type<std::int32_t>, v); }
-  /// A uint32 value (DSR's `uint` attributes; world files' "uint32").
+  /// @returns a uint32 value (DSR's `uint` attributes; world files' "uint32").
   static Value uint32(std::uint32_t v) { return Value(std::in_place_type<std::uint32_t>, v); }
+  /// A kFloat value.
   Value(float v) : v_(v) {}                           // NOLINT
+  /// A kDouble value.
   Value(double v) : v_(v) {}                          // NOLINT
+  /// A kBytes value.
   Value(Bytes v) : v_(std::move(v)) {}                // NOLINT
+  /// A kFloatVec value.
   Value(FloatVec v) : v_(std::move(v)) {}             // NOLINT
+  /// A kDoubleVec value.
   Value(DoubleVec v) : v_(std::move(v)) {}            // NOLINT
+  /// A kUInt64Vec value.
   Value(UInt64Vec v) : v_(std::move(v)) {}            // NOLINT
+  /// A kVec2f value.
   Value(Vec2f v) : v_(v) {}                           // NOLINT
+  /// A kVec3f value.
   Value(Vec3f v) : v_(v) {}                           // NOLINT
+  /// A kVec4f value.
   Value(Vec4f v) : v_(v) {}                           // NOLINT
+  /// A kVec6f value.
   Value(Vec6f v) : v_(v) {}                           // NOLINT
+  /// A kMat4d value (stored on the heap).
   Value(const Mat4d& v) : v_(Boxed(v)) {}             // NOLINT
 
+  /// @returns the type of the payload.
   ValueType type() const { return static_cast<ValueType>(v_.index() + 1); }
 
   /// Pointer to the payload if it has type T, else nullptr.
+  /// @returns a pointer valid while this Value lives unchanged.
   template <class T>
   const T* get_if() const {
     if constexpr (std::is_same_v<T, Mat4d>) {
@@ -130,8 +155,9 @@ class Value {
       return std::get_if<T>(&v_);
     }
   }
-  /// The payload as T, or a kTypeMismatch error naming both types
-  /// ("as<int64>(): the value is a string, not an int64").
+  /// The payload as T.
+  /// @returns a copy of the payload, or kTypeMismatch naming both types
+  ///          ("as<int64>(): the value is a string, not an int64"); no conversion is tried.
   template <class T>
   Result<T> as() const {
     if (const T* p = get_if<T>()) return *p;
@@ -139,24 +165,35 @@ class Value {
                                                     article(type()) + ", not " + article(value_type_of<T>));
   }
   /// Stable name of the attribute type that holds T ("int64", "vec3f", ...).
+  /// @returns a static string.
   template <class T>
   static const char* type_name() {
     return graph::to_string(value_type_of<T>);
   }
   /// "a string", "an int64": a type name with its article, for error messages.
+  /// @returns the article and to_string(t).
   static std::string article(ValueType t);
 
+  /// @returns true if both have the same type and payload; floating-point payloads compare
+  ///          bitwise (NaN equals the same NaN, 0.0 differs from -0.0), as digests do.
   friend bool operator==(const Value& a, const Value& b);
-  /// Feeds type and payload into a hasher.
+  /// Feeds type and payload into a hasher (equal values feed equal bytes).
   void hash_into(Hasher& h) const;
   /// Short human-readable rendering (vectors abbreviated).
+  /// @returns e.g. "\"red\"", "4", "[1,2,3]", "<12 bytes>", "<mat4d>".
   std::string to_string() const;
   /// Encoded size estimate in bytes (for limits and statistics).
+  /// @returns a string's or byte array's length, a vector's elements times their size, the size
+  ///          of a fixed-size type (128 for a Mat4d).
   std::size_t payload_bytes() const;
 
-  /// Binary codec: a type tag byte, then the payload.
+  /// Binary codec: a type tag byte, then the payload. Appends to `w`; decode() reads it back to
+  /// an equal value.
   void encode(bytes::Writer& w) const;
   /// Decodes a value; on failure the reader records why.
+  /// @returns the value; on failure (r.ok() false afterwards: kTruncated, kTooLarge past
+  ///          `max_value_bytes`, kMalformed for an unknown tag or out-of-range payload) a value
+  ///          to be discarded (the empty string if `r` had already failed).
   static Value decode(bytes::Reader& r, std::uint64_t max_value_bytes);
 
  private:
