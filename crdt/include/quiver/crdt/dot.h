@@ -1,6 +1,8 @@
 #pragma once
 /// @file
 /// Replica ids and dots: the unique names of events in a causal CRDT.
+///
+/// Threading: plain values; every function here is thread-safe.
 
 #include <compare>
 #include <cstdint>
@@ -28,8 +30,9 @@ struct ReplicaId {
 
   friend auto operator<=>(const ReplicaId&, const ReplicaId&) = default;
   friend bool operator==(const ReplicaId&, const ReplicaId&) = default;
+  /// @returns true if both agent and incarnation are 0.
   bool is_null() const { return agent == 0 && incarnation == 0; }
-  /// "00000000000000ab.3".
+  /// @returns "00000000000000ab.3": the agent as 16 hex digits, a dot, the incarnation.
   std::string to_string() const;
 };
 
@@ -40,26 +43,31 @@ struct Dot {
 
   friend auto operator<=>(const Dot&, const Dot&) = default;
   friend bool operator==(const Dot&, const Dot&) = default;
+  /// @returns true if the counter is 0 (no event has it), whatever the replica.
   bool is_null() const { return counter == 0; }
-  /// "00000000000000ab.3:42".
+  /// @returns "00000000000000ab.3:42": the replica as ReplicaId::to_string(), ':', the counter.
   std::string to_string() const;
 };
 
 /// Cheap pre-mix of a replica id (combined with a counter and mixed once by hash_value(Dot)).
+/// @returns a value that is not itself a good hash; feed it to mix64().
 constexpr std::uint64_t r_hash_seed(const ReplicaId& r) {
   return r.agent * 0xff51afd7ed558ccdULL ^ (r.incarnation + 0x632be59bd9b4e019ULL);
 }
 
 /// Total order used to pick deterministic winners among concurrent events: the counter first
 /// (counters are Lamport clocks in Quiver's graph, so "later" wins), then the replica id.
+/// @returns true if `a` comes before `b`; a strict total order on dots.
 inline bool lamport_less(const Dot& a, const Dot& b) {
   if (a.counter != b.counter) return a.counter < b.counter;
   return a.replica < b.replica;
 }
 
+/// @returns a well-mixed 64-bit hash of `r`, the same in every process.
 inline std::uint64_t hash_value(const ReplicaId& r) {
   return mix64(r.agent ^ (r.incarnation * 0x9e3779b97f4a7c15ULL));
 }
+/// @returns a well-mixed 64-bit hash of `d`, the same in every process.
 inline std::uint64_t hash_value(const Dot& d) {
   return mix64(r_hash_seed(d.replica) ^ (d.counter * 0xc2b2ae3d27d4eb4fULL));
 }
@@ -68,9 +76,11 @@ inline std::uint64_t hash_value(const Dot& d) {
 
 template <>
 struct std::hash<quiver::crdt::ReplicaId> {
+  /// @returns hash_value(r).
   std::size_t operator()(const quiver::crdt::ReplicaId& r) const noexcept { return hash_value(r); }
 };
 template <>
 struct std::hash<quiver::crdt::Dot> {
+  /// @returns hash_value(d).
   std::size_t operator()(const quiver::crdt::Dot& d) const noexcept { return hash_value(d); }
 };
