@@ -4,6 +4,9 @@
 /// bounds-checked: every read names the field it was reading, and the first failure sticks, so a
 /// decoder can read a whole structure and check once. Lengths are validated against what remains
 /// before anything is allocated.
+///
+/// Threading: a Writer or Reader is used by one thread at a time. Failures are values recorded in
+/// the Reader; nothing here throws (but std::bad_alloc from a Writer's vector).
 
 #include <cstdint>
 #include <cstring>
@@ -19,9 +22,12 @@ namespace quiver::inline base::bytes {
 /// Appends encoded values to a byte vector it does not own.
 class Writer {
  public:
+  /// Appends to `out`. @pre `out` outlives the writer.
   explicit Writer(std::vector<std::uint8_t>& out) : out_(out) {}
 
+  /// Appends one byte.
   void u8(std::uint8_t v) { out_.push_back(v); }
+  /// Appends `v` as an LEB128 varint (1 to 10 bytes).
   void varint(std::uint64_t v) {
     while (v >= 0x80) {
       out_.push_back(static_cast<std::uint8_t>(v) | 0x80);
@@ -33,26 +39,31 @@ class Writer {
   void svarint(std::int64_t v) {
     varint((static_cast<std::uint64_t>(v) << 1) ^ static_cast<std::uint64_t>(v >> 63));
   }
+  /// Appends `v` as 4 bytes, little-endian.
   void fixed32(std::uint32_t v) {
     std::uint8_t b[4];
     for (int i = 0; i < 4; ++i) b[i] = static_cast<std::uint8_t>(v >> (8 * i));
     out_.insert(out_.end(), b, b + 4);
   }
+  /// Appends `v` as 8 bytes, little-endian.
   void fixed64(std::uint64_t v) {
     std::uint8_t b[8];
     for (int i = 0; i < 8; ++i) b[i] = static_cast<std::uint8_t>(v >> (8 * i));
     out_.insert(out_.end(), b, b + 8);
   }
+  /// Appends the IEEE-754 bits of `v` as fixed32 (NaN payloads kept).
   void f32(float v) {
     std::uint32_t bits;
     std::memcpy(&bits, &v, 4);
     fixed32(bits);
   }
+  /// Appends the IEEE-754 bits of `v` as fixed64 (NaN payloads kept).
   void f64(double v) {
     std::uint64_t bits;
     std::memcpy(&bits, &v, 8);
     fixed64(bits);
   }
+  /// Appends `n` bytes as they are, no length prefix. @pre `data` points to `n` readable bytes.
   void raw(const void* data, std::size_t n) {
     const auto* p = static_cast<const std::uint8_t*>(data);
     out_.insert(out_.end(), p, p + n);
@@ -62,11 +73,14 @@ class Writer {
     varint(b.size());
     raw(b.data(), b.size());
   }
+  /// Length-prefixed text, as bytes() (no encoding check).
   void string(std::string_view s) {
     varint(s.size());
     raw(s.data(), s.size());
   }
+  /// @returns the size of the whole output vector (including what it held before this writer).
   std::size_t size() const { return out_.size(); }
+  /// @returns the output vector.
   std::vector<std::uint8_t>& buffer() { return out_; }
 
  private:
@@ -77,15 +91,26 @@ class Writer {
 /// stays false; `error()` tells which field failed at which offset.
 class Reader {
  public:
+  /// Reads `in`; `what` names the input in errors ("graph delta").
+  /// @pre `in`'s bytes and `what`'s text outlive the reader (and the views it returns).
   Reader(std::span<const std::uint8_t> in, std::string_view what) : p_(in.data()), begin_(in.data()),
                                                                      end_(in.data() + in.size()), what_(what) {}
 
+  /// @returns false once any read or fail() has failed.
   bool ok() const { return !failed_; }
+  /// @returns true if every byte has been read.
   bool at_end() const { return p_ == end_; }
+  /// @returns the number of bytes not read yet.
   std::size_t remaining() const { return static_cast<std::size_t>(end_ - p_); }
+  /// @returns the number of bytes read so far.
   std::size_t offset() const { return static_cast<std::size_t>(p_ - begin_); }
+  /// @returns the first failure (code, field, offset); meaningful only when !ok().
   const Error& error() const { return error_; }
 
+  // Every read below: `field` (a NUL-terminated string) names the field in a failure. After a
+  // failure (this one or an earlier one) it returns zero / an empty view and reads nothing.
+
+  /// @returns the next byte; kTruncated at the end.
   std::uint8_t u8(const char* field) {
     if (failed_) [[unlikely]]
       return 0;
@@ -95,6 +120,8 @@ class Reader {
     }
     return *p_++;
   }
+  /// @returns the next LEB128 varint; kTruncated if the input ends inside it, kMalformed if it
+  ///          overflows 64 bits.
   std::uint64_t varint(const char* field) {
     if (failed_) [[unlikely]]
       return 0;
@@ -115,11 +142,13 @@ class Reader {
     fail(ErrorCode::kMalformed, field, "varint longer than 10 bytes");
     return 0;
   }
+  /// @returns the next zigzag varint (Writer::svarint()); failures as varint().
   std::int64_t svarint(const char* field) {
     std::uint64_t u = varint(field);
     return static_cast<std::int64_t>(u >> 1) ^ -static_cast<std::int64_t>(u & 1);
   }
   /// A varint that must be at most `max` (a count or a length about to be used).
+  /// @returns the value; kTooLarge above `max`, or varint()'s failures.
   std::uint64_t bounded(const char* field, std::uint64_t max) {
     std::uint64_t v = varint(field);
     if (failed_) [[unlikely]]
@@ -132,6 +161,8 @@ class Reader {
     return v;
   }
   /// A count of items each at least `min_item_bytes` long: checked against what remains.
+  /// @returns the count; kTooLarge above `max`, kTruncated if the items cannot fit in what
+  ///          remains, or varint()'s failures.
   std::uint64_t count(const char* field, std::uint64_t max, std::size_t min_item_bytes = 1) {
     std::uint64_t v = bounded(field, max);
     if (failed_) [[unlikely]]
@@ -144,6 +175,7 @@ class Reader {
     }
     return v;
   }
+  /// @returns the next 4 bytes, little-endian; kTruncated if fewer remain.
   std::uint32_t fixed32(const char* field) {
     if (!need(4, field)) return 0;
     std::uint32_t v = 0;
@@ -151,6 +183,7 @@ class Reader {
     p_ += 4;
     return v;
   }
+  /// @returns the next 8 bytes, little-endian; kTruncated if fewer remain.
   std::uint64_t fixed64(const char* field) {
     if (!need(8, field)) return 0;
     std::uint64_t v = 0;
@@ -158,12 +191,14 @@ class Reader {
     p_ += 8;
     return v;
   }
+  /// @returns the float whose bits fixed32() reads (any bit pattern, NaN included).
   float f32(const char* field) {
     std::uint32_t bits = fixed32(field);
     float v;
     std::memcpy(&v, &bits, 4);
     return v;
   }
+  /// @returns the double whose bits fixed64() reads (any bit pattern, NaN included).
   double f64(const char* field) {
     std::uint64_t bits = fixed64(field);
     double v;
@@ -171,6 +206,7 @@ class Reader {
     return v;
   }
   /// Length-prefixed bytes as a view into the input (valid while the input is).
+  /// @returns the view; kTooLarge if the length exceeds `max`, kTruncated if fewer remain.
   std::span<const std::uint8_t> bytes(const char* field, std::uint64_t max) {
     std::uint64_t n = bounded(field, max);
     if (!need(n, field)) return {};
@@ -178,10 +214,12 @@ class Reader {
     p_ += n;
     return out;
   }
+  /// @returns length-prefixed text as a view into the input, as bytes() (no UTF-8 check).
   std::string_view string(const char* field, std::uint64_t max) {
     auto b = bytes(field, max);
     return {reinterpret_cast<const char*>(b.data()), b.size()};
   }
+  /// @returns the next `n` bytes as a view into the input; kTruncated if fewer remain.
   std::span<const std::uint8_t> raw(const char* field, std::size_t n) {
     if (!need(n, field)) return {};
     std::span<const std::uint8_t> out(p_, n);
@@ -190,6 +228,7 @@ class Reader {
   }
 
   /// Records a semantic failure found by the decoder itself (e.g. an index out of range).
+  /// Only the first failure is kept: after one, this does nothing.
   void fail(ErrorCode code, std::string_view field, std::string_view why) {
     if (failed_) return;
     failed_ = true;
