@@ -7,6 +7,9 @@
 ///
 /// The decision must depend on the delta and the policy only, never on what the receiving
 /// replica holds, so that every replica decides alike and replicas that refuse a delta stay equal.
+///
+/// Threading: the Replicator calls every method on its owner thread. Implementations return
+/// refusals as values and must not throw.
 
 #include <cstdint>
 #include <span>
@@ -22,12 +25,20 @@ class Admission {
  public:
   virtual ~Admission() = default;
   /// The signature this replica attaches to a delta it publishes (codec bytes); empty: none.
+  /// Called when the delta is published (inside its commit, or in flush() when coalescing).
+  /// Owner thread of the replicator.
+  /// @returns at most SampleLimits::max_signature_bytes bytes (longer ones make every receiver
+  ///          refuse the sample).
   virtual std::vector<std::uint8_t> sign(std::span<const std::uint8_t> payload) = 0;
   /// Ok, or why the delta `d` (decoded from `payload`; its origin is d.origin) must not be
-  /// applied. `signature` is what came with it (empty: none).
+  /// applied. `signature` is what came with it (empty: none). Owner thread of the replicator.
+  /// @returns OK to apply; any error refuses the delta (the replicator reports it as
+  ///          kPermissionDenied with this error's message).
   virtual Status admit_delta(const graph::GraphDelta& d, std::span<const std::uint8_t> payload,
                              std::span<const std::uint8_t> signature) = 0;
   /// Ok, or why the state fragment `state` that `from` sent must not be joined.
+  /// Owner thread of the replicator.
+  /// @returns OK to join; any error drops the whole transfer (reported as kPermissionDenied).
   virtual Status admit_state(const PeerId& from, const graph::GraphDelta& state) = 0;
 };
 

@@ -32,8 +32,13 @@ struct Range {
 using RangeList = std::vector<Range>;
 
 /// The canonical ranges of a context (replicas ascending, ranges ascending and disjoint).
+/// Thread-safe.
+/// @returns one Range per maximal range of `c`, as CausalContext::for_each_range() yields them.
 RangeList to_ranges(const crdt::CausalContext& c);
 /// The context of checked ranges (validate() first: lo >= 1, lo <= hi).
+/// @pre every range passed validate(); an unchecked one is normalised (lo 0 read as 1, hi < lo
+///      dropped), hiding the fault. Thread-safe.
+/// @returns the union of the ranges.
 crdt::CausalContext to_context(const RangeList& r);
 
 /// Heartbeat: who I am and which (origin, seq) I hold. Acknowledgement and liveness at once.
@@ -92,6 +97,8 @@ struct Sample {
 };
 
 /// "summary", "delta", "pull", "state", "bye".
+/// @returns the static name of `m`'s alternative. Thread-safe.
+/// @pre `m` is not valueless_by_exception().
 const char* message_kind(const Message& m);
 
 }  // namespace quiver::agents

@@ -25,7 +25,12 @@
 /// rate-limited.
 ///
 /// Threading: a Replicator and its Graph belong to one thread (the owner); only last_heartbeat()
-/// may be called from any thread.
+/// may be called from any thread. Every callback it makes (membership, errors, the graph's
+/// subscribers during a join, the Journal, the Admission, Transport::send) runs on the owner
+/// thread, inside the call that caused it.
+///
+/// Errors: nothing here throws on bad input; what peers send wrong is counted (stats()) and
+/// reported through on_error().
 
 #include <cstdint>
 #include <algorithm>
@@ -117,93 +122,131 @@ struct ReplicatorStats {
 class Replicator {
  public:
   /// Installs itself as `g`'s delta sink. `g` and `t` must outlive the replicator.
+  /// It also installs `g`'s origin namer (name_of()). Owner thread only.
+  /// @pre No other Replicator serves `g` (the last one constructed would own its sink).
   Replicator(graph::Graph& g, Transport& t, ReplicatorOptions options = {});
+  /// Removes the delta sink and origin namer from the graph; sends nothing (call leave() first
+  /// for a clean goodbye). Owner thread only.
   ~Replicator();
   Replicator(const Replicator&) = delete;
   Replicator& operator=(const Replicator&) = delete;
 
-  /// Announces this replica (a summary) and starts the heartbeat clock.
+  /// Announces this replica (a summary) and starts the heartbeat clock. Owner thread only.
+  /// @pre restore() and set_admission(), if used, were called before.
   void start(std::int64_t now_ns);
   /// Before start(): the (origin, seq) set of a replica rebuilt from a store (its graph already
   /// holds those changes). Numbers of this replica in it are not published again: a replica that
-  /// kept its incarnation goes on after the greatest.
+  /// kept its incarnation goes on after the greatest. Owner thread only.
+  /// @pre start() has not been called; the graph already holds every change in `applied`.
   void restore(const crdt::CausalContext& applied);
   /// Tells `journal` (owned by the caller, outliving this) every change joined from now on.
+  /// Null stops it. Owner thread only.
   void set_journal(Journal* journal) { journal_ = journal; }
   /// Before start(): signs what this replica publishes and checks what it receives (owned by
   /// the caller, outliving this). Refused deltas are reported (kPermissionDenied), counted and
   /// never applied; their interval counts as received (every replica refuses them alike).
+  /// Owner thread only.
+  /// @pre start() has not been called (peers must never see this replica's deltas unsigned).
   void set_admission(Admission* admission) { admission_ = admission; }
   /// Handles one received sample, from any transport: checked first (validate.h); then a message
   /// that does not hold (e.g. a delta whose payload does not decode) is counted, reported and
   /// dropped; the replica is unchanged by it. Samples from this replica, or addressed to another,
-  /// are ignored.
+  /// are ignored. Joins run the graph's subscribers; answers and relays go out through the
+  /// transport before it returns. Owner thread only.
+  /// @pre `now_ns` is on the clock tick() and start() use (an earlier time than one already seen
+  ///      is taken as the latest seen).
   void on_sample(const Sample& s, std::int64_t now_ns);
   /// A sample its transport could not decode (its CDR does not follow the IDL type): counted and
-  /// reported like any rejected sample.
+  /// reported like any rejected sample. Owner thread only.
   void on_undecodable(const Error& e);
   /// A transport that detects departures itself (e.g. DDS liveliness) reports them here.
   /// `gone`: it left for good (its participant said so: a clean exit), so late packets of that
   /// incarnation are ignored; otherwise it may come back (a lease that ran out in a partition).
+  /// An unknown peer is ignored. Owner thread only.
   void on_peer_lost(const PeerId& peer, bool gone = false);
   /// Timers: heartbeats, pull timeouts, gaps, liveness, buffer trimming; flushes coalesced deltas.
+  /// Call it at least every heartbeat_ns (no heartbeat goes out before start()).
+  /// Owner thread only.
   void tick(std::int64_t now_ns);
-  /// Sends coalesced local deltas now.
+  /// Sends coalesced local deltas now (nothing when none is pending). Owner thread only.
   void flush();
   /// Applies and publishes a delta that originates elsewhere, under its own origin and sequence
   /// interval (its seq_lo/seq_hi): a world seed (graph::world_seed()). Idempotent: a delta this
   /// replica already holds is neither applied nor sent again.
   /// @returns true if it was new here; kInvalidArgument if it names no interval or is ours.
+  ///          (kInvalidArgument also for a null origin or seq_hi < seq_lo.) Owner thread only.
+  /// @pre `d` is a kDelta fragment as graph::world_seed() or graph::decode() builds it: it is
+  ///      joined without further checks.
   Result<bool> seed(const graph::GraphDelta& d);
   /// Says goodbye so that peers drop this replica at once instead of after the lease.
+  /// Flushes coalesced deltas first. Owner thread only.
   void leave();
-  /// Sends a summary now (e.g. when the transport saw a newcomer appear).
+  /// Sends a summary now (e.g. when the transport saw a newcomer appear). Owner thread only.
   void announce();
   /// Sends a summary as soon as the message being handled is fully applied (e.g. to acknowledge
-  /// a lock claim promptly). Safe to call from change callbacks.
+  /// a lock claim promptly). Safe to call from change callbacks. Owner thread only.
   void announce_soon() { announce_soon_ = true; }
 
   /// True when this replica holds every change any live peer has told it about, and at least
-  /// one peer is known.
+  /// one peer is known. Peers suspected of false claims do not count; a state transfer in
+  /// progress makes it false. Owner thread only.
   bool synced() const;
+  /// @returns every remembered peer (live or recently gone), in id order. Owner thread only.
   std::vector<PeerInfo> peers() const;
   /// The name of the agent behind a replica id: this replica's own name, a peer's announced one
   /// (also after it left, if its name hashes to its id), or id.to_string() when unknown. The
-  /// graph's change batches carry it (ChangeBatch::origin_name).
+  /// graph's change batches carry it (ChangeBatch::origin_name). Owner thread only.
   std::string name_of(const PeerId& id) const;
+  /// @returns the number of peers currently heard from. Owner thread only.
   std::size_t live_peer_count() const;
+  /// Calls `cb` when a peer joins (once its first summary named it) or leaves (goodbye, lease,
+  /// a newer incarnation, on_peer_lost()). Replaces the previous callback. Owner thread only.
   void on_membership(std::function<void(Membership, const PeerInfo&)> cb) { membership_cb_ = std::move(cb); }
   /// Called with a description of every rejected packet or message (malformed, oversized,
   /// equivocation, ...). The code tells the kind (kEquivocation for a forgery).
+  /// Also kPermissionDenied (Admission refusals) and kRefused (a peer suspected). Replaces the
+  /// previous callback. Owner thread only.
   void on_error(std::function<void(const Error&)> cb) { error_cb_ = std::move(cb); }
-  /// True if `peer` is currently heard from.
+  /// True if `peer` is currently heard from. Owner thread only.
   bool peer_alive(const PeerId& peer) const;
   /// True if `peer` was heard from at some time and is still remembered (the peer table keeps
-  /// peers that left until it needs their room).
+  /// peers that left until it needs their room). Owner thread only.
   bool peer_known(const PeerId& peer) const { return peers_.count(peer) > 0; }
   /// True if every live peer has told us (in its last summary) that it holds (origin, seq).
+  /// True when no peer is live. Owner thread only.
   bool all_peers_hold(const PeerId& origin, std::uint64_t seq) const {
     return all_peers_hold(origin, seq, seq);
   }
-  /// The same for every sequence number of origin in [lo, hi].
+  /// The same for every sequence number of origin in [lo, hi]. Owner thread only.
+  /// @pre 1 <= lo <= hi.
   bool all_peers_hold(const PeerId& origin, std::uint64_t lo, std::uint64_t hi) const;
   /// True if every live agent peer (observers aside) whose summaries are believed has told us
   /// that it holds everything this replica holds: what a clean stop waits for (hand-over).
+  /// True when there is no such peer. Owner thread only.
   bool peers_hold_all() const;
   /// Thread-safe: the last heartbeat this replica sent (its summary, without the state digest),
   /// or null before the first: what a keeper thread sends again while the owner thread is busy
   /// in user code (DdsReplica::keep_alive()), so that peers keep hearing a live agent.
   std::shared_ptr<const Sample> last_heartbeat() const;
   /// The last sequence number this replica published.
+  /// @returns it (0 before the first); with `coalesce`, numbers still waiting for flush() count.
+  ///          Owner thread only.
   std::uint64_t last_seq() const { return seq_; }
   /// The (origin, seq) pairs whose effects this replica holds.
+  /// @returns a reference that lives as long as the replicator. Owner thread only.
   const crdt::CausalContext& applied() const { return applied_; }
+  /// @returns the protocol's counters. Owner thread only.
   const ReplicatorStats& stats() const { return stats_; }
+  /// @returns the options it was built with (sample_ns as set_sample_ns() left it).
+  ///          Owner thread only.
   const ReplicatorOptions& options() const { return opt_; }
   /// A sampling observer may change its period as it goes (e.g. to stay within a CPU budget).
+  /// Ignored unless this is a sampling observer (options().sample_ns > 0) and ns > 0.
+  /// Owner thread only.
   void set_sample_ns(std::int64_t ns) {
     if (opt_.sample_ns > 0 && ns > 0) opt_.sample_ns = ns;
   }
+  /// @returns the graph this replicator serves. Owner thread only.
   graph::Graph& graph() { return g_; }
 
  private:

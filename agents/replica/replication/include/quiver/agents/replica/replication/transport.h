@@ -25,6 +25,9 @@ class Transport {
   /// Sends `s` to `s.to`, or to every other replica when `s.to` is null. A transport may deliver
   /// a unicast sample to others too: receivers drop what is not addressed to them.
   /// @pre `s.from` is this transport's replica. Must not call back into the replicator.
+  /// Threading: the replicator calls it on its owner thread; whether other threads may call it
+  /// too is the implementation's (DdsTransport::send() is thread-safe). Errors are the
+  /// transport's to count: send() reports nothing (best effort).
   virtual void send(const Sample& s) = 0;
 };
 

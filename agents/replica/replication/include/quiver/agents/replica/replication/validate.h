@@ -25,8 +25,12 @@ struct SampleLimits {
   std::size_t max_signature_bytes = 512;    ///< a delta's signature
 };
 
-/// Checks a sample against `limits`.
+/// Checks a sample against `limits`. Pure and thread-safe; payloads are not decoded here (the
+/// replicator decodes a delta's payload after this check).
 /// @returns kMalformed or kTooLarge naming the sender, the message kind, the field and the value.
+///          kMalformed: a null sender or origin, a range or interval with lo = 0, hi < lo or a
+///          counter above crdt::kMaxCounter, an empty payload or chunk, a chunk index out of
+///          range, a name not UTF-8. kTooLarge: a count or size over `limits`.
 Status validate(const Sample& s, const SampleLimits& limits = {});
 
 }  // namespace quiver::agents
