@@ -12,6 +12,10 @@
 /// Nothing runs on DDS threads: the owner thread blocks in wait() on a waitset and takes
 /// samples itself in drain().
 ///
+/// Threading: the owner thread is the one that calls wait() and drain() (and the other members
+/// unless marked otherwise); send() and wake() may be called from any thread. Errors are values:
+/// create() returns them, send() counts them (stats()); nothing here throws.
+///
 /// NETWORK SAFETY: by default the transport builds its own Cyclone domain from an embedded
 /// configuration bound to 127.0.0.1 with multicast off, and `CYCLONEDDS_URI` is NOT consulted.
 /// Another configuration is an explicit opt-in (DdsConfig::Source::kEnvironment or kXml).
@@ -67,10 +71,17 @@ struct DdsConfig {
 
 /// The folder Cyclone's security plugins (libdds_security_{auth,ac,crypto}.so) are loaded from:
 /// $QUIVER_DDS_SECURITY_LIB_DIR if set, else the one found at build time ("" if none).
+/// Thread-safe (reads the environment).
+/// @returns that folder, unchecked (set_security_qos() checks the files).
 std::string dds_security_plugin_dir();
 
 /// Sets on a participant QoS (a `dds_qos_t*`) the properties that make Cyclone load its security
 /// plugins with `f`: for code that creates DDS participants itself (the rogue suite's attacker).
+/// Thread-safe on distinct `qos`.
+/// @pre `qos` is a live dds_qos_t (dds_create_qos()).
+/// @returns kNotFound if the plugins' folder is unknown or a plugin library is missing;
+///          kInvalidArgument if a credential file of `f` is not named (the CRL is optional).
+///          `qos` may hold some of the properties after an error.
 Status set_security_qos(struct dds_qos* qos, const security::DdsSecurityFiles& f);
 
 /// The largest sample the embedded configuration lets Cyclone accept or send: a delta at the
@@ -78,11 +89,13 @@ Status set_security_qos(struct dds_qos* qos, const security::DdsSecurityFiles& f
 inline constexpr std::size_t kMaxSampleBytes = SampleLimits{}.max_payload_bytes + (64u << 10);
 
 /// The embedded loopback configuration for `cfg` (lease, loss, external domain id filled in).
+/// Pure and thread-safe.
+/// @returns the Cyclone XML text.
 std::string loopback_config_xml(const DdsConfig& cfg);
 
 /// Sends Cyclone DDS's own log lines (warnings about malformed packets, samples that fail to
 /// deserialize, ...) to `sink` instead of stderr, process-wide; null restores stderr. `sink` runs
-/// on Cyclone's threads: it must be thread-safe and quick.
+/// on Cyclone's threads: it must be thread-safe and quick. This call is thread-safe.
 void route_dds_log(std::function<void(const std::string&)> sink);
 
 class DdsTransport final : public Transport {
@@ -96,34 +109,55 @@ class DdsTransport final : public Transport {
   };
 
   /// Creates the domain (unless shared), participant, topics, writers, readers and waitset.
+  /// Any thread; the thread that then calls wait() and drain() owns the transport.
+  /// @pre `self` is the id of the replica this transport serves (announced in the participant).
+  /// @returns the transport, or kInvalidArgument (the domain is already open in this process
+  ///          with another configuration or security setting; a credential file not named),
+  ///          kNotFound (the security plugins are missing), kRefused (Cyclone refused the secured
+  ///          participant; the message quotes its log), kTimeout / kTransport (another DDS
+  ///          failure).
   static Result<std::unique_ptr<DdsTransport>> create(const PeerId& self, const DdsConfig& cfg);
+  /// Deletes the DDS entities (a shared domain when its last user goes). Owner thread only.
+  /// @pre No other thread is in send() or wake() (stop keeper threads first).
   ~DdsTransport() override;
   DdsTransport(const DdsTransport&) = delete;
   DdsTransport& operator=(const DdsTransport&) = delete;
 
   /// Thread-safe: writes `s` as one sample of its topic. A write that times out (a reader lags
   /// beyond max_blocking_ns) is counted and dropped: the protocol recovers it.
+  /// Other write failures are counted too (stats().write_errors); nothing is reported. May block
+  /// up to DdsConfig::max_blocking_ns.
+  /// @pre as Transport::send(); a DeltaMsg's payload and a StateMsg's chunk are not null.
   void send(const Sample& s) override;
 
   /// Blocks until samples arrive, wake() is called, or `timeout_ns` passes.
+  /// A negative `timeout_ns` polls (returns at once). Owner thread only.
   void wait(std::int64_t timeout_ns);
   /// Takes every available sample: `on_sample` per message (addressed to us or to all),
   /// `on_lost(peer, gone)` per peer whose summary instance lost liveliness (gone = false: it may
   /// come back) or was disposed (gone = true: a clean exit).
+  /// The callbacks run synchronously on the calling thread; samples are decoded but not
+  /// validated (Replicator::on_sample() does that). Owner thread only.
   void drain(const std::function<void(const Sample&)>& on_sample,
              const std::function<void(const PeerId&, bool)>& on_lost);
   /// Thread-safe: makes a concurrent wait() return.
+  /// If no wait() is in progress, the next one returns at once.
   void wake();
   /// True (once) when a new remote summary reader matched since the last call: a newcomer
   /// appeared, so it is worth announcing ourselves now rather than at the next heartbeat.
+  /// Owner thread only.
   bool take_new_match();
   /// Testing: the whole domain instance stops receiving (deaf) and/or sending (mute); both are
-  /// reset after `reset_after_ns` (a negative value: never).
+  /// reset after `reset_after_ns` (a negative value: never). Owner thread only.
+  /// @returns kTimeout / kTransport if Cyclone refuses.
   Status set_deafmute(bool deaf, bool mute, std::int64_t reset_after_ns);
-  /// Disposes our summary instance so peers see us leave at once.
+  /// Disposes our summary instance so peers see us leave at once. Owner thread only.
   void dispose_self();
 
+  /// @returns the transport's counters. Owner thread only; send() updates them from any thread
+  ///          (plain integers): read them when no other thread is sending.
   const Stats& stats() const { return stats_; }
+  /// @returns the replica id given to create(). Any thread.
   const PeerId& self() const { return self_; }
 
  private:
