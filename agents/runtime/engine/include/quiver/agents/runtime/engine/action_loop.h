@@ -24,28 +24,39 @@ namespace quiver::agents::inline runtime {
 
 class ActionLoop {
  public:
-  /// Collects `agent`'s change batches from `engine`'s graph from now on.
+  /// Collects `agent`'s change batches from `engine`'s graph from now on. Engine thread only.
+  /// @pre `engine`, `agent` and `stats` outlive the loop.
   ActionLoop(Engine& engine, Agent& agent, Engine::Stats& stats);
+  /// Unsubscribes from the graph; runs still in progress are dropped without cancel() (call
+  /// stop() first). Engine thread only.
   ~ActionLoop();
   ActionLoop(const ActionLoop&) = delete;
   ActionLoop& operator=(const ActionLoop&) = delete;
 
   /// Calls the agent's setup() and searches for every action once. @pre locks exist.
+  /// @pre Called once; every action is added by the end of setup() (the loop sizes its tables
+  ///      then). Engine thread only.
   void start();
   /// Delivers the batches collected since the last call, then re-evaluates the actions.
+  /// Does nothing before start(). Engine thread only.
   void pump();
   /// process() of every started run; runs that end are finished or cancelled.
+  /// Engine thread only.
   void process();
-  /// Marks every action for a new search (time itself may call for one).
+  /// Marks every action for a new search (time itself may call for one). Engine thread only.
   void dirty_all();
-  /// The agent's on_tick().
+  /// The agent's on_tick(). Engine thread only.
   void on_tick();
   /// Cancels running actions (kStopping), releases their locks, calls teardown().
+  /// Does nothing before start(). Engine thread only.
   void stop();
   /// A lock of this agent was lost (LockManager event): its runs end at the next evaluation.
+  /// Other kinds of event are ignored. Engine thread only.
   void on_lock_event(const LockEvent& e);
 
+  /// Calls `cb` with every ActionEvent; replaces the previous callback. Engine thread only.
   void on_event(std::function<void(const ActionEvent&)> cb) { event_cb_ = std::move(cb); }
+  /// @returns the runs in progress (waiting for a lock or started). Engine thread only.
   std::vector<Engine::RunView> runs() const;
 
  private:

@@ -16,7 +16,7 @@ namespace quiver::agents::inline runtime {
 
 class CallbackWatch {
  public:
-  /// @param agent the agent's name, for reports.
+  /// @param agent the agent's name, for reports. Engine thread.
   explicit CallbackWatch(std::string agent) : agent_(std::move(agent)) {}
   CallbackWatch(const CallbackWatch&) = delete;
   CallbackWatch& operator=(const CallbackWatch&) = delete;
@@ -25,9 +25,12 @@ class CallbackWatch {
   /// calls back into the engine, which calls user code again) count as the outermost one.
   class Scope {
    public:
+    /// Takes over `o`'s mark (`o` then marks nothing). Engine thread only.
     Scope(Scope&& o) noexcept : w_(o.w_) { o.w_ = nullptr; }
     Scope(const Scope&) = delete;
     Scope& operator=(const Scope&) = delete;
+    /// Ends the mark (the outermost scope ends the call). Engine thread only.
+    /// @pre Scopes end in the reverse order they began (as locals do).
     ~Scope() {
       if (w_ != nullptr) w_->leave();
     }
@@ -41,6 +44,7 @@ class CallbackWatch {
   /// Engine thread: user code starts now (`now_ns` on the clock the watcher compares with).
   /// `callback` is a static string ("process()", "a timer", ...); `action` (may be null) must
   /// outlive the scope.
+  /// @returns the scope marking the call (nested: only the outermost one is recorded).
   [[nodiscard]] Scope enter(const char* callback, const std::string* action, std::int64_t now_ns);
 
   /// What the engine's thread is doing, read from any thread.
@@ -52,7 +56,9 @@ class CallbackWatch {
     std::string action;          ///< the action's name, or ""
   };
   /// @returns a consistent snapshot (retried while the engine writes).
+  /// Thread-safe; never blocks the engine (it spins only while the engine writes a few fields).
   Snapshot snapshot() const;
+  /// @returns the agent's name. Any thread, once set_agent() is no longer called.
   const std::string& agent() const { return agent_; }
   /// Engine thread, before a watcher starts: the agent's name.
   void set_agent(std::string agent) { agent_ = std::move(agent); }

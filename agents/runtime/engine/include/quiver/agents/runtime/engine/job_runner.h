@@ -25,8 +25,11 @@ class JobRunner {
     kInline,  ///< work runs in run() itself (deterministic hosts)
   };
   /// `post_back` hands a function to the agent's thread (the engine's post()).
+  /// @pre `post_back` is set and thread-safe (kThread calls it from the worker thread).
   JobRunner(Mode mode, std::function<void(std::function<void()>)> post_back);
   /// Waits for the job in progress, drops those not started (their done() never runs).
+  /// The job in progress still posts its done() through `post_back`. Agent's thread.
+  /// @pre Not called from a job's work().
   ~JobRunner();
   JobRunner(const JobRunner&) = delete;
   JobRunner& operator=(const JobRunner&) = delete;
@@ -34,7 +37,11 @@ class JobRunner {
   /// Queues `work`; when it returns, `done` (may be empty) is posted to the agent's thread. Jobs
   /// run one at a time, in order. An exception from `work` is caught and reported to `done`'s
   /// caller as a log line through `on_error` (if set).
+  /// `done` is posted even when `work` threw. kInline: `work` runs (and `done` is posted) before
+  /// run() returns. Agent's thread.
   void run(std::function<void()> work, std::function<void()> done);
+  /// Receives a line for each job whose work threw; it runs on the worker thread (kInline: in
+  /// run()), so it must be thread-safe. @pre Set before the first run().
   void on_error(std::function<void(const std::string&)> cb) { on_error_ = std::move(cb); }
 
  private:

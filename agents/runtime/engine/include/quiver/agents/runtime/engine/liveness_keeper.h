@@ -34,15 +34,20 @@ class LivenessKeeper {
  public:
   /// Starts the keeper's thread. `beat` sends the replica's last heartbeat again; `warn` and
   /// `info` take report lines. `watch` must outlive the keeper.
+  /// Any thread. @pre o.clock is set and is the clock the watch is stamped with; `beat` and
+  ///      `warn` are set; all three callbacks are thread-safe (they run on the keeper's thread).
   LivenessKeeper(const CallbackWatch& watch, KeeperOptions o, std::function<void()> beat,
                  std::function<void(const std::string&)> warn, std::function<void(const std::string&)> info = {});
-  /// Stops and joins the thread.
+  /// Stops and joins the thread (waits for a beat or report in progress).
+  /// @pre Not called from the keeper's own callbacks.
   ~LivenessKeeper();
   LivenessKeeper(const LivenessKeeper&) = delete;
   LivenessKeeper& operator=(const LivenessKeeper&) = delete;
 
   /// Heartbeats sent on the agent's behalf, and callbacks reported as hung, so far.
+  /// @returns the number of beats. Thread-safe.
   std::uint64_t beats() const;
+  /// @returns the number of hung callbacks reported (each call once). Thread-safe.
   std::uint64_t hangs() const;
 
  private:
@@ -66,6 +71,7 @@ class LivenessKeeper {
 };
 
 /// "action 'say' process()", "a timer", ...: the callback of a snapshot, for reports.
+/// @returns the callback, prefixed with its action when it has one. Thread-safe.
 std::string describe_callback(const CallbackWatch::Snapshot& s);
 
 }  // namespace quiver::agents::inline runtime
