@@ -13,6 +13,8 @@ namespace quiver::agents::inline runtime {
 
 /// Wraps `fn` in a task, gives the task to `post` (which queues it for the thread that will run
 /// it) and returns the future of its result.
+/// Thread-safe if `post` is. @pre `post` takes a std::function<void()> and runs it at most once.
+/// @returns the future of fn()'s result; fn's exception is stored in it, not thrown here.
 template <class Post, class F>
 auto posted_call(Post&& post, F fn) -> std::future<std::invoke_result_t<F&>> {
   using R = std::invoke_result_t<F&>;
