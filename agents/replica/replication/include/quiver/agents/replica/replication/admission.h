@@ -9,7 +9,8 @@
 /// replica holds, so that every replica decides alike and replicas that refuse a delta stay equal.
 ///
 /// Threading: the Replicator calls every method on its owner thread. Implementations return
-/// refusals as values and must not throw.
+/// refusals as values; an exception (e.g. a signing failure inside OpenSSL) propagates out of the
+/// commit or on_sample() that caused the call.
 
 #include <cstdint>
 #include <span>

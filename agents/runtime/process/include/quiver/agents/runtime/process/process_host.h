@@ -44,19 +44,30 @@ struct ProcessFlags {
   std::string security;
 
   /// --domain, --dds-config, --loss-permille (the DDS ones) on `cmd`.
+  /// And --security. The options write into this object. @pre `cmd` is not null; this object
+  ///      outlives the parse.
   void add_dds(CLI::App* cmd);
   /// The DDS ones and --world, --seed, --status-ms, --run-for, --join-wait, --hang, --hand-over, --store,
   /// --durability.
+  /// And --store-compact-mb. @pre as add_dds().
   void add_all(CLI::App* cmd);
   /// Sets the DDS configuration these flags choose (domain, source, loss) on `c`.
+  /// For a `dds_config` that names a file, reads it as the XML. Security is not set here
+  /// (enable_security()).
+  /// @returns kIo if that file cannot be read (`c` may be partly set then).
   Status apply_to(DdsConfig& c) const;
 };
 
 /// Runs `agent` as this process's agent until SIGINT/SIGTERM or `flags.run_for_s`. Prints a JSON
 /// status line on stdout every `flags.status_ms` (and one at the end). @returns the exit status:
 /// 0, or 2 when it could not start (the reason on stderr).
+/// The calling thread is the replica's owner and runs the agent. It installs SIGINT/SIGTERM
+/// handlers and routes Cyclone's log for its duration, process-wide.
+/// @pre No other run_process() runs in this process; `agent` is attached to no host.
 int run_process(Agent& agent, const ProcessFlags& flags);
 /// Parses the standard flags from the command line (--help lists them), then runs.
+/// @returns as the other overload; for --help or a flag error, CLI11's exit code (0 for --help)
+///          after printing the help or the error. @pre as the other overload.
 int run_process(Agent& agent, int argc, char** argv);
 
 /// Makes the running run_process() return as if SIGTERM had arrived (running actions cancelled,
@@ -65,6 +76,7 @@ int run_process(Agent& agent, int argc, char** argv);
 void request_stop();
 
 /// Resident memory of this process in KiB (Linux; 0 elsewhere).
+/// @returns that size, or 0 if /proc/self/statm cannot be read. Thread-safe.
 long resident_kb();
 
 }  // namespace quiver::agents
