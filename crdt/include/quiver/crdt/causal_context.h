@@ -79,6 +79,7 @@ class CausalContext {
 
   /// Calls f(replica, lo, hi) for every maximal range, replicas in ascending order, ranges
   /// ascending. Canonical: equal sets give equal call sequences.
+  /// @pre `f` does not modify this context.
   template <class F>
   void for_each_range(F&& f) const {
     for (const auto& [r, e] : replicas_) {

@@ -99,7 +99,7 @@ struct GraphDelta {
   ///      arrays (as built by a Graph or decode()). `other` is not `*this`.
   void append(const GraphDelta& other);
   /// Calls f(dot) for every dot this fragment adds or removes (its context beyond `context`).
-  /// Includes the ids of nodes it creates or deletes.
+  /// Includes the ids of nodes it creates or deletes. @pre `f` does not modify this fragment.
   template <class F>
   void for_each_mentioned_dot(F&& f) const {
     for (const Dot& d : removed) f(d);

@@ -170,11 +170,10 @@ struct CommitInfo {
 /// deleted, a name it takes was taken, a move now closes a cycle), commit() refuses the whole
 /// transaction with an error naming the change, as if it had run after the other one.
 ///
-/// Every change method below checks the change against the graph as this transaction sees it
-/// (the replica plus its own earlier changes: a node it created is usable, one it deleted is
-/// not) and records nothing when it returns an error; the transaction stays usable. Besides the
-/// codes each lists, any of them returns kTooLarge when the transaction would encode to more
-/// than limits::kMaxDeltaBytes ("commit it in parts").
+/// "Visible to this transaction" below means: in the replica or created by this transaction, and
+/// not deleted by it. Besides the codes each lists, every change method returns kTooLarge when
+/// the transaction would encode to more than limits::kMaxDeltaBytes ("commit it in parts");
+/// after an error the transaction stays usable.
 ///
 /// Threading: used on the graph's owner thread only. A Transaction must not outlive its Graph; a
 /// moved-from Transaction may only be destroyed or assigned to.

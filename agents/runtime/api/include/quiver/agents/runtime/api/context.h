@@ -6,7 +6,8 @@
 /// behind this interface differs.
 ///
 /// Threading: every member is called on the agent's thread (its host's: the engine's thread),
-/// one call at a time. Hosts implement it; agents only call it.
+/// one call at a time (in the simulator, the one thread that drives every agent). Hosts implement
+/// it; agents only call it.
 
 #include <cstdint>
 #include <functional>

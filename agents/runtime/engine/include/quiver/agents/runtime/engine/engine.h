@@ -16,7 +16,8 @@
 /// running actions' process(), the search for new ones, on_tick(); then coalesced deltas leave.
 ///
 /// Threading: one thread, the engine's, calls everything but post(), call() and watch().snapshot(),
-/// which any thread may call. The replica and the agent belong to the engine's thread.
+/// which any thread may call. The replica and the agent belong to the engine's thread (in the
+/// simulator: the one thread that drives every engine).
 ///
 /// Errors: start() returns the grammar's; refusals inside the loop (an action's start() or
 /// finish()) are logged. The engine throws nothing itself; an exception from agent code
