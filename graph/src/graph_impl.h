@@ -295,7 +295,7 @@ struct Graph::Impl {
   void merge_register(AttrList& attrs, const GraphDelta& d, const GraphDelta::AttrOp& a);
   void after_merge(const GraphDelta& d, bool full_gc);
 
-  // ---- local changes (graph_local.cc) ----
+  // ---- local changes (graph_recording.cc) ----
   /// The next dot. @pre can_mint(1).
   Dot mint();
   /// True if `n` more dots fit below crdt::kMaxCounter.
