@@ -145,6 +145,9 @@ class ChangeTracker {
 std::uint64_t register_fingerprint(const AttrList& attrs, Symbol name);
 std::uint64_t dots_fingerprint(const crdt::DotSet& dots);
 
+/// Of concurrently created namesakes, the one that keeps the name: the earliest (Lamport order).
+const NodeRec* name_winner(const crdt::SmallVec<NodeRec*, 1>& v);
+
 inline void save_attr(ChangeTracker::AttrBefore& v, Symbol s, const AttrList& attrs) {
   for (const auto& [x, fp] : v)
     if (x == s) return;
@@ -204,7 +207,7 @@ struct Graph::Impl {
   std::vector<NodeId> pending_kills;
   std::vector<NodeId> gc_candidates;
 
-  // ---- helpers (graph.cc) ----
+  // ---- helpers (graph_records.cc) ----
   NodeRec* find_node(NodeId id) {
     auto it = nodes.find(id);
     return it == nodes.end() ? nullptr : &it->second;
@@ -295,7 +298,7 @@ struct Graph::Impl {
   void merge_register(AttrList& attrs, const GraphDelta& d, const GraphDelta::AttrOp& a);
   void after_merge(const GraphDelta& d, bool full_gc);
 
-  // ---- local changes (graph_local.cc) ----
+  // ---- local changes (graph_recording.cc) ----
   /// The next dot. @pre can_mint(1).
   Dot mint();
   /// True if `n` more dots fit below crdt::kMaxCounter.

@@ -19,8 +19,7 @@
 #include <cmath>
 #include <set>
 
-#include "aggl_agm_formula.h"
-#include "grammar_lexer.h"
+#include "agm_reader.h"
 #include "grammar_parsers.h"
 
 namespace quiver::agents::inline rules::internal {
@@ -33,10 +32,10 @@ bool word_is(const Token& t, const char* w) {
   return true;
 }
 
-class AgmParser : public TokenCursor {
+class AgmParser : public AgmReader {
  public:
   AgmParser(std::vector<Token> toks, std::string source, const IncludeFn& include)
-      : TokenCursor(std::move(toks)), src_(std::move(source)), include_(include) {}
+      : AgmReader(std::move(toks), std::move(source)), include_(include) {}
 
   Result<Grammar> run() {
     g_.dialect = Grammar::Dialect::kAgm;
@@ -164,15 +163,6 @@ class AgmParser : public TokenCursor {
     for (Rule& r : inc.rules) add_rule(std::move(r));
   }
 
-  static int number(const Token& t, const std::string& what) {
-    if (t.kind != Token::kNumber) fail(what, t);
-    try {
-      return static_cast<int>(std::lround(std::stod(t.text)));
-    } catch (...) {
-      fail_at(t.loc, "number '" + t.text + "' is out of range");
-    }
-  }
-
   // [dormant] [hierarchical] [dormant] [rule] NAME : active|passive(COST) [success(P)]
   // [activates(...)] { ... }
   void rule() {
@@ -261,9 +251,9 @@ class AgmParser : public TokenCursor {
 
   // { nodes links } => { nodes links } [parameters {}] [precondition {}] [effect {}]
   void sides(Rule& r) {
-    r.lhs = graph("the left-hand side of rule '" + r.name + "'");
+    r.lhs = side("the left-hand side of rule '" + r.name + "'");
     expect("=>", "between the two sides of rule '" + r.name + "'");
-    r.rhs = graph("the right-hand side of rule '" + r.name + "'");
+    r.rhs = side("the right-hand side of rule '" + r.name + "'");
     if (is_word("parameters")) {
       // Extra variables matched anywhere, named by the precondition and the effect.
       take();
@@ -288,22 +278,10 @@ class AgmParser : public TokenCursor {
     all_vars = lhs_vars;
     for (const auto& n : r.rhs.nodes) all_vars.insert(n.var);
     const TypeUse types = [this](const Token& t) { use_type(t); };
-    section("precondition", [&] { r.precondition = parse_agm_precondition(*this, lhs_vars, types); });
-    section("effect", [&] { r.effect = parse_agm_effect(*this, all_vars, types); });
+    section("precondition", g_.notes,
+            [&] { r.precondition = parse_agm_precondition(*this, lhs_vars, types); });
+    section("effect", g_.notes, [&] { r.effect = parse_agm_effect(*this, all_vars, types); });
     absent_after(r);
-  }
-
-  // [WORD { FORMULA }]: an empty section is no formula.
-  template <class Parse>
-  void section(const char* word, const Parse& parse) {
-    if (!is_word(word)) return;
-    take();
-    expect("{", std::string("to open the ") + word);
-    if (!is("}")) {
-      parse();
-      ignore_rest(word);
-    }
-    take();
   }
 
   // A '*' link in the right-hand side that the left-hand side does not mention says the link is
@@ -331,90 +309,15 @@ class AgmParser : public TokenCursor {
     r.effect = std::move(removals);
   }
 
-  // AGM reads one formula and ignores what follows it up to the '}' (its parser does not ask for
-  // the end of the text). So do we, with a note: it is often a stray ')', sometimes a second
-  // formula that should have been joined with (and ...).
-  void ignore_rest(const char* section) {
-    if (is("}")) return;
-    const Token first = peek();
-    while (!is("}") && !at_end()) {
-      if (is("{")) fail("'}' to close the " + std::string(section), peek());
-      take();
-    }
-    if (at_end()) fail("'}' to close the " + std::string(section), peek());
-    g_.notes.push_back(located(src_, first.loc,
-                               "text after the " + std::string(section) + "'s formula, from " +
-                                   describe(first) + ", is ignored, as AGM's parser does"));
-  }
-
-  std::string name_token(const std::string& what) {
-    const Token& t = peek();
-    if (t.kind != Token::kIdent && t.kind != Token::kNumber) fail(what, t);
-    check_name(t);
-    return take().text;
-  }
-
-  // { v:type(x,y) ... a->b(label)[*] ... }
-  Pattern graph(const std::string& context) {
-    expect("{", "to open " + context);
-    Pattern p;
-    std::vector<PatternEdge> edges;
-    while (!is("}")) {
-      const SourceLoc start = peek().loc;
-      std::string a = name_token("a node v:type, a link a->b(label) or '}' in " + context);
-      if (is(":")) {
-        take();
-        PatternNode n;
-        n.var = std::move(a);
-        n.loc = start;
-        const Token t = peek();
-        n.type = name_token("a node type after ':'");
-        use_type(t);
-        if (is("(")) {
-          take();
-          const int x = number(peek(), "the node's x position");
-          take();
-          expect(",", "between the node's x and y positions");
-          const int y = number(peek(), "the node's y position");
-          take();
-          expect(")", "to close the node's position");
-          n.pos = std::make_pair(x, y);
-        }
-        if (p.node(n.var))
-          fail_at(start, "variable '" + n.var + "' is declared twice in " + context);
-        p.nodes.push_back(std::move(n));
-        continue;
-      }
-      if (!is("->"))
-        fail("':' (a node v:type) or '->' (a link a->b(label)) after '" + a + "'", peek());
-      take();
-      PatternEdge e;
-      e.from = std::move(a);
-      e.loc = start;
-      e.to = name_token("the link's target after '->'");
-      expect("(", "and a link label after '" + e.from + "->" + e.to + "'");
-      if (is("!")) {
-        // AGM's parser reads and then ignores a '!' here; its editor negates with a trailing '*'.
-        g_.notes.push_back(located(src_, peek().loc,
-                                   "'!' inside a link label is ignored, as AGM does: a '*' after "
-                                   "the link negates it"));
-        take();
-      }
-      e.label = name_token("a link label");
-      e.symbol = graph::Symbol(e.label);
-      expect(")", "to close the link label");
-      if (is("*")) {
-        take();
-        e.negated = true;  // AGM: the link must not exist
-      }
-      edges.push_back(std::move(e));
-    }
-    take();
-    for (const PatternEdge& e : edges)
-      for (const std::string& v : {e.from, e.to})
-        if (!p.node(v)) fail_at(e.loc, "link uses undeclared variable '" + v + "' in " + context);
-    p.edges = std::move(edges);
-    return p;
+  // A rule's side: its types declared (or refused), a '!' inside a link label noted.
+  Pattern side(const std::string& context) {
+    const TypeUse types = [this](const Token& t) { use_type(t); };
+    const TypeUse bang = [this](const Token& t) {
+      g_.notes.push_back(located(src_, t.loc,
+                                 "'!' inside a link label is ignored, as AGM does: a '*' after "
+                                 "the link negates it"));
+    };
+    return graph("to open " + context, context, "variable", types, bang);
   }
 
   // rule as alias [optional] ... where: alias.var = alias.var ...
@@ -456,7 +359,6 @@ class AgmParser : public TokenCursor {
     }
   }
 
-  std::string src_;
   const IncludeFn& include_;
   Grammar g_;
   bool typed_ = true;  // the file has a types block

@@ -6,51 +6,36 @@
 #include <set>
 #include <sstream>
 
-// The AGGL lexer and AGM's formula parser are the grammar module's (private headers; the
-// dependency points down: a target is written in the grammar's own syntax).
+// The AGGL lexer, the reader of AGM's syntax and AGM's formula parser are the grammar module's
+// (private headers; the dependency points down: a target is written in the grammar's own syntax).
+#include "agm_reader.h"
 #include "aggl_agm_formula.h"
 #include "grammar_lexer.h"
 
 namespace quiver::agents::inline rules {
 namespace {
 
+using internal::AgmReader;
 using internal::ParseError;
 using internal::Token;
-using internal::TokenCursor;
 using symbolic::Binding;
 using symbolic::kNoNode;
 using symbolic::NodeIx;
 
-class MissionParser : public TokenCursor {
+class MissionParser : public AgmReader {
  public:
-  MissionParser(std::vector<Token> toks, std::string source) : TokenCursor(std::move(toks)), src_(std::move(source)) {}
+  MissionParser(std::vector<Token> toks, std::string source) : AgmReader(std::move(toks), std::move(source)) {}
 
   Result<Mission> run() {
     Mission m;
     m.source = src_;
     try {
       if (is("{")) graph(m);
-      if (is_word("precondition")) {
-        take();
-        expect("{", "to open the precondition");
-        if (!is("}")) {
-          std::set<std::string> scope;
-          for (const PatternNode& n : m.pattern.nodes) scope.insert(n.var);
-          m.formula = internal::parse_agm_precondition(*this, scope, [](const Token&) {});
-          if (!is("}")) {
-            const Token first = peek();
-            while (!is("}") && !at_end()) {
-              if (is("{")) fail("'}' to close the precondition", peek());
-              take();
-            }
-            if (at_end()) fail("'}' to close the precondition", peek());
-            m.notes.push_back(internal::located(src_, first.loc,
-                                                "text after the precondition's formula, from " + describe(first) +
-                                                    ", is ignored, as AGM's parser does"));
-          }
-        }
-        expect("}", "to close the precondition");
-      }
+      section("precondition", m.notes, [&] {
+        std::set<std::string> scope;
+        for (const PatternNode& n : m.pattern.nodes) scope.insert(n.var);
+        m.formula = internal::parse_agm_precondition(*this, scope, [](const Token&) {});
+      });
       if (!at_end()) fail("the end of the mission (a target is '{ nodes links }' then 'precondition { }')", peek());
     } catch (const ParseError& e) {
       return make_error(ErrorCode::kMalformed, internal::located(src_, e.loc, e.message));
@@ -59,75 +44,12 @@ class MissionParser : public TokenCursor {
   }
 
  private:
-  std::string name_token(const std::string& what) {
-    const Token& t = peek();
-    if (t.kind != Token::kIdent && t.kind != Token::kNumber) fail(what, t);
-    check_name(t);
-    return take().text;
-  }
-
-  static int number(const Token& t, const std::string& what) {
-    if (t.kind != Token::kNumber) fail(what, t);
-    try {
-      return static_cast<int>(std::lround(std::stod(t.text)));
-    } catch (...) {
-      fail_at(t.loc, "number '" + t.text + "' is out of range");
-    }
-  }
-
+  // { v:type(x,y) ... a->b(label)[*] ... }; a node whose name is a number is a constant.
   void graph(Mission& m) {
-    expect("{", "to open the target graph");
-    std::vector<PatternEdge> edges;
-    while (!is("}")) {
-      const SourceLoc start = peek().loc;
-      std::string a = name_token("a node v:type, a link a->b(label) or '}' in the target");
-      if (is(":")) {
-        take();
-        PatternNode n;
-        n.var = std::move(a);
-        n.loc = start;
-        n.type = name_token("a node type after ':'");
-        if (is("(")) {
-          take();
-          const int x = number(peek(), "the node's x position");
-          take();
-          expect(",", "between the node's x and y positions");
-          const int y = number(peek(), "the node's y position");
-          take();
-          expect(")", "to close the node's position");
-          n.pos = std::make_pair(x, y);
-        }
-        if (m.pattern.node(n.var)) fail_at(start, "node '" + n.var + "' is declared twice in the target");
-        const bool constant = std::isdigit(static_cast<unsigned char>(n.var[0])) != 0;
-        m.pattern.nodes.push_back(std::move(n));
-        m.constant.push_back(constant);
-        continue;
-      }
-      if (!is("->")) fail("':' (a node v:type) or '->' (a link a->b(label)) after '" + a + "'", peek());
-      take();
-      PatternEdge e;
-      e.from = std::move(a);
-      e.loc = start;
-      e.to = name_token("the link's target after '->'");
-      expect("(", "and a link label after '" + e.from + "->" + e.to + "'");
-      if (is("!")) take();  // AGM ignores it (docs/grammar.md)
-      e.label = name_token("a link label");
-      e.symbol = graph::Symbol(e.label);
-      expect(")", "to close the link label");
-      if (is("*")) {
-        take();
-        e.negated = true;
-      }
-      edges.push_back(std::move(e));
-    }
-    take();
-    for (const PatternEdge& e : edges)
-      for (const std::string& v : {e.from, e.to})
-        if (!m.pattern.node(v)) fail_at(e.loc, "link uses undeclared node '" + v + "' in the target");
-    m.pattern.edges = std::move(edges);
+    m.pattern = AgmReader::graph("to open the target graph", "the target", "node", nullptr, nullptr);
+    for (const PatternNode& n : m.pattern.nodes)
+      m.constant.push_back(std::isdigit(static_cast<unsigned char>(n.var[0])) != 0);
   }
-
-  std::string src_;
 };
 
 std::string edge_text(const PatternEdge& e) {

@@ -10,9 +10,9 @@
 ///   context: n ranges × (replica index, lo, hi - lo)
 ///   [if flags & kImplicitDots: first counter F] added dots are then F, F+1, ... in stream order
 ///   nodes: n × node op; edges: n × edge op; [state: keep list]
-/// See codec.cc for the per-op layout. Decoding is bounds-checked throughout; any malformed,
-/// truncated or oversized input yields an Error naming the field and byte offset, and nothing
-/// is produced (not even a new entry in the process's table of names).
+/// See src/codec_format.h for the per-op layout. Decoding is bounds-checked throughout; any
+/// malformed, truncated or oversized input yields an Error naming the field and byte offset, and
+/// nothing is produced (not even a new entry in the process's table of names).
 ///
 /// Beyond the syntax, a decoded message is checked against the limits table (limits.h) and the
 /// meaning of its kind: every counter is at most crdt::kMaxCounter; names are non-empty UTF-8

@@ -1,0 +1,48 @@
+// Replicator relay buffer: the deltas kept to answer pulls, bounded in bytes, and dropped once
+// every live peer holds them.
+
+#include "quiver/agents/replica/replication/replicator.h"
+
+#include <algorithm>
+
+namespace quiver::agents::inline replica {
+
+void Replicator::remember(const PeerId& origin, std::uint64_t lo, std::uint64_t hi, Bytes bytes, Bytes signature) {
+  auto& idx = buffer_index_[origin];
+  if (idx.count(lo)) return;
+  buffer_bytes_ += bytes->size();
+  buffer_.push_back(Buffered{origin, lo, hi, std::move(bytes), std::move(signature)});
+  idx.emplace(lo, std::prev(buffer_.end()));
+  while (buffer_bytes_ > opt_.buffer_bytes && buffer_.size() > 1) {
+    evict_front();
+    ++stats_.buffer_evictions;
+  }
+}
+
+void Replicator::evict_front() {
+  const Buffered& e = buffer_.front();
+  buffer_bytes_ -= e.bytes->size();
+  auto idx = buffer_index_.find(e.origin);
+  idx->second.erase(e.lo);
+  if (idx->second.empty()) buffer_index_.erase(idx);
+  buffer_.pop_front();
+}
+
+void Replicator::trim_buffer() {
+  // Drop what every live peer already holds: acknowledged by their summaries. No allocation per
+  // entry, so a large buffer does not stall the thread.
+  if (live_peer_count() == 0) return;
+  for (auto it = buffer_.begin(); it != buffer_.end();) {
+    if (!all_peers_hold(it->origin, it->lo, it->hi)) {
+      ++it;
+      continue;
+    }
+    buffer_bytes_ -= it->bytes->size();
+    auto idx = buffer_index_.find(it->origin);
+    idx->second.erase(it->lo);
+    if (idx->second.empty()) buffer_index_.erase(idx);
+    it = buffer_.erase(it);
+  }
+}
+
+}  // namespace quiver::agents

@@ -1,0 +1,190 @@
+// Replicator deltas: received deltas recorded, decoded, admitted and applied; equivocations
+// (two payloads under one number) flooded and joined; deltas claiming this replica as origin.
+
+#include "quiver/agents/replica/replication/replicator.h"
+
+#include <algorithm>
+
+#include "quiver/graph/codec.h"
+#include "replicator_detail.h"
+
+namespace quiver::agents::inline replica {
+using internal::digest_of;
+using internal::interval;
+
+void Replicator::record(const PeerId& origin, std::uint64_t lo, std::uint64_t hi, std::uint64_t digest) {
+  if (opt_.equivocation_window == 0) return;
+  if (seen_order_.size() < opt_.equivocation_window) {
+    seen_order_.emplace_back(origin, lo);
+  } else {  // the ring is full: forget the oldest record
+    auto& [o, l] = seen_order_[seen_next_];
+    if (auto it = seen_.find(o); it != seen_.end()) {
+      it->second.erase(l);
+      if (it->second.empty()) seen_.erase(it);
+    }
+    seen_order_[seen_next_] = {origin, lo};
+    seen_next_ = (seen_next_ + 1) % seen_order_.size();
+  }
+  seen_[origin][lo] = Seen{hi, digest, {}};
+}
+
+const Replicator::Seen* Replicator::recorded(const PeerId& origin, std::uint64_t lo) const {
+  auto it = seen_.find(origin);
+  if (it == seen_.end()) return nullptr;
+  auto s = it->second.find(lo);
+  return s == it->second.end() ? nullptr : &s->second;
+}
+
+Status Replicator::decode_delta(const PeerId& from, const DeltaMsg& m) {
+  const std::string what = "delta " + interval(m.origin, m.lo, m.hi) + " relayed by " + from.to_string();
+  Status s = graph::decode(*m.payload, scratch_);
+  if (!s.ok()) return make_error(s.error().code, what + ": " + s.error().message);
+  if (!(scratch_.origin == m.origin) || scratch_.kind != graph::GraphDelta::Kind::kDelta)
+    return make_error(ErrorCode::kMalformed, what + ": the payload's origin or kind does not match");
+  if (scratch_.seq_lo != m.lo || scratch_.seq_hi != m.hi)
+    return make_error(ErrorCode::kMalformed, what + ": the payload names the interval [" +
+                                                 std::to_string(scratch_.seq_lo) + ", " +
+                                                 std::to_string(scratch_.seq_hi) + "], not the one claimed");
+  return {};
+}
+
+void Replicator::apply_delta(const PeerId& from, const DeltaMsg& m, std::uint64_t digest) {
+  g_.merge(scratch_);
+  ++state_version_;
+  applied_.add_range(m.origin, m.lo, m.hi);
+  if (journal_ != nullptr) journal_->remote(m.origin, m.lo, m.hi, *m.payload);
+  record(m.origin, m.lo, m.hi, digest);
+  ++stats_.deltas_applied;
+  remember(m.origin, m.lo, m.hi, m.payload, m.signature);
+  if (auto it = peers_.find(from); it != peers_.end() && pulling_ && pull_target_ == from) it->second.pull_failures = 0;
+  if (applied_.contiguous(m.origin) + 1 < m.lo && !gap_pending_) {
+    gap_pending_ = true;
+    gap_since_ns_ = now_;
+    gap_peer_ = from;
+  }
+}
+
+void Replicator::handle(const PeerId& from, const DeltaMsg& m) {
+  if (m.origin == self_) return handle_own(from, m);
+  const std::uint64_t digest = digest_of(*m.payload);
+  if (applied_.includes(m.origin, m.lo, m.hi)) {
+    const Seen* seen = recorded(m.origin, m.lo);
+    if (seen == nullptr || seen->knows(m.hi, digest)) {
+      ++stats_.deltas_duplicate;
+      return;
+    }
+    return equivocate(from, m, digest, "differs from the one already applied under that interval");
+  }
+  if (applied_.intersects(m.origin, m.lo, m.hi))
+    return equivocate(from, m, digest, "overlaps intervals already applied");
+  if (Status s = decode_delta(from, m); !s.ok()) return reject(s.error());
+  if (!admitted(from, m, digest)) return;
+  apply_delta(from, m, digest);
+}
+
+// The Admission's verdict on the decoded delta in scratch_. A refused delta is never applied,
+// but its interval counts as received and it is relayed like any other: every replica sees it
+// and refuses it alike (the verdict depends on the delta and the policy only), so the replicas
+// stay equal and nobody pulls it for ever.
+bool Replicator::admitted(const PeerId& from, const DeltaMsg& m, std::uint64_t digest) {
+  Status s = admission_verdict(from, m);
+  if (s.ok()) return true;
+  applied_.add_range(m.origin, m.lo, m.hi);
+  record(m.origin, m.lo, m.hi, digest);
+  remember(m.origin, m.lo, m.hi, m.payload, m.signature);
+  queue(PeerId{}, DeltaMsg{m.origin, m.lo, m.hi, m.payload, m.signature});
+  reject(s.error());
+  return false;
+}
+
+// The Admission's verdict on the decoded delta in scratch_ (ok without one); a refusal is counted
+// and names the delta and its relay.
+Status Replicator::admission_verdict(const PeerId& from, const DeltaMsg& m) {
+  if (admission_ == nullptr) return {};
+  const std::span<const std::uint8_t> sig =
+      m.signature ? std::span<const std::uint8_t>(*m.signature) : std::span<const std::uint8_t>();
+  Status s = admission_->admit_delta(scratch_, *m.payload, sig);
+  if (s.ok()) return s;
+  ++stats_.deltas_refused;
+  return make_error(ErrorCode::kPermissionDenied, "delta " + interval(m.origin, m.lo, m.hi) + " relayed by " +
+                                                      from.to_string() + " refused: " + s.error().message);
+}
+
+// Two payloads under one (origin, seq): one of them is forged (or a replica is broken). Which,
+// nobody can tell without authenticated identities; refusing the second would leave replicas that
+// received them in different orders apart for good. So both are joined (a join does not care about
+// order), and the equivocation is reported, with both senders' evidence.
+//
+// Every version must reach every replica, whichever it got first: a replica that learns of a
+// second version sends it to all, with the version it had (from its relay buffer), once per
+// version; every replica does the same, so the versions flood and every replica joins all of them.
+void Replicator::equivocate(const PeerId& from, const DeltaMsg& m, std::uint64_t digest, const std::string& what) {
+  equivocation("delta " + interval(m.origin, m.lo, m.hi) + " relayed by " + from.to_string() + " " + what +
+               ": both are joined");
+  if (Status s = decode_delta(from, m); !s.ok()) return reject(s.error());
+  if (Status a = admission_verdict(from, m); !a.ok()) return reject(a.error());
+  g_.merge(scratch_);
+  ++state_version_;
+  applied_.add_range(m.origin, m.lo, m.hi);
+  if (journal_ != nullptr) journal_->remote(m.origin, m.lo, m.hi, *m.payload);
+  // Remembered by its interval's end and digest, so that its echoes are duplicates: relayed
+  // versions that were not would bounce between the replicas for ever.
+  Seen* seen = recorded(m.origin, m.lo);
+  bool first_other = false;
+  if (seen == nullptr) {
+    record(m.origin, m.lo, m.hi, digest);
+  } else if (seen->others.size() < opt_.max_versions) {
+    first_other = seen->others.empty();
+    seen->others.push_back(Version{m.hi, digest});
+  } else {
+    ++stats_.versions_not_relayed;
+    return;
+  }
+  queue(PeerId{}, DeltaMsg{m.origin, m.lo, m.hi, m.payload, m.signature});
+  if (first_other) {
+    auto idx = buffer_index_.find(m.origin);
+    if (idx != buffer_index_.end())
+      if (auto it = idx->second.find(m.lo); it != idx->second.end())
+        queue(PeerId{}, DeltaMsg{m.origin, it->second->lo, it->second->hi, it->second->bytes, it->second->signature});
+  }
+}
+
+// A delta that claims this replica as its origin. An echo of what we published is a duplicate;
+// one that differs from it, or one naming numbers we never published, was forged under our name.
+void Replicator::handle_own(const PeerId& from, const DeltaMsg& m) {
+  const std::uint64_t digest = digest_of(*m.payload);
+  if (applied_.includes(self_, m.lo, m.hi)) {
+    const Seen* seen = recorded(self_, m.lo);
+    if (seen == nullptr || seen->knows(m.hi, digest)) {
+      ++stats_.deltas_duplicate;
+      return;
+    }
+    return equivocate(from, m, digest, "claims to be ours but differs from what we published");
+  }
+  // Numbers this replica never published: someone publishes under our name. Peers may already
+  // hold it, so this replica takes it too (every replica must hold the same), and our next
+  // deltas take sequence numbers (and dots, by the Lamport rule) beyond it. Checked first: a
+  // payload that does not decode moves nothing.
+  if (Status s = decode_delta(from, m); !s.ok()) return reject(s.error());
+  const bool overlaps = applied_.intersects(self_, m.lo, m.hi);
+  skip_own_numbers_to(m.hi);
+  if (overlaps) return equivocate(from, m, digest, "claims to be ours but differs from what we published");
+  if (!admitted(from, m, digest)) return;
+  equivocation("delta " + interval(m.origin, m.lo, m.hi) + " relayed by " + from.to_string() +
+               " was published under this replica's name, which never published it; later deltas take sequence "
+               "numbers beyond it");
+  apply_delta(from, m, digest);
+}
+
+// Our next sequence number goes beyond `hi` (someone used numbers of ours): coalesced local
+// changes are published first under the numbers they already have, and the numbers up to `hi`
+// nobody published here are marked used, so that [1, seq_] stays in applied_.
+void Replicator::skip_own_numbers_to(std::uint64_t hi) {
+  if (hi <= seq_) return;
+  flush();
+  applied_.add_range(self_, seq_ + 1, hi);
+  if (journal_ != nullptr) journal_->skipped(seq_ + 1, hi);
+  seq_ = hi;
+}
+
+}  // namespace quiver::agents

@@ -1,0 +1,113 @@
+// Replicator membership: peers heard from, lost and gone (bye), and what the live peers are
+// believed to hold.
+
+#include "quiver/agents/replica/replication/replicator.h"
+
+#include <algorithm>
+
+namespace quiver::agents::inline replica {
+
+Replicator::Peer* Replicator::heard_from(const PeerId& from) {
+  auto it = peers_.find(from);
+  if (it == peers_.end()) {
+    if (peers_.size() >= opt_.max_peers) {
+      // Make room from peers that are gone; a table full of live ones refuses the newcomer.
+      for (auto g = peers_.begin(); g != peers_.end() && peers_.size() >= opt_.max_peers;) {
+        if (!g->second.info.alive) {
+          peer_ranges_ -= g->second.applied.range_count();
+          g = peers_.erase(g);
+        } else {
+          ++g;
+        }
+      }
+      if (peers_.size() >= opt_.max_peers) {
+        ++stats_.peers_refused;
+        reject(make_error(ErrorCode::kTooLarge, "from " + from.to_string() + ": the peer table is full (" +
+                                                    std::to_string(opt_.max_peers) + " peers); ignored"));
+        return nullptr;
+      }
+    }
+    it = peers_.try_emplace(from).first;
+    it->second.info.id = from;
+  }
+  Peer& p = it->second;
+  if (p.said_bye) return nullptr;  // a late message of an incarnation that left cleanly
+  p.info.last_heard_ns = now_;
+  if (!p.info.alive) {
+    p.info.alive = true;
+    // A new incarnation of an agent means the old one is gone.
+    for (auto& [id, other] : peers_)
+      if (other.info.alive && id.agent == from.agent && !(id == from) && id.incarnation < from.incarnation)
+        mark_left(other);
+    if (membership_cb_ && p.announced) membership_cb_(Membership::kJoined, p.info);
+  }
+  return &p;
+}
+
+void Replicator::mark_left(Peer& p) {
+  if (!p.info.alive) return;
+  p.info.alive = false;
+  if (state_.active && pull_target_ == p.info.id) state_ = Reassembly{};
+  if (pulling_ && pull_target_ == p.info.id) pulling_ = false;
+  if (membership_cb_ && p.announced) membership_cb_(Membership::kLeft, p.info);
+}
+
+void Replicator::on_peer_lost(const PeerId& peer, bool gone) {
+  auto it = peers_.find(peer);
+  if (it == peers_.end()) return;
+  mark_left(it->second);
+  if (gone) it->second.said_bye = true;
+}
+
+std::vector<PeerInfo> Replicator::peers() const {
+  std::vector<PeerInfo> out;
+  for (const auto& [id, p] : peers_) {
+    out.push_back(p.info);
+    out.back().suspect = p.suspect_until > now_;
+  }
+  return out;
+}
+
+std::size_t Replicator::live_peer_count() const {
+  std::size_t n = 0;
+  for (const auto& [id, p] : peers_) n += p.info.alive ? 1 : 0;
+  return n;
+}
+
+bool Replicator::peer_alive(const PeerId& peer) const {
+  auto it = peers_.find(peer);
+  return it != peers_.end() && it->second.info.alive;
+}
+
+bool Replicator::all_peers_hold(const PeerId& origin, std::uint64_t lo, std::uint64_t hi) const {
+  for (const auto& [id, p] : peers_)
+    if (p.info.alive && !p.applied.includes(origin, lo, hi)) return false;
+  return true;
+}
+
+bool Replicator::peers_hold_all() const {
+  for (const auto& [id, p] : peers_)
+    if (counts(p) && !p.info.observer && !p.applied.includes(applied_)) return false;
+  return true;
+}
+
+// A live peer whose summaries are believed (not suspected of claiming what it never delivers).
+bool Replicator::counts(const Peer& p) const { return p.info.alive && p.suspect_until <= now_; }
+
+bool Replicator::synced() const {
+  bool any = false;
+  for (const auto& [id, p] : peers_) {
+    if (!counts(p)) continue;
+    any = true;
+    if (behind(p)) return false;
+  }
+  return any && !state_.active;
+}
+
+void Replicator::handle(const PeerId& from, const ByeMsg&) {
+  Peer& p = peers_[from];
+  mark_left(p);
+  p.said_bye = true;
+}
+
+}  // namespace quiver::agents

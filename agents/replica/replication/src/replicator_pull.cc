@@ -1,0 +1,161 @@
+// Replicator pulls: asking a peer for intervals or its whole state, answering pulls from the
+// relay buffer or with a state message, and merging a received state.
+
+#include "quiver/agents/replica/replication/replicator.h"
+
+#include <algorithm>
+
+#include "quiver/graph/codec.h"
+
+namespace quiver::agents::inline replica {
+
+void Replicator::pull_from(const PeerId& target, bool whole_state) {
+  pulling_ = true;
+  pull_target_ = target;
+  pull_sent_ns_ = now_;
+  ++pull_request_;
+  ++stats_.pulls_sent;
+  state_ = Reassembly{};
+  queue(target, PullMsg{pull_request_, to_ranges(applied_), to_ranges(g_.context()), whole_state,
+                        /*as_state=*/opt_.sample_ns > 0});
+}
+
+void Replicator::handle(const PeerId& from, const PullMsg& m) {
+  if (m.whole_state || m.as_state) return answer_with_state(from, m);
+  crdt::CausalContext missing = applied_.minus(to_context(m.applied));
+  if (missing.empty()) {
+    // Nothing to give: a summary tells the puller so, and it moves on.
+    send_summary();
+    return;
+  }
+  // Can the relay buffer cover every missing (origin, seq)?
+  std::vector<const Buffered*> entries;
+  bool covered = true;
+  missing.for_each_range([&](const PeerId& o, std::uint64_t a, std::uint64_t b) {
+    if (!covered) return;
+    auto idx = buffer_index_.find(o);
+    if (idx == buffer_index_.end()) {
+      covered = false;
+      return;
+    }
+    std::uint64_t cur = a;
+    while (cur <= b) {
+      auto it = idx->second.upper_bound(cur);
+      if (it == idx->second.begin()) {
+        covered = false;
+        return;
+      }
+      --it;
+      const Buffered& e = *it->second;
+      if (e.hi < cur) {
+        covered = false;
+        return;
+      }
+      if (entries.empty() || entries.back() != &e) entries.push_back(&e);
+      if (e.hi >= b) break;
+      cur = e.hi + 1;
+    }
+  });
+  if (covered) {
+    ++stats_.pulls_answered_with_deltas;
+    for (const Buffered* e : entries) {
+      queue(from, DeltaMsg{e->origin, e->lo, e->hi, e->bytes, e->signature});
+      ++stats_.deltas_relayed;
+    }
+    return;
+  }
+  answer_with_state(from, m);
+}
+
+void Replicator::answer_with_state(const PeerId& from, const PullMsg& m) {
+  // A whole state is costly to build: to one peer at most once per first-pull patience (an
+  // honest puller waits at least that long before asking again).
+  Peer& p = peers_[from];
+  if (p.last_state_answer_ns >= 0 && now_ - p.last_state_answer_ns < opt_.pull_first_timeout_ns) {
+    ++stats_.state_answers_throttled;
+    return;
+  }
+  p.last_state_answer_ns = now_;
+  ++stats_.pulls_answered_with_state;
+  std::vector<std::uint8_t> state = graph::encode(m.whole_state ? g_.state() : g_.state_diff(to_context(m.context)));
+  const std::size_t chunk = std::clamp<std::size_t>(opt_.chunk_bytes, 1024, opt_.limits.max_chunk_bytes);
+  const std::uint64_t count = std::max<std::uint64_t>(1, (state.size() + chunk - 1) / chunk);
+  if (count > opt_.limits.max_chunks) {
+    return reject(make_error(ErrorCode::kTooLarge, "pull from " + from.to_string() + ": this replica's state (" +
+                                                       std::to_string(state.size()) + " bytes) exceeds what one "
+                                                       "transfer may carry"));
+  }
+  const RangeList applied = to_ranges(applied_);
+  for (std::uint64_t i = 0; i < count; ++i) {
+    StateMsg s;
+    s.request = m.request;
+    s.index = i;
+    s.count = count;
+    if (i == 0) s.applied = applied;
+    std::size_t begin = i * chunk, end = std::min(state.size(), begin + chunk);
+    s.chunk = std::make_shared<const std::vector<std::uint8_t>>(state.begin() + begin, state.begin() + end);
+    queue(from, std::move(s));
+  }
+}
+
+void Replicator::handle(const PeerId& from, const StateMsg& m) {
+  // Only the transfer answering our outstanding pull is assembled: nobody can make this replica
+  // hold a state it did not ask for.
+  if (!pulling_ || !(pull_target_ == from) || m.request != pull_request_) {
+    ++stats_.states_unrequested;
+    return;
+  }
+  Reassembly& ra = state_;
+  if (!ra.active || ra.count != m.count) {
+    ra = Reassembly{};
+    ra.active = true;
+    ra.count = m.count;
+    ra.started_ns = now_;
+    ra.chunks.resize(m.count);
+  }
+  if (ra.chunks[m.index]) return;  // duplicate
+  if (ra.bytes + m.chunk->size() > opt_.max_state_bytes) {
+    state_ = Reassembly{};
+    return reject(make_error(ErrorCode::kTooLarge, "state from " + from.to_string() + " exceeds max_state_bytes (" +
+                                                       std::to_string(opt_.max_state_bytes) + ")"));
+  }
+  pull_sent_ns_ = now_;  // progress: the pull is alive
+  peers_[from].pull_failures = 0;
+  ra.chunks[m.index] = m.chunk;
+  ++ra.received;
+  ra.bytes += m.chunk->size();
+  if (m.index == 0) ra.applied = to_context(m.applied);
+  if (ra.received < ra.count) return;
+  pull_timeouts_in_a_row_ = 0;
+  std::vector<std::uint8_t> all;
+  all.reserve(ra.bytes);
+  for (const auto& c : ra.chunks) all.insert(all.end(), c->begin(), c->end());
+  crdt::CausalContext applied = std::move(ra.applied);
+  state_ = Reassembly{};
+  pulling_ = false;
+  Status s = graph::decode(all, scratch_);
+  if (!s.ok()) return reject(make_error(s.error().code, "state from " + from.to_string() + ": " + s.error().message));
+  if (scratch_.kind != graph::GraphDelta::Kind::kState)
+    return reject(make_error(ErrorCode::kMalformed, "state from " + from.to_string() + ": not a state"));
+  if (admission_ != nullptr)
+    if (Status a = admission_->admit_state(from, scratch_); !a.ok()) {
+      ++stats_.states_refused;
+      peers_[from].state_refused = true;
+      return reject(make_error(ErrorCode::kPermissionDenied, "state from " + from.to_string() + " refused: " + a.error().message));
+    }
+  g_.merge(scratch_);
+  ++state_version_;
+  applied_.join(applied);
+  if (journal_ != nullptr) journal_->state(all, applied);
+  // A state may carry deltas forged under our name: our next numbers go beyond them.
+  skip_own_numbers_to(applied_.max_counter(self_));
+  ++stats_.states_applied;
+  stats_.state_bytes_received += all.size();
+  gap_pending_ = false;
+  if (opt_.sample_ns > 0 && opt_.sample_bytes_per_s > 0) {
+    const double wait_s = static_cast<double>(all.size()) / static_cast<double>(opt_.sample_bytes_per_s);
+    next_sample_ = std::max(next_sample_, now_ + static_cast<std::int64_t>(wait_s * 1e9));
+  }
+}
+
+}  // namespace quiver::agents

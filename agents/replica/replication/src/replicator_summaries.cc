@@ -1,0 +1,86 @@
+// Replicator summaries: what this replica holds (and its state digest) announced, and peers'
+// summaries compared with it (digests checked, missing intervals pulled).
+
+#include "quiver/agents/replica/replication/replicator.h"
+
+#include <algorithm>
+
+namespace quiver::agents::inline replica {
+
+void Replicator::send_summary(bool with_digest) {
+  SummaryMsg m{opt_.name, opt_.observer, to_ranges(applied_)};
+  {
+    // Kept (without the digest) for a keeper to send again while the owner thread is busy.
+    auto copy = std::make_shared<const Sample>(Sample{self_, PeerId{}, m});
+    std::lock_guard<std::mutex> lock(heartbeat_mu_);
+    heartbeat_ = std::move(copy);
+  }
+  // Coalesced local changes not yet published would make the digest differ for a while.
+  if (with_digest && pending_lo_ == 0) m.digest = state_digest();
+  queue(PeerId{}, std::move(m));
+}
+
+std::shared_ptr<const Sample> Replicator::last_heartbeat() const {
+  std::lock_guard<std::mutex> lock(heartbeat_mu_);
+  return heartbeat_;
+}
+
+std::uint64_t Replicator::state_digest() {
+  if (digest_version_ != state_version_) {
+    digest_ = g_.digest().lo;
+    if (digest_ == 0) digest_ = 1;
+    digest_version_ = state_version_;
+  }
+  return digest_;
+}
+
+// The same (origin, seq) set should mean the same state: a join is deterministic. Another digest
+// means a payload was forged under numbers both hold (an equivocation one of us never saw, or a
+// forged interval covering real ones). Twice in a row (a commit may be racing the summary), this
+// replica asks that peer for its whole state; the peer does the same, and the joins converge.
+void Replicator::check_digest(const PeerId& from, Peer& p, std::uint64_t digest) {
+  if (digest == 0 || p.state_refused || pulling_ || state_.active || pending_lo_ != 0 || !(p.applied == applied_)) return;
+  if (digest == state_digest()) {
+    p.digest_mismatches = 0;
+    return;
+  }
+  if (++p.digest_mismatches < 2) return;
+  p.digest_mismatches = 0;
+  ++stats_.divergences;
+  equivocation("replica " + from.to_string() + " holds the same deltas as this one but another state: pulling its whole state");
+  pull_from(from, true);
+}
+
+void Replicator::handle(const PeerId& from, const SummaryMsg& m) {
+  Peer& p = peers_[from];
+  crdt::CausalContext applied = to_context(m.applied);
+  const std::size_t total = peer_ranges_ - p.applied.range_count() + applied.range_count();
+  if (total > opt_.max_peer_ranges)
+    return reject(make_error(ErrorCode::kTooLarge, "summary from " + from.to_string() + ": " +
+                                                       std::to_string(applied.range_count()) +
+                                                       " ranges would exceed the peer table's limit"));
+  peer_ranges_ = total;
+  const bool first = !p.announced;
+  p.info.name = m.name;
+  p.info.observer = m.observer;
+  // Remembered past the peer's departure (deltas it made keep arriving through others), but only
+  // a name that hashes to the id it came with: nobody can name another agent's changes.
+  if (!m.name.empty() && fnv1a64(m.name) == from.agent && names_.size() < 4 * opt_.max_peers)
+    names_.emplace(from.agent, m.name);
+  p.applied = std::move(applied);
+  if (first) {
+    p.announced = true;
+    if (membership_cb_ && p.info.alive) membership_cb_(Membership::kJoined, p.info);
+    send_summary();  // let a newcomer learn about us without waiting a heartbeat
+  }
+  if (!behind(p)) p.pull_failures = 0;  // it holds nothing we lack: no claim to doubt
+  if (pulling_ && pull_target_ == from && !behind(p)) {  // caught up with it: the pull is done
+    pulling_ = false;
+    pull_timeouts_in_a_row_ = 0;
+  }
+  // A sampling observer pulls on its own clock (tick()), not at every summary.
+  if (!pulling_ && opt_.sample_ns == 0 && counts(p) && behind(p)) pull_from(from);
+  if (counts(p)) check_digest(from, p, m.digest);
+}
+
+}  // namespace quiver::agents

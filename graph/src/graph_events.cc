@@ -1,0 +1,179 @@
+// Graph's change events: what a commit or merge touches is tracked, then reported to the
+// subscribers as one ChangeBatch of created, updated and deleted nodes and edges.
+
+#include <algorithm>
+
+#include "graph_impl.h"
+
+namespace quiver::graph {
+
+RtView Graph::Impl::rt_view(const NodeRec& r) const {
+  RtView v;
+  if (!r.alive || r.rt_parent == nullptr) return v;
+  RtEdge e = current_rt(r);
+  v.parent = e.parent;
+  v.epoch = e.epoch;
+  v.pose = e.pose;
+  v.stamp = e.stamp;
+  Hasher h(7);
+  for (const RtSample& s : r.history)
+    if (s.epoch == r.rt_epoch)
+      h.i64(s.stamp).u64(s.dot.replica.agent).u64(s.dot.replica.incarnation).u64(s.dot.counter);
+  v.history = h.h64();
+  return v;
+}
+
+void Graph::Impl::touch_edge(const EdgeRec& e) {
+  if (!tracker.enabled || tracker.edge_touched(e.key)) return;
+  bool was = !e.exists.empty();
+  if (was) {
+    const NodeRec* f = find_node(e.key.from);
+    const NodeRec* t = find_node(e.key.to);
+    was = tracker.node_was_alive(e.key.from, f && f->alive) &&
+          tracker.node_was_alive(e.key.to, t && t->alive);
+  }
+  tracker.touch_edge(e.key, was);
+}
+
+std::uint64_t register_fingerprint(const AttrList& attrs, Symbol name) {
+  const AttrSlot* s = find_slot(attrs, name);
+  if (s == nullptr) return 0;
+  std::uint64_t fp = s->reg.size();
+  for (const auto& e : s->reg) fp += mix64(hash_value(e.dot) ^ (e.fence * 0x9e3779b97f4a7c15ULL));
+  return fp;
+}
+
+std::uint64_t dots_fingerprint(const crdt::DotSet& dots) {
+  // What edge_version() shows: the greatest existence dot.
+  Dot best;
+  for (const Dot& d : dots)
+    if (best.is_null() || crdt::lamport_less(best, d)) best = d;
+  return best.is_null() ? 0 : mix64(hash_value(best));
+}
+
+void Graph::Impl::touch_edge_version(const EdgeRec& e) {
+  if (!tracker.enabled) return;
+  touch_edge(e);
+  auto* t = tracker.touch_edge(e.key, false);
+  if (!t->version_saved) {
+    t->version_saved = true;
+    t->version_before = dots_fingerprint(e.exists);
+  }
+}
+
+void Graph::Impl::touch_renamed(NodeRec* r, std::string before) {
+  if (!tracker.enabled) return;
+  auto* t = tracker.touch_node(r->id, r->alive, r->type);
+  if (!t->name_saved) {
+    t->name_saved = true;
+    t->name_before = std::move(before);
+  }
+}
+
+std::string Graph::Impl::visible_name(const NodeRec& r) const {
+  auto it = by_name.find(r.name);
+  if (it == by_name.end() || it->second.size() == 1 || name_winner(it->second) == &r) return r.name;
+  return r.name + "~" + r.id.to_string();
+}
+
+void Graph::Impl::touch_edge_attr(const EdgeRec& e, Symbol name) {
+  if (!tracker.enabled) return;
+  touch_edge(e);
+  save_attr(tracker.touch_edge(e.key, false)->attrs, name, e.attrs);
+}
+
+void Graph::Impl::touch_incident_edges(NodeRec* r) {
+  if (!tracker.enabled) return;
+  for (EdgeRec* e : r->out) touch_edge(*e);
+  for (EdgeRec* e : r->in) touch_edge(*e);  // a self-loop again: touching is idempotent
+}
+
+void Graph::Impl::finish_tracking(bool local, ReplicaId origin,
+                                  const std::vector<std::pair<NodeRec*, NodeRec*>>*) {
+  if (!tracker.enabled) return;
+  ChangeBatch b;
+  b.local = local;
+  b.origin = origin;
+  for (auto& t : tracker.nodes()) {
+    const NodeRec* r = find_node(t.id);
+    bool now = r && r->alive;
+    if (!t.was_alive && now) {
+      NodeChange c{t.id, ChangeKind::kCreated, r->type, {}, false};
+      for (const AttrSlot& a : r->attrs)
+        c.attrs.push_back(a.name);  // all of them, whenever they came
+      b.nodes.push_back(std::move(c));
+    } else if (t.was_alive && !now) {
+      b.nodes.push_back(NodeChange{t.id, ChangeKind::kDeleted, t.type, {}, false});
+    } else if (now) {
+      NodeChange c{t.id, ChangeKind::kUpdated, r->type, {}, false};
+      for (const auto& [name, fp] : t.attrs)
+        if (register_fingerprint(r->attrs, name) != fp) c.attrs.push_back(name);
+      c.renamed = t.name_saved && visible_name(*r) != t.name_before;
+      if (!c.attrs.empty() || c.renamed) b.nodes.push_back(std::move(c));
+    }
+  }
+  for (auto& t : tracker.edges()) {
+    const EdgeRec* e = find_edge(t.key);
+    const bool now = e && edge_visible(*e);
+    if (!t.was_visible && now) {
+      EdgeChange c{t.key, ChangeKind::kCreated, {}};
+      for (const AttrSlot& a : e->attrs) c.attrs.push_back(a.name);
+      b.edges.push_back(std::move(c));
+    } else if (t.was_visible && !now) {
+      b.edges.push_back(EdgeChange{t.key, ChangeKind::kDeleted, {}});
+    } else if (now) {
+      EdgeChange c{t.key, ChangeKind::kUpdated, {}};
+      for (const auto& [name, fp] : t.attrs)
+        if (register_fingerprint(e->attrs, name) != fp) c.attrs.push_back(name);
+      const bool version = t.version_saved && dots_fingerprint(e->exists) != t.version_before;
+      if (!c.attrs.empty() || version) b.edges.push_back(std::move(c));
+    }
+  }
+  for (const auto& [child, before] : tracker.rt_before()) {
+    const NodeRec* c = find_node(child);
+    const RtView after = c ? rt_view(*c) : RtView{};
+    if (after == before) continue;
+    if (before.parent != after.parent) {
+      if (!before.parent.is_null())
+        b.edges.push_back(
+            EdgeChange{EdgeKey{before.parent, child, symbols::rt()}, ChangeKind::kDeleted, {}});
+      if (!after.parent.is_null())
+        b.edges.push_back(EdgeChange{
+            EdgeKey{after.parent, child, symbols::rt()}, ChangeKind::kCreated, {symbols::pose()}});
+    } else if (!after.parent.is_null()) {
+      b.edges.push_back(EdgeChange{
+          EdgeKey{after.parent, child, symbols::rt()}, ChangeKind::kUpdated, {symbols::pose()}});
+    }
+  }
+  tracker.reset();
+  tracker.enabled = false;
+  if (b.empty()) return;
+  b.origin_name = origin_namer ? origin_namer(origin) : origin.to_string();
+  // Copy: a callback may unsubscribe.
+  auto subs = subscribers;
+  for (auto& [id, cb] : subs) cb(b);
+}
+
+Graph::SubscriptionId Graph::subscribe(ChangeCallback cb) {
+  SubscriptionId id = impl_->next_subscription++;
+  impl_->subscribers.emplace_back(id, std::move(cb));
+  return id;
+}
+
+Graph::SubscriptionId Graph::subscribe(ChangeFilter filter, ChangeCallback cb) {
+  if (filter.empty()) return subscribe(std::move(cb));
+  return subscribe([filter = std::move(filter), cb = std::move(cb)](const ChangeBatch& b) {
+    ChangeBatch part = filter.select(b);
+    if (!part.empty()) cb(part);
+  });
+}
+
+void Graph::set_origin_namer(OriginNamer namer) { impl_->origin_namer = std::move(namer); }
+
+void Graph::unsubscribe(SubscriptionId id) {
+  auto& s = impl_->subscribers;
+  s.erase(std::remove_if(s.begin(), s.end(), [&](const auto& p) { return p.first == id; }),
+          s.end());
+}
+
+}  // namespace quiver::graph
