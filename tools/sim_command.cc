@@ -8,7 +8,7 @@
 #include <nlohmann/json.hpp>
 
 #include "quiver/agents/apps/agm/sim/agm_scenario.h"
-#include "quiver/sim/scenario.h"
+#include "quiver/agents/apps/barthel/sim/barthel_scenario.h"
 #include "quiver/sim/simulator.h"
 
 namespace quiver::tools {
@@ -92,9 +92,9 @@ void add_sim_command(CLI::App& app) {
       return;
     }
     if (!scenario->empty() || *schedules > 0) {
-      std::vector<std::pair<sim::Scenario, std::uint64_t>> runs;
+      std::vector<std::pair<agents::barthel::BarthelScenario, std::uint64_t>> runs;
       if (!scenario->empty()) {
-        auto s = sim::Scenario::load(*scenario);
+        auto s = agents::barthel::BarthelScenario::load(*scenario);
         if (!s.ok()) {
           agents::named_logger("quiver sim")->error("{}", s.error().to_string());
           set_exit_code(2);
@@ -102,13 +102,13 @@ void add_sim_command(CLI::App& app) {
         }
         runs.emplace_back(*s, cfg->seed);
       }
-      for (int k = 0; k < *schedules; ++k) runs.emplace_back(sim::Scenario::random_faults(cfg->seed + k), cfg->seed + k);
+      for (int k = 0; k < *schedules; ++k) runs.emplace_back(agents::barthel::BarthelScenario::random_faults(cfg->seed + k), cfg->seed + k);
       int failed = 0;
       ProgressLine progress("schedules", static_cast<long>(runs.size()));
       long done = 0;
       for (auto& [s, seed] : runs) {
         if (*verbose) log->info("scenario {}, seed {}", s.name, seed);
-        sim::ScenarioResult r = sim::run_scenario(s, seed, *verbose ? narrate : std::function<void(std::int64_t, const std::string&)>{});
+        agents::barthel::BarthelResult r = agents::barthel::run_scenario(s, seed, *verbose ? narrate : std::function<void(std::int64_t, const std::string&)>{});
         if (!r.passed) ++failed;
         progress.update(++done, std::to_string(failed) + " failed");
         if (!r.passed || runs.size() == 1) {

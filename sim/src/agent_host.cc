@@ -169,6 +169,20 @@ void AgentHost::kill(int i) {
   note(name(i) + " killed (kill -9: its replica and devices are gone)");
 }
 
+bool AgentHost::kill(const std::string& agent) {
+  const int i = index(agent);
+  if (i < 0 || !up(i)) return false;
+  kill(i);
+  return true;
+}
+
+bool AgentHost::restart(const std::string& agent) {
+  const int i = index(agent);
+  if (i < 0 || up(i)) return false;
+  restart(i);
+  return true;
+}
+
 void AgentHost::restart(int i) {
   if (agents_[static_cast<std::size_t>(i)]->up) kill(i);
   boot(i);

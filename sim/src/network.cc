@@ -52,9 +52,21 @@ void VirtualNetwork::transmit(int from, int to, std::shared_ptr<const agents::Cd
   auto one = [&](int d) {
     ++stats_.messages;
     stats_.bytes += sample->bytes.size();
-    if (!nodes_[d].up || nodes_[d].group != nodes_[from].group || rng_.chance(faults_.loss)) {
+    if (!nodes_[d].up || nodes_[d].group != nodes_[from].group) {
       ++stats_.dropped;
       return;
+    }
+    // Loss as over DDS (agents/transport/dds): heartbeats (summaries, KEEP_LAST 1) are lost for
+    // good, and a newer one follows; every other topic is RELIABLE, and the lost packet of a
+    // reliable sample is sent again (RTPS): it arrives late, and the samples after it wait for it
+    // on a FIFO link. A partition or a host down at its arrival still loses it.
+    std::int64_t repair = 0;
+    if (rng_.chance(faults_.loss)) {
+      ++stats_.dropped;
+      if (sample->topic == agents::DdsTopic::kSummary) return;
+      ++stats_.retransmitted;
+      repair = faults_.repair_min_ns +
+               static_cast<std::int64_t>(rng_.below(static_cast<std::uint64_t>(faults_.repair_max_ns - faults_.repair_min_ns + 1)));
     }
     int copies = rng_.chance(faults_.dup) ? 2 : 1;
     stats_.duplicated += copies - 1;
@@ -62,7 +74,7 @@ void VirtualNetwork::transmit(int from, int to, std::shared_ptr<const agents::Cd
       std::int64_t delay = faults_.delay_min_ns +
                            static_cast<std::int64_t>(rng_.below(faults_.delay_max_ns - faults_.delay_min_ns + 1));
       if (faults_.reorder) delay += static_cast<std::int64_t>(rng_.below(faults_.reorder_jitter_ns));
-      std::int64_t t = now_ + delay;
+      std::int64_t t = now_ + delay + repair;
       std::int64_t& last = last_delivery_[static_cast<std::size_t>(from) * nodes_.size() + d];
       if (!faults_.reorder) t = std::max(t, last + 1);  // FIFO link
       last = std::max(last, t);

@@ -138,6 +138,7 @@ class Simulation {
     result_.messages = net_.stats().messages;
     result_.bytes = net_.stats().bytes;
     result_.dropped = net_.stats().dropped;
+    result_.retransmitted = net_.stats().retransmitted;
     result_.duplicated = net_.stats().duplicated;
     check_invariants_all();
     result_.digest = agents_[0].graph->digest().hex();
@@ -764,6 +765,7 @@ std::string SimResult::to_json() const {
   j["messages"] = messages;
   j["bytes"] = bytes;
   j["dropped"] = dropped;
+  j["retransmitted"] = retransmitted;
   j["duplicated"] = duplicated;
   j["ops"] = ops;
   j["crashes"] = crashes;

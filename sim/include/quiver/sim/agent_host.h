@@ -16,6 +16,7 @@
 #include "quiver/agents/rules/locks/locks.h"
 #include "quiver/agents/replica/replication/replicator.h"
 #include "quiver/agents/runtime/engine/engine.h"
+#include "quiver/sim/fault_model.h"
 #include "quiver/sim/network.h"
 
 namespace quiver::sim {
@@ -37,7 +38,7 @@ struct AgentHostOptions {
   std::function<void(std::int64_t t_ns, const std::string& line)> log;
 };
 
-class AgentHost {
+class AgentHost final : public FaultTarget {
  public:
   AgentHost(std::vector<SimAgentSpec> agents, AgentHostOptions o);
   ~AgentHost();
@@ -46,11 +47,11 @@ class AgentHost {
 
   /// Boots every agent. @returns the world file's error, if any.
   Status start();
-  std::int64_t now() const { return net_.now(); }
+  std::int64_t now() const override { return net_.now(); }
   void run_until(std::int64_t t_ns) { net_.run_until(t_ns); }
   /// Runs `fn` every `period_ns` of virtual time (observers and checks).
   void every(std::int64_t period_ns, std::function<void()> fn);
-  void at(std::int64_t t_ns, std::function<void()> fn) { net_.at(t_ns, std::move(fn)); }
+  void at(std::int64_t t_ns, std::function<void()> fn) override { net_.at(t_ns, std::move(fn)); }
 
   int size() const { return static_cast<int>(agents_.size()); }
   /// The index of the agent called `name`, or -1.
@@ -70,9 +71,13 @@ class AgentHost {
   /// A fresh incarnation with an empty replica.
   void restart(int i);
   /// Agents hear each other only within a group; agents not named form one more group.
-  void partition(const std::vector<std::vector<std::string>>& groups);
-  void heal() { net_.heal(); }
-  void set_loss(double p) { net_.faults().loss = p; }
+  void partition(const std::vector<std::vector<std::string>>& groups) override;
+  void heal() override { net_.heal(); }
+  void set_loss(double p) override { net_.faults().loss = p; }
+  /// FaultTarget by name: kill -9 / restart of the agent called `agent` (false: not running /
+  /// already running, or no such agent).
+  bool kill(const std::string& agent) override;
+  bool restart(const std::string& agent) override;
   VirtualNetwork& network() { return net_; }
 
   /// Every action event of every agent (index, event).

@@ -21,7 +21,9 @@
 namespace quiver::sim {
 
 struct FaultConfig {
-  double loss = 0.0;                 ///< probability a sample is dropped on a link
+  /// Probability a sample's packet is lost on a link: a heartbeat (summary) is then lost, a
+  /// sample of a reliable topic is sent again and arrives repair_min..max_ns late (as RTPS does).
+  double loss = 0.0;
   double dup = 0.0;                  ///< probability a sample is delivered twice
   bool reorder = false;              ///< samples on a link may overtake each other
   bool partitions = false;           ///< split the agents into groups for a while, then heal
@@ -29,12 +31,15 @@ struct FaultConfig {
   std::int64_t delay_min_ns = 100'000;
   std::int64_t delay_max_ns = 2'000'000;
   std::int64_t reorder_jitter_ns = 30'000'000;
+  std::int64_t repair_min_ns = 10'000'000;   ///< a reliable sample's retransmission: extra delay
+  std::int64_t repair_max_ns = 100'000'000;
 };
 
 struct NetworkStats {
   std::uint64_t messages = 0;  ///< samples handed to the network, per destination
   std::uint64_t bytes = 0;     ///< their CDR bytes (what DDS would carry as sample payloads)
-  std::uint64_t dropped = 0;
+  std::uint64_t dropped = 0;        ///< packets lost: to loss, to a partition or to a host down
+  std::uint64_t retransmitted = 0;  ///< of those, reliable samples sent again (they arrive late)
   std::uint64_t duplicated = 0;
 };
 

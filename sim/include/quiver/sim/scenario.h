@@ -1,94 +1,59 @@
 #pragma once
 /// @file
-/// Scenarios as data: which Barthel agents run, on which world, with which patient (a script or
-/// a seed), under which faults (at time t: partition, heal, kill -9, restart, packet loss), and
-/// what must hold (checks over time and at the end). `quiver sim --scenario FILE [--seed S]` runs
-/// one in the simulator; docs/scenarios.md describes the file.
+/// Scenarios as data (docs/scenarios.md): which agents run (by the roles an app registered), on
+/// which world, under which faults (the one fault model: fault_model.h), what workloads drive
+/// them and what must hold (checks by registered name), for how long. The simulator knows no app:
+/// the keys it does not know belong to the app (ScenarioApp::settings()).
 ///
 /// ```json
-/// {"name": "person-lost", "patient": {"script": {...}} | {"seed": 7, "varied": true},
-///  "faults": [{"at_s": 20, "partition": [["planner"], ["speech", "panel"]]}, {"at_s": 22, "heal": true},
+/// {"name": "person-lost", "app": "barthel",
+///  "agents": ["planner", "speech", {"role": "person", "name": "camera"}],
+///  "world": "examples/worlds/kitchen.json",
+///  "faults": [{"at_s": 20, "partition": [["planner"], ["speech"]]}, {"at_s": 22, "heal": true},
 ///             {"at_s": 30, "kill": "planner"}, {"at_s": 31, "restart": "planner"}, {"at_s": 5, "loss": 0.2}],
-///  "checks": {"never_speaking_absent_ms": 300, "no_item_asked_twice": true,
-///             "result_matches_script": true, "status": "completed", "total": 85},
-///  "timing": {"words_ms": 250, "think_ms": [300, 1500], "answer_timeout_s": 8, "person_hz": 30, "joints": true},
-///  "limit_s": 900}
+///  "workloads": {"churn": {"steps": 200}},
+///  "checks": {"never_speaking_absent_ms": 300, "status": "completed"},
+///  "limit_s": 900,
+///  "patient": {...}}
 /// ```
+
 #include <cstdint>
-#include <functional>
-#include <nlohmann/json_fwd.hpp>
-#include <optional>
+#include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
 
-#include "quiver/agents/apps/barthel/patient_script.h"
 #include "quiver/base/result.h"
+#include "quiver/sim/fault_model.h"
+#include "quiver/sim/scenario_app.h"
 
 namespace quiver::sim {
 
-struct FaultEvent {
-  enum class Kind : std::uint8_t { kPartition, kHeal, kKill, kRestart, kLoss } kind = Kind::kHeal;
-  double at_s = 0;
-  std::vector<std::vector<std::string>> groups;  ///< kPartition
-  std::string agent;                             ///< kKill, kRestart
-  double loss = 0;                               ///< kLoss
-  std::string describe() const;
-};
-
-struct ScenarioChecks {
-  std::int64_t never_speaking_absent_ms = 300;  ///< <= 0: off
-  bool no_item_asked_twice = true;
-  bool result_matches_script = true;
-  std::optional<std::string> status;  ///< the stored result's status must be this
-  std::optional<int> total;           ///< and its total this
-};
-
-struct ScenarioTiming {
-  double words_ms = 250, base_ms = 300;  ///< simulated speech
-  double answer_timeout_s = 8;
-  double person_hz = 30;
-  bool joints = true;
+struct ScenarioAgent {
+  std::string role;
+  std::string name;  ///< unique in the scenario (the role's name unless the file gives one)
 };
 
 struct Scenario {
-  std::string name = "barthel";
-  std::vector<std::string> agents = {"planner", "speech", "panel", "person", "patient"};
-  std::string world_file;  ///< empty: the embedded Barthel world
-  agents::barthel::PatientScript script;
+  std::string name = "scenario";
+  std::string app;                       ///< the app whose roles it runs (informative; the caller picks the app)
+  std::vector<ScenarioAgent> agents;     ///< empty: the app's default agents
+  std::string world_file;                ///< empty: the app's default world
   std::vector<FaultEvent> faults;
-  ScenarioChecks checks;
-  ScenarioTiming timing;
+  nlohmann::json workloads = nlohmann::json::object();  ///< name -> parameters
+  nlohmann::json checks = nlohmann::json::object();     ///< name -> parameters
+  nlohmann::json settings = nlohmann::json::object();   ///< the app's own keys
   double limit_s = 900;
 
-  /// @returns kInvalidArgument naming `source` and the JSON pointer of a bad value.
-  static Result<Scenario> parse(const nlohmann::json& j, const std::string& source);
-  static Result<Scenario> load(const std::string& path);
+  /// Reads a scenario for `app`: generic keys here, the app's through ScenarioApp::settings();
+  /// every agent names one of its roles, every check and workload one it registered (and its
+  /// parameters are checked by making it once). @returns kInvalidArgument naming `source` and the
+  /// JSON pointer of the bad value.
+  static Result<Scenario> parse(const nlohmann::json& j, const std::string& source, const ScenarioApp& app);
+  /// parse() of a file; kIo when it cannot be read.
+  static Result<Scenario> load(const std::string& path, const ScenarioApp& app);
   nlohmann::json to_json() const;
-  /// A varied patient and random faults (loss up to 30%, partitions, kill -9 and restart of any
-  /// robot agent, the Planner included), all drawn from `seed`; fast speech and no joints.
-  static Scenario random_faults(std::uint64_t seed);
+  /// The agents it runs: its own, or the app's default roles.
+  std::vector<ScenarioAgent> agents_of(const ScenarioApp& app) const;
 };
-
-struct ScenarioResult {
-  std::string name;
-  std::uint64_t seed = 0;
-  bool passed = false;
-  std::vector<std::string> failures;
-  std::string status;           ///< the stored result's ("" if none)
-  int total = -1;
-  std::string expected_status;
-  int expected_total = -1;
-  double finished_s = -1;       ///< virtual time the result was stored
-  double max_speaking_absent_ms = 0;
-  int interruptions = 0;        ///< utterances stopped mid-sentence
-  int kills = 0, partitions = 0;
-  std::uint64_t rejected = 0;
-  nlohmann::json to_json() const;
-};
-
-/// Runs `s` in the simulator with `seed` (network and agents' randomness). `log` gets every line
-/// (agents' and the host's) with its virtual time.
-ScenarioResult run_scenario(const Scenario& s, std::uint64_t seed,
-                            std::function<void(std::int64_t t_ns, const std::string&)> log = {});
 
 }  // namespace quiver::sim

@@ -98,6 +98,7 @@ struct SimResult {
   /// Their CDR bytes: what DDS would carry as sample payloads (agents/transport/wire).
   std::uint64_t bytes = 0;
   std::uint64_t dropped = 0;
+  std::uint64_t retransmitted = 0;  ///< reliable samples whose packet was lost and sent again
   std::uint64_t duplicated = 0;
   std::uint64_t ops = 0;  ///< changes committed by the workload
   std::uint64_t crashes = 0;

@@ -4,13 +4,16 @@
 
 #include <nlohmann/json.hpp>
 
-#include "quiver/sim/scenario.h"
+#include "quiver/agents/apps/barthel/sim/barthel_scenario.h"
 
 namespace quiver::sim {
 namespace {
 
 using agents::barthel::PatientScript;
 using agents::barthel::ReplyKind;
+using agents::barthel::run_scenario;
+using Scenario = agents::barthel::BarthelScenario;
+using ScenarioResult = agents::barthel::BarthelResult;
 using nlohmann::json;
 
 Scenario base(std::uint64_t patient_seed) {

@@ -10,7 +10,8 @@
 #include "quiver/agents/apps/agm/agm_roles.h"
 #include "quiver/agents/apps/agm/agm_schema.h"
 #include "quiver/sim/agent_host.h"
-#include "quiver/sim/fault_schedule.h"
+#include "quiver/sim/fault_generator.h"
+#include "quiver/sim/fault_model.h"
 #include "quiver/sim/simulator.h"
 
 namespace quiver::agents::inline apps::agm {
@@ -213,41 +214,10 @@ AgmScenario AgmScenario::random_faults(std::uint64_t seed, const std::string& mi
       500;  // the grasping agent's freshness bound (300 ms), ticks, retries
   std::vector<std::string> roles = agm::role_names();
   if (!mission.empty()) roles.push_back(agm::kPlannerRole);
-  auto at = [&](double lo, double hi) { return lo + rng.uniform() * (hi - lo); };
-  if (rng.chance(0.5)) {
-    FaultEvent e;
-    e.kind = FaultEvent::Kind::kLoss;
-    e.at_s = at(0, 10);
-    e.loss = 0.2 * rng.uniform();
-    s.faults.push_back(e);
-  }
-  const int partitions = static_cast<int>(rng.below(3));
-  for (int p = 0; p < partitions; ++p) {
-    std::vector<std::string> a, b;
-    for (const auto& n : roles) (rng.chance(0.5) ? a : b).push_back(n);
-    if (a.empty() || b.empty()) continue;
-    FaultEvent e;
-    e.kind = FaultEvent::Kind::kPartition;
-    e.at_s = at(2, 35);
-    e.groups = {a, b};
-    s.faults.push_back(e);
-    FaultEvent h;
-    h.kind = FaultEvent::Kind::kHeal;
-    h.at_s = e.at_s + at(0.3, 3);
-    s.faults.push_back(h);
-  }
-  const int kills = static_cast<int>(rng.below(3));
-  for (int k = 0; k < kills; ++k) {
-    FaultEvent e;
-    e.kind = FaultEvent::Kind::kKill;
-    e.agent = roles[rng.below(roles.size())];
-    e.at_s = at(1, 35);
-    s.faults.push_back(e);
-    FaultEvent r = e;
-    r.kind = FaultEvent::Kind::kRestart;
-    r.at_s = e.at_s + at(0.1, 3);
-    s.faults.push_back(r);
-  }
+  sim::FaultMix mix;  // loss up to 20%, up to two partitions and two kill -9, all in the first 35 s
+  mix.agents = roles;
+  mix.killable = roles;
+  s.faults = sim::random_faults(rng, mix);
   return s;
 }
 
@@ -296,7 +266,8 @@ AgmResult run_agm_scenario(const AgmScenario& s, std::uint64_t seed,
   }
   std::map<int, std::int64_t> started_at;
   host.on_agent_started([&](int i) { started_at[i] = host.now(); });
-  schedule_faults(host, s.faults, log, r.partitions, r.kills);
+  sim::FaultCounts counts;
+  schedule_faults(host, s.faults, log, counts);
 
   const int nav = host.index("navigation"), grasping = host.index("grasping");
   const std::int64_t allowance = static_cast<std::int64_t>(s.checks.motion_allowance_ms * 1e6);
@@ -372,6 +343,8 @@ AgmResult run_agm_scenario(const AgmScenario& s, std::uint64_t seed,
   }
   host.run_until(host.now() + 5 * kSec);
   r.rejected = host.rejected();
+  r.partitions = counts.partitions;
+  r.kills = counts.kills;
 
   // Convergence: every replica holds the same state.
   r.converged = true;

@@ -11,7 +11,7 @@
 #include "quiver/agents/apps/agm/agm_schema.h"
 #include "quiver/agents/apps/planning/planner_agent.h"
 #include "quiver/sim/agent_host.h"
-#include "quiver/sim/fault_schedule.h"
+#include "quiver/sim/fault_model.h"
 #include "quiver/agents/apps/agm/sim/agm_scenario.h"
 #include "quiver/sim/simulator.h"
 
@@ -159,7 +159,8 @@ AgmResult run_agm_clean_table(const AgmScenario& s, std::uint64_t seed,
     fail(st.error().to_string());
     return r;
   }
-  schedule_faults(host, s.faults, log, r.partitions, r.kills);
+  sim::FaultCounts counts;
+  schedule_faults(host, s.faults, log, counts);
 
   const int planner = host.index(agm::kPlannerRole), grasping = host.index("grasping");
   const std::int64_t allowance = static_cast<std::int64_t>(s.checks.motion_allowance_ms * 1e6);
@@ -233,6 +234,8 @@ AgmResult run_agm_clean_table(const AgmScenario& s, std::uint64_t seed,
   }
   host.run_until(host.now() + 5 * kSec);
   r.rejected = host.rejected();
+  r.partitions = counts.partitions;
+  r.kills = counts.kills;
 
   r.converged = true;
   for (int i = 0; i < host.size(); ++i)

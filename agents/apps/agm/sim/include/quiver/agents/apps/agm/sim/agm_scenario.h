@@ -2,7 +2,7 @@
 /// @file
 /// The AGM scenarios of seed 001 in the simulator: the navigation, robot-in-room, grasping and
 /// human-tracking agents (agents/apps/agm) on the AGM world, with a fault schedule (partitions, packet
-/// loss, kill -9 and restart of any agent: sim/scenario.h's FaultEvent), and the checks of what
+/// loss, kill -9 and restart of any agent: sim/fault_model.h's FaultEvent), and the checks of what
 /// must hold — over time and at the end:
 ///  - the robot ends in the kitchen, carrying the mug, which is in the kitchen too;
 ///  - changeRoom follows the platform: every change is based on a real pose inside the new room;
@@ -22,7 +22,7 @@
 #include <vector>
 
 #include "quiver/base/result.h"
-#include "quiver/sim/scenario.h"
+#include "quiver/sim/fault_model.h"
 
 namespace quiver::agents::inline apps::agm {
 
