@@ -146,5 +146,6 @@ void bind_agent_context(py::module_& m);
 void bind_action(py::module_& m);
 void bind_agent_base(py::module_& m);
 void bind_bench(py::module_& m);
+void bind_sim(py::module_& m);
 
 }  // namespace quiver::python

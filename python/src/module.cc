@@ -20,4 +20,5 @@ PYBIND11_MODULE(quiver, m) {
   bind_action(m);
   bind_agent_base(m);
   bind_bench(m);
+  bind_sim(m);
 }

@@ -49,7 +49,12 @@ ScenarioOutcome ScenarioRun::run() {
       fail("no role '" + a.role + "' in the app '" + app_.name() + "'");
       return out;
     }
-    specs.push_back({a.name, [this, role = a.role]() { return app_.role_factory(role)(*this); }});
+    specs.push_back({a.name, [this, role = a.role, name = a.name]() {
+                       making_ = name;
+                       auto agent = app_.role_factory(role)(*this);
+                       making_.clear();
+                       return agent;
+                     }});
   }
   AgentHostOptions ho;
   ho.seed = seed_;

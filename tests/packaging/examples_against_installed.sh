@@ -125,4 +125,7 @@ step "graph_basics";      "$work/examples/graph_basics"
 step "kinematics_lookup"; "$work/examples/kinematics_lookup"
 step "grammar_agent";     timeout 60 "$work/examples/grammar_agent"
 step "dds_agent";         timeout 60 "$work/examples/dds_agent" speech 1
+# Your own agents and checks in the simulator: three seeded runs of a scenario file with a
+# partition, loss and kill -9; it exits non-zero when a check fails.
+step "sim_scenario";      timeout 120 "$work/examples/sim_scenario" examples/sim_scenario/pingpong.json 1 3
 echo "PASS"

@@ -48,6 +48,9 @@ class ScenarioRun {
   T& state_as() {
     return std::any_cast<T&>(state_);
   }
+  /// While a role factory runs: the name of the agent it makes (a role may run under several
+  /// names, e.g. {"role": "ponger", "name": "backup"}).
+  const std::string& agent_name() const { return making_; }
   /// A line for the run's log, at the current virtual time.
   void note(const std::string& line);
   const FaultCounts& faults() const { return counts_; }
@@ -64,6 +67,7 @@ class ScenarioRun {
   std::function<void(std::int64_t, const std::string&)> log_;
   std::unique_ptr<AgentHost> host_;
   std::any state_;
+  std::string making_;
   FaultCounts counts_;
   nlohmann::json metrics_ = nlohmann::json::object();
 };
