@@ -1,3 +1,5 @@
+// The causal context of a delta-state CRDT: every dot a replica has seen, as a version vector plus a cloud of
+// ranges beyond it.
 #include "quiver/crdt/causal_context.h"
 
 #include <algorithm>

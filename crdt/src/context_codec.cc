@@ -1,3 +1,4 @@
+// The wire form of a causal context and of a replica id, and their bounds-checked decoding.
 #include "quiver/crdt/context_codec.h"
 
 namespace quiver::crdt {

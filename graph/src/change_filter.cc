@@ -1,3 +1,4 @@
+// A subscription's filter of change batches: the node and edge changes whose types or attributes it lists.
 #include <algorithm>
 
 #include "quiver/graph/graph.h"

@@ -1,3 +1,4 @@
+// GraphDelta, a fragment of the graph CRDT's state: cleared, its changes counted, and another appended to it.
 #include "quiver/graph/delta.h"
 
 namespace quiver::graph {

@@ -1,3 +1,4 @@
+// Graph data checked against the one table of size limits: UTF-8 validity, names and values.
 #include "quiver/graph/limits.h"
 
 #include <string>

@@ -1,3 +1,5 @@
+// Interned strings for attribute names and node and edge types: a process-wide table that readers index without
+// a lock.
 #include "quiver/graph/symbol.h"
 
 #include <array>

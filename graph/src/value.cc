@@ -1,3 +1,4 @@
+// Typed attribute values: their type names, equality, hashing, text, and their encoding and bounded decoding.
 #include "quiver/graph/value.h"
 
 #include <cstdio>

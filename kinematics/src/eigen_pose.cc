@@ -1,3 +1,4 @@
+// Eigen views of the graph's poses: a pose X_PC to and from an Eigen isometry, and RT edges read and set with one.
 #include "quiver/kinematics/eigen_pose.h"
 
 #include <cmath>

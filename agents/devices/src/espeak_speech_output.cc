@@ -1,3 +1,5 @@
+// Real text-to-speech with the espeak-ng program: one WAV file per utterance, played on the agent's clock for the
+// duration its header gives.
 #include "quiver/agents/devices/espeak_speech_output.h"
 
 #include <cstdio>

@@ -1,3 +1,5 @@
+// File writes that survive crashes: a whole file replaced atomically, one line appended and synced, and
+// directories created with their parents.
 #include "file_io.h"
 
 #include <fcntl.h>

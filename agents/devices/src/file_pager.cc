@@ -1,3 +1,4 @@
+// The pager file: one synced JSON line appended per page, for the clinician's app to tail.
 #include "quiver/agents/devices/file_pager.h"
 
 #include <utility>

@@ -1,3 +1,5 @@
+// UTF-8 text in the ASCII characters of OpenCV's Hershey fonts: accented Latin letters by their base letters,
+// anything else as '?'.
 #include "quiver/agents/devices/opencv_screen.h"
 
 #include <string>

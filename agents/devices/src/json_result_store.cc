@@ -1,3 +1,4 @@
+// Test results in a JSON file, replaced atomically on every store, and read back.
 #include "quiver/agents/devices/json_result_store.h"
 
 #include <fcntl.h>

@@ -1,3 +1,4 @@
+// The pager in memory: every page checked and kept, with the lines a pager file would hold.
 #include "quiver/agents/devices/memory_pager.h"
 
 #include <utility>

@@ -1,3 +1,4 @@
+// Test results in memory, encoded and decoded as a file would hold them.
 #include "quiver/agents/devices/memory_result_store.h"
 
 #include <utility>

@@ -1,3 +1,4 @@
+// The touchscreen rendered with OpenCV: each show or clear written atomically as the next PNG image.
 #include "quiver/agents/devices/opencv_screen.h"
 
 #include <cstdio>

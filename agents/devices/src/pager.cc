@@ -1,3 +1,4 @@
+// A page as every pager sends it: one checked JSON line of the time and the message.
 #include "quiver/agents/devices/pager.h"
 
 #include <nlohmann/json.hpp>

@@ -1,3 +1,4 @@
+// A loudspeaker's playback on the agent's clock: one utterance at a time, playing until its end or a stop.
 #include "quiver/agents/devices/playback.h"
 
 #include <algorithm>

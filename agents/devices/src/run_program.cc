@@ -1,3 +1,4 @@
+// Running a program to completion without a shell (posix_spawnp), with its output captured and how it ended.
 #include "run_program.h"
 
 #include <fcntl.h>

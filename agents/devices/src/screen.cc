@@ -1,3 +1,4 @@
+// The check every screen makes of what it is asked to show.
 #include "quiver/agents/devices/screen.h"
 
 namespace quiver::agents::devices {

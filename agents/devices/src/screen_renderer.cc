@@ -1,3 +1,5 @@
+// A screen's content drawn into an image with OpenCV: the title, the wrapped text and the options as buttons, at
+// the largest font that fits.
 #include "screen_renderer.h"
 
 #include <algorithm>

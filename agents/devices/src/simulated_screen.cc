@@ -1,3 +1,4 @@
+// The simulated screen: what was shown, and when, recorded; no pictures.
 #include "quiver/agents/devices/simulated_screen.h"
 
 namespace quiver::agents::devices {

@@ -1,3 +1,4 @@
+// Simulated speech: no audio, each utterance lasting a fixed time plus a time per word.
 #include "quiver/agents/devices/simulated_speech_output.h"
 
 #include <limits>

@@ -1,3 +1,4 @@
+// The check every speech output makes of the text it is asked to say.
 #include "quiver/agents/devices/speech_output.h"
 
 namespace quiver::agents::devices {

@@ -1,3 +1,5 @@
+// The JSON encoding of a test result that every result store shares, and its decoder naming the JSON pointer of
+// any bad field.
 #include "quiver/agents/devices/test_result_json.h"
 
 #include <limits>

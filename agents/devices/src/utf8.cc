@@ -1,3 +1,4 @@
+// UTF-8 validity: the first byte of a string that is not part of a well-formed sequence.
 #include "utf8.h"
 
 namespace quiver::agents::devices::internal {

@@ -1,3 +1,4 @@
+// The header of a WAV file, read chunk by chunk: its format and how long its data plays.
 #include "quiver/agents/devices/wav_info.h"
 
 #include <fcntl.h>

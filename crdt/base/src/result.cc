@@ -1,3 +1,4 @@
+// Expected failures as values: the names of the error codes, and an error as text.
 #include "quiver/base/result.h"
 
 namespace quiver::inline base {

@@ -1,3 +1,5 @@
+// Poses in the source formats' convention (a translation in millimetres, Euler angles in radians with
+// R = Rx·Ry·Rz) to and from Quiver's (metres, a unit quaternion).
 #include "euler_xyz.h"
 
 #include <cmath>

@@ -1,3 +1,5 @@
+// The visible graph as both exporters walk it: nodes with their file ids, attributes split between the node and
+// its RT link, RT parents with their poses, symbolic edges, in one deterministic order.
 #include "export_view.h"
 
 #include <algorithm>

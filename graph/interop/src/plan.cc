@@ -1,3 +1,5 @@
+// A source world read and checked but not yet applied, and the one place that turns it into graph changes,
+// committed in one transaction or not at all.
 #include "plan.h"
 
 #include <map>

@@ -1,3 +1,5 @@
+// Numbers and values as text the way both source formats write them, and AGM's string attributes typed by their
+// content.
 #include "text_values.h"
 
 #include <charconv>

@@ -1,3 +1,5 @@
+// The Barthel agents by role name: each made with its devices (real ones writing into out_dir, else simulated),
+// and given the other roles' grammars, against which their changes are verified.
 #include "quiver/agents/apps/barthel/barthel_roles.h"
 
 #include "quiver/agents/apps/barthel/grammars.h"

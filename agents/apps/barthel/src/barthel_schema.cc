@@ -1,3 +1,5 @@
+// The Barthel test's shared world model as the agents read it: nodes by name, the person's presence, prompts and
+// their answers, marks taken back, attributes with fallbacks.
 #include "quiver/agents/apps/barthel/barthel_schema.h"
 
 #include <algorithm>

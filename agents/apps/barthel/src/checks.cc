@@ -1,3 +1,5 @@
+// What a Barthel run is checked against in either host: the stored result against the patient's script, no
+// question asked twice, and how long the robot spoke to an absent patient.
 #include "quiver/agents/apps/barthel/checks.h"
 
 #include <algorithm>

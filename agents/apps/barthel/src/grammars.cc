@@ -1,3 +1,4 @@
+// The Barthel agents' embedded files by role: each role's grammar and the world file.
 #include "quiver/agents/apps/barthel/grammars.h"
 
 #include <string>

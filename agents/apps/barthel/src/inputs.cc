@@ -1,3 +1,5 @@
+// The simulated sensors of the patient: speech recognition, touches and presence, read from the `sim_patient`
+// node's ground truth.
 #include "quiver/agents/apps/barthel/inputs.h"
 
 #include "quiver/agents/apps/barthel/barthel_schema.h"

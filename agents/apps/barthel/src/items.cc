@@ -1,3 +1,4 @@
+// The ten items of the Barthel index with their standard options and scores, and the check of a table's shape.
 #include "quiver/agents/apps/barthel/items.h"
 
 #include <set>

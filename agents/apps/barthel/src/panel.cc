@@ -1,3 +1,5 @@
+// The Panel agent: the newest prompt's screen shown (and its picture stored on `panel`) while the patient is
+// there, cleared when the person is lost, and the option touched written as `tapped`.
 #include "quiver/agents/apps/barthel/panel.h"
 
 #include <nlohmann/json.hpp>

@@ -1,3 +1,5 @@
+// The simulated patient agent: it answers what was said to the end as its script says, leaves its chair and
+// comes back, and writes only the `sim_patient` node the simulated sensors read.
 #include "quiver/agents/apps/barthel/patient.h"
 
 #include <nlohmann/json.hpp>

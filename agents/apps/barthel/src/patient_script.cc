@@ -1,3 +1,5 @@
+// The simulated patient's script: replies and absences drawn from a seed or read from JSON, and the outcome
+// they imply.
 #include "quiver/agents/apps/barthel/patient_script.h"
 
 #include <nlohmann/json.hpp>

@@ -1,3 +1,5 @@
+// The Person agent: the person sensor read at its rate, the 15 body joints posed under `body`, and presence
+// written as `person -[in_front_of]-> robot` under the person scope it holds.
 #include "quiver/agents/apps/barthel/person.h"
 
 #include <cmath>

@@ -1,3 +1,5 @@
+// The Speech agent: the Planner's utterances said one at a time while the patient is there (stopped at once
+// when the person is lost), and the recognised answers written as `heard`.
 #include "quiver/agents/apps/barthel/speech.h"
 
 #include <algorithm>

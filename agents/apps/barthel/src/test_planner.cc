@@ -1,3 +1,5 @@
+// The Planner agent: the Barthel test conducted by writing each step into the graph, replanned on silence,
+// misunderstanding or the person lost, and continued from the graph by a restarted Planner.
 #include "quiver/agents/apps/barthel/test_planner.h"
 
 #include <nlohmann/json.hpp>

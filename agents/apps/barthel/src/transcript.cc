@@ -1,3 +1,4 @@
+// The transcript of a Barthel test, one line per event, read from the graph's change batches only.
 #include "quiver/agents/apps/barthel/transcript.h"
 
 #include "quiver/agents/apps/barthel/barthel_schema.h"

@@ -1,3 +1,5 @@
+// Plans kept in the graph: the planner agent writes a mission's plan onto the plan node, follows the world along
+// it and plans again when the world deviates; the step executor applies the steps it asks for.
 #include "quiver/agents/apps/planning/planner_agent.h"
 
 #include <nlohmann/json.hpp>

@@ -1,3 +1,4 @@
+// Log lines rate-limited by kind: the first few of a period emitted, the rest counted into one summary line.
 #include "quiver/agents/replica/replication/error_limiter.h"
 
 namespace quiver::agents::inline replica {

@@ -1,3 +1,5 @@
+// The replication protocol's messages as transports carry them: contexts to and from range lists, and the name
+// of each message kind.
 #include "quiver/agents/replica/replication/messages.h"
 
 #include <type_traits>

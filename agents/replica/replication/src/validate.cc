@@ -1,3 +1,5 @@
+// The one check of every sample a peer sends, whatever carried it: well-formed and within limits, or refused whole
+// with the sender, message, field and value named.
 #include "quiver/agents/replica/replication/validate.h"
 
 #include <string>

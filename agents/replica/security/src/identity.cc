@@ -1,3 +1,5 @@
+// Graph-level identity: payloads signed with an agent's DDS Security key, and verified against the certificates
+// the CA signed and has not revoked.
 #include "quiver/agents/replica/security/identity.h"
 
 #include <openssl/ec.h>

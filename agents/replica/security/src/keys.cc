@@ -1,3 +1,5 @@
+// The credentials of a deployment under DDS Security: the CA, each agent's key, certificate and signed
+// permissions, the governance document and the revocation list, as PEM files in one directory.
 #include "quiver/agents/replica/security/keys.h"
 
 #include <openssl/bn.h>

@@ -1,3 +1,5 @@
+// OpenSSL's C API wrapped once: owning pointers, errors as quiver::Error, PEM files in and out, certificate
+// checks and S/MIME signing.
 #include "openssl_util.h"
 
 #include <fcntl.h>

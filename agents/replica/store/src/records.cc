@@ -1,3 +1,5 @@
+// The byte forms of what a store holds: log records and the snapshot, each sealed by a checksum of what precedes
+// it, and the log's keys.
 #include "quiver/agents/replica/store/records.h"
 
 #include <array>

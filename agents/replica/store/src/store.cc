@@ -1,3 +1,5 @@
+// A replica's durable store: a snapshot plus a log of every change joined since, in one LMDB environment,
+// compacted in the background and loaded back into the replica on start.
 #include "quiver/agents/replica/store/store.h"
 
 #include <errno.h>

@@ -1,3 +1,5 @@
+// The structural changes a transaction or an incoming delta makes to the state it starts from, with a node deleted
+// and one created under its name read as one retyped node.
 #include "grammar_changes.h"
 
 #include <algorithm>

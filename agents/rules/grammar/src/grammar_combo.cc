@@ -1,3 +1,5 @@
+// Combo rules as plain rules: each choice of optional steps composed into one rule the checker matches like any
+// other.
 #include "grammar_combo.h"
 
 #include <algorithm>

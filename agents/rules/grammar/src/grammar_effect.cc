@@ -1,3 +1,4 @@
+// A rule's effect applied to the outcome of its rewrite, and that outcome compared with what a change did.
 #include "grammar_effect.h"
 
 #include <algorithm>

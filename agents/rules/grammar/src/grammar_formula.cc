@@ -1,3 +1,5 @@
+// Formulas evaluated at a match, and the bindings of quantified variables enumerated, in the state a change
+// starts from; shared by rules, constraints and effects.
 #include "grammar_formula.h"
 
 #include <algorithm>

@@ -1,3 +1,5 @@
+// A grammar run on one agent: local transactions checked before they are published, incoming deltas verified
+// against their origin's grammar, constraints checked after merges and violations repaired.
 #include "quiver/agents/rules/grammar/grammar_guard.h"
 
 #include <algorithm>

@@ -1,3 +1,4 @@
+// The tokens of grammar files in both dialects (ours and AGM's), and errors located at file:line:column.
 #include "grammar_lexer.h"
 
 #include <cctype>

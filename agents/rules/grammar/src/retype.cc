@@ -1,3 +1,5 @@
+// Retyping a node as a replacement: a node of the new type under the same name, with the old one's attributes,
+// edges and RT links, in the same transaction.
 #include "quiver/agents/rules/grammar/retype.h"
 
 namespace quiver::agents::inline rules {

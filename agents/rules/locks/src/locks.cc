@@ -1,3 +1,5 @@
+// Per-subgraph priority locks replicated in the graph: claims on a scope's root, one winner every replica agrees
+// on, held once acknowledged, and writes into a scope locked by another refused.
 #include "quiver/agents/rules/locks/locks.h"
 
 #include <algorithm>

@@ -1,3 +1,5 @@
+// Missions as AGM's .aggt targets state them: parsed, compiled for planners, and checked against a world, with
+// what is missing when they do not hold.
 #include "quiver/agents/rules/mission/mission.h"
 
 #include <algorithm>

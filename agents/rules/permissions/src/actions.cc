@@ -1,3 +1,5 @@
+// A change seen as the policy's actions: a local transaction, a delta or a state fragment checked action by
+// action against its author.
 #include "quiver/agents/rules/permissions/actions.h"
 
 #include <unordered_map>

@@ -1,3 +1,5 @@
+// The graph-level permissions policy: its JSON file read, and the first rule matching an action and target
+// deciding whether an agent may take it.
 #include "quiver/agents/rules/permissions/policy.h"
 
 #include <cstdio>

@@ -1,3 +1,5 @@
+// The admission of a replica with identities: its deltas signed, a received one admitted only if its origin's
+// signature verifies and the policy allows every change in it (state fragments and local commits checked too).
 #include "quiver/agents/rules/permissions/policy_admission.h"
 
 #include "quiver/agents/rules/permissions/actions.h"

@@ -1,3 +1,5 @@
+// A grammar's active rules compiled for planning: matched and applied on symbolic states with AGM's meaning (the
+// rewrite, then the effect), and what the heuristic knows of them.
 #include "quiver/agents/rules/planner/domain.h"
 
 #include <algorithm>

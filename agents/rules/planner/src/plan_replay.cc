@@ -1,3 +1,5 @@
+// Plans on a real replica: a step written as one transaction, a plan replayed through the grammar checker, and
+// plan steps read back from text.
 #include "quiver/agents/rules/planner/plan_replay.h"
 
 #include <algorithm>

@@ -1,3 +1,5 @@
+// The planner: A* over symbolic states towards a mission, with a lower-bound heuristic from the rules, and
+// hierarchical steps decomposed by sub-searches.
 #include "quiver/agents/rules/planner/planner.h"
 
 #include <algorithm>

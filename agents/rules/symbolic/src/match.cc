@@ -1,3 +1,4 @@
+// Patterns and formulas compiled against a vocabulary into slots, then matched and evaluated on symbolic states.
 #include "quiver/agents/rules/symbolic/match.h"
 
 #include <algorithm>

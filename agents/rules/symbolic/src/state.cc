@@ -1,3 +1,5 @@
+// Symbolic states: typed nodes and labelled edges under a shared vocabulary, hashed exactly, and read from a
+// replica as a world.
 #include "quiver/agents/rules/symbolic/state.h"
 
 #include <algorithm>

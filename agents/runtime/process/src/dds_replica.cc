@@ -1,3 +1,5 @@
+// A replica on DDS: one graph replica, its replicator, its store if any and the Cyclone DDS transport, driven by
+// the agent engine on the thread that spins it.
 #include "quiver/agents/runtime/process/dds_replica.h"
 
 #include <algorithm>

@@ -1,3 +1,4 @@
+// The one logger setup of Quiver's programs: named spdlog loggers on stderr, and one level for them all.
 #include "quiver/agents/runtime/process/logging.h"
 
 #include <spdlog/sinks/stdout_color_sinks.h>

@@ -1,3 +1,5 @@
+// The process host: one agent as its own OS process over Cyclone DDS, run from the standard flags until SIGINT
+// or SIGTERM.
 #include "quiver/agents/runtime/process/process_host.h"
 
 #include <spdlog/spdlog.h>

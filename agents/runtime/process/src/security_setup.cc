@@ -1,3 +1,5 @@
+// A DDS replica made secure from a key directory: DDS Security with the agent's credentials, and an admission
+// that signs its deltas and checks everyone's against the certificates and the policy.
 #include "quiver/agents/runtime/process/security_setup.h"
 
 #include <chrono>

@@ -1,3 +1,5 @@
+// The replication protocol over Cyclone DDS: the C API wrapped once, one topic and QoS per message kind, the
+// loopback configuration by default, and DDS Security's plugins when credentials are given.
 #include "quiver/agents/transport/dds/dds_transport.h"
 
 #include <dds/dds.h>

@@ -1,3 +1,5 @@
+// The protocol's samples as serialized CDR, without any DDS entity: the bytes Cyclone ships for a message, and
+// received bytes decoded and handed to the replicator.
 #include "quiver/agents/transport/wire/cdr_sample.h"
 
 #include <dds/ddsi/ddsi_cdrstream.h>

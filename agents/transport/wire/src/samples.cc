@@ -1,3 +1,4 @@
+// The protocol's messages as IDL samples and back, in one place, for the DDS transport and the CDR codec.
 #include "samples.h"
 
 #include <type_traits>

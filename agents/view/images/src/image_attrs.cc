@@ -1,3 +1,5 @@
+// Images stored as node attributes: a cv::Mat encoded as PNG or JPEG bytes, written with its width, height and
+// encoding in one transaction, and read back checked and decoded.
 #include "quiver/agents/view/images/image_attrs.h"
 
 #include <climits>

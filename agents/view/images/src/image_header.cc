@@ -1,3 +1,5 @@
+// What the first bytes of an encoded image say: PNG or JPEG by their magic, and the size their header states,
+// read without decoding.
 #include "image_header.h"
 
 #include <algorithm>

@@ -1,3 +1,5 @@
+// What a replica receives turned into recorded changes: every merge, with its time and its origin's name, handed
+// to a sink.
 #include "quiver/agents/view/recording/graph_recorder.h"
 
 #include <algorithm>

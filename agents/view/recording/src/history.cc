@@ -1,3 +1,5 @@
+// A bounded in-memory history of changes that rebuilds the state after any of them, the oldest folded into a
+// base state.
 #include "quiver/agents/view/recording/history.h"
 
 #include "quiver/graph/codec.h"

@@ -1,3 +1,5 @@
+// The recording file (.qrec): changes appended with their hashes by a bounded writer that rotates its file, and
+// a reader that checks every change.
 #include "quiver/agents/view/recording/record_file.h"
 
 #include <cerrno>

@@ -1,3 +1,5 @@
+// The geometric part of a world graph, decided in one place: RT edges, and nodes that hang in the kinematic tree
+// but take part in no symbolic edge.
 #include "quiver/agents/view/render/geometric_part.h"
 
 namespace quiver::agents::inline view::render {

@@ -1,3 +1,5 @@
+// Pictures laid out with Graphviz's C library (one caller at a time), and Graphviz's own DOT and SVG output of
+// them.
 #include "quiver/agents/view/render/layout.h"
 
 #include <graphviz/cgraph.h>

@@ -1,3 +1,5 @@
+// A laid-out picture drawn with OpenCV: nodes filled with their type's colour, edges along their splines with
+// arrowheads, each node and edge normal, highlighted or a ghost.
 #include "painter.h"
 
 #include <algorithm>

@@ -1,3 +1,5 @@
+// What a picture of a world graph shows before any layout: the visible nodes and edges, the highlighted ones and
+// a title.
 #include "quiver/agents/view/render/picture.h"
 
 #include <algorithm>

@@ -1,3 +1,4 @@
+// Where the timeline's pictures go: numbered PNG files in a directory, or an MP4 video.
 #include "picture_sink.h"
 
 #include <filesystem>

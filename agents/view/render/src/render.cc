@@ -1,3 +1,4 @@
+// Pictures of a world graph written as DOT, SVG or PNG, as the output's extension says.
 #include "quiver/agents/view/render/render.h"
 
 #include <algorithm>

@@ -1,3 +1,4 @@
+// A recording replayed in order into one graph, a change at a time, with what each change changed.
 #include "quiver/agents/view/render/render_replay.h"
 
 #include <cassert>

@@ -1,3 +1,5 @@
+// The evolution of a recorded world as pictures, one per change, over one stable layout: what the change touched
+// drawn bold, what it removed as ghosts, and a caption; as PNG files or an MP4 video.
 #include "quiver/agents/view/render/timeline_video.h"
 
 #include <algorithm>

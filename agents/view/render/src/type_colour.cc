@@ -1,3 +1,4 @@
+// One colour per node or edge type, the same everywhere: the type's name hashed onto a fixed palette.
 #include "quiver/agents/view/render/type_colour.h"
 
 #include <array>

@@ -1,3 +1,5 @@
+// The viewer's timeline: the changes a replica received, listed with what each changed, and the state after any
+// of them, both computed by replay when a page asks.
 #include "quiver/agents/view/viewer/change_timeline.h"
 
 namespace quiver::agents::inline view::viewer {

@@ -1,3 +1,5 @@
+// The viewer's messages broadcast to every open page as server-sent events through a ring: the publisher never
+// waits, and a page that falls a whole ring behind is told to resync.
 #include "quiver/agents/view/viewer/event_hub.h"
 
 #include <chrono>

@@ -1,3 +1,5 @@
+// The world model as the viewer's page sees it: JSON for nodes, edges, poses, snapshots and the changes pushed to
+// the page.
 #include "quiver/agents/view/viewer/view_json.h"
 
 #include "quiver/agents/view/images/image_attrs.h"

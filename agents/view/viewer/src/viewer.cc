@@ -1,3 +1,5 @@
+// The live viewer: an HTTP server (on 127.0.0.1 unless told otherwise) serving the page and one replica's graph
+// as JSON, pushing its changes as server-sent events and keeping their timeline.
 #include "quiver/agents/view/viewer/viewer.h"
 
 #include <httplib.h>
