@@ -3,7 +3,7 @@
 // replicas (each on the agent engine, with no agent) on the virtual network, and what it does
 // to them, one concern per file:
 //   replica_simulation.cc  the run and its phases: boot, workload steps, crash, heal, settle
-//   replica_faults.cc      the fault schedule: partitions, crashes
+//   replica_faults.cc      the fault schedule (fault_generator.h), played by name (FaultTarget)
 //   replica_disks.cc       durable stores on simulated disks: power cuts, full disks, torn
 //                          writes, acknowledged-commit checks
 //   replica_workloads.cc   the lock and rooms workloads
@@ -22,20 +22,30 @@
 #include "quiver/agents/rules/locks/locks.h"
 #include "quiver/agents/runtime/engine/engine.h"
 #include "quiver/base/rng.h"
+#include "quiver/sim/fault_model.h"
 #include "quiver/sim/network.h"
 #include "quiver/sim/simulator.h"
 #include "quiver/sim/workload.h"
 
 namespace quiver::sim {
 
-class Simulation {
+class Simulation final : public FaultTarget {
  public:
   explicit Simulation(const SimConfig& cfg);
-  ~Simulation();
+  ~Simulation() override;
   Simulation(const Simulation&) = delete;
   Simulation& operator=(const Simulation&) = delete;
 
   SimResult run();
+
+  // FaultTarget: the agents are "agent0".."agentN-1" (replica_faults.cc).
+  std::int64_t now() const override { return net_.now(); }
+  void at(std::int64_t t_ns, std::function<void()> fn) override { net_.at(t_ns, std::move(fn)); }
+  void partition(const std::vector<std::vector<std::string>>& groups) override;
+  void heal() override;
+  bool kill(const std::string& agent) override;
+  bool restart(const std::string& agent) override;
+  void set_loss(double p) override;
 
  private:
   // A simulated disk under an agent's store: faults are decided here, in virtual time.
@@ -76,8 +86,9 @@ class Simulation {
   void add_stats(const Agent& a);
 
   // Faults (replica_faults.cc).
+  static std::string name(int i) { return "agent" + std::to_string(i); }
+  int index(const std::string& agent) const;
   void plan_faults(std::int64_t work_end);
-  void partition(const std::vector<int>& groups);
 
   // Stores on simulated disks (replica_disks.cc).
   void make_disks();
@@ -117,6 +128,7 @@ class Simulation {
   std::vector<graph::NodeId> scope_roots_;        // "scope0", ... as create_scopes made them
   Churn churn_{ChurnMix{}};
   SimResult result_;
+  FaultCounts fault_counts_;  // the faults of plan_faults that took effect
   std::int64_t overlap_since_connected_ = -1;
   std::int64_t overlap_since_partitioned_ = -1;
 };
