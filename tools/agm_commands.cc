@@ -41,9 +41,10 @@ void add_agm_commands(CLI::App& app) {
   sf->dds.domain = 48;
   agm::AgmDdsRun& r = sf->run;
   CLI::App* scenario = app.get_subcommand("scenario");
-  auto* a = scenario->add_subcommand("agm",
-                                     "The AGM scenarios (seed 001): navigation, robot-in-room, grasping, human "
-                                     "tracking; one process each");
+  auto* a = scenario->add_subcommand(
+      "agm",
+      "The AGM scenarios (seed 001): navigation, robot-in-room, grasping, human "
+      "tracking; one process each");
   sf->dds.add_to(a);
   a->add_option("--out", sf->out, "logs go to OUT/logs (default: a new /tmp/quiver-agm-*)");
   a->add_option("--timeout", r.timeout_s, "give up after this many seconds")
@@ -53,13 +54,16 @@ void add_agm_commands(CLI::App& app) {
                 "check: changeRoom committed within this of the pose past the limit")
       ->check(CLI::Range(1.0, 10000.0))
       ->capture_default_str();
-  a->add_option("--motion-allowance-ms", r.motion_allowance_ms, "check: a grasp ends within this of the platform moving")
+  a->add_option("--motion-allowance-ms", r.motion_allowance_ms,
+                "check: a grasp ends within this of the platform moving")
       ->check(CLI::Range(1.0, 10000.0))
       ->capture_default_str();
-  a->add_option("--kill", r.kill, "kill -9 this agent (navigation, rooms, grasping, humans) mid-run and restart it")
+  a->add_option("--kill", r.kill,
+                "kill -9 this agent (navigation, rooms, grasping, humans) mid-run and restart it")
       ->check(CLI::IsMember(agm::role_names()));
   a->add_option("--mission", r.mission,
-                "clean-table: the planner agent runs too (a fifth process) and navigation and grasping follow its "
+                "clean-table: the planner agent runs too (a fifth process) and navigation and "
+                "grasping follow its "
                 "plan: both mugs from the table to the kitchen")
       ->check(CLI::IsMember({"", "clean-table"}));
   a->add_option("--kill-at", r.kill_at_s, "... this many seconds after the start")
@@ -71,7 +75,9 @@ void add_agm_commands(CLI::App& app) {
   a->callback([sf] {
     agm::AgmDdsRun run = sf->run;
     run.processes = processes(sf->dds, sf->out);
-    run.observer = [dds = sf->dds](agents::DdsReplicaOptions o) { return dds.create_agent(std::move(o)); };
+    run.observer = [dds = sf->dds](agents::DdsReplicaOptions o) {
+      return dds.create_agent(std::move(o));
+    };
     set_exit_code(agm::run_agm_over_dds(run));
   });
 
@@ -79,9 +85,10 @@ void add_agm_commands(CLI::App& app) {
   bf->dds.domain = 49;
   agm::HumansBench& b = bf->bench;
   CLI::App* bench = app.get_subcommand("bench");
-  auto* h = bench->add_subcommand("humans",
-                                  "Human tracking (2 people x 15 joints x 30 Hz) reaching the navigation, rooms and "
-                                  "grasping agents while they work: latency p50/p99/max, rate");
+  auto* h = bench->add_subcommand(
+      "humans",
+      "Human tracking (2 people x 15 joints x 30 Hz) reaching the navigation, rooms and "
+      "grasping agents while they work: latency p50/p99/max, rate");
   bf->dds.add_to(h);
   h->add_option("--seconds", b.seconds, "how long the tracker runs")
       ->check(CLI::Range(1.0, 3600.0))
@@ -90,9 +97,11 @@ void add_agm_commands(CLI::App& app) {
       ->check(CLI::Range(0.01, 10000.0))
       ->capture_default_str();
   h->add_flag("--no-planner", b.no_planner,
-              "without the planner agent: the fixed route (default: the clean-the-table mission, the planner agent "
+              "without the planner agent: the fixed route (default: the clean-the-table mission, "
+              "the planner agent "
               "planning and tracking, navigation and grasping following it)");
-  h->add_option("--out", bf->out, "logs go to OUT/logs (default: a new /tmp/quiver-bench-humans-*)");
+  h->add_option("--out", bf->out,
+                "logs go to OUT/logs (default: a new /tmp/quiver-bench-humans-*)");
   h->callback([bf] {
     agm::HumansBench run = bf->bench;
     run.processes = processes(bf->dds, bf->out);

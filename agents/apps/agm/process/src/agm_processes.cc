@@ -26,11 +26,19 @@ AgmProcesses::~AgmProcesses() {
 }
 
 bool AgmProcesses::start(const std::string& role, std::vector<std::string> extra) {
-  std::vector<std::string> argv = {o_.exe,         "run",       role, "--domain", std::to_string(o_.dds.domain),
-                                   "--dds-config", o_.dds.dds_config, "--join-wait", "1"};
+  std::vector<std::string> argv = {o_.exe,
+                                   "run",
+                                   role,
+                                   "--domain",
+                                   std::to_string(o_.dds.domain),
+                                   "--dds-config",
+                                   o_.dds.dds_config,
+                                   "--join-wait",
+                                   "1"};
   argv.insert(argv.end(), extra.begin(), extra.end());
   const int n = ++starts_[role];
-  auto p = Subprocess::spawn(argv, o_.out + "/logs/" + role + (n > 1 ? "-" + std::to_string(n) : "") + ".log");
+  auto p = Subprocess::spawn(
+      argv, o_.out + "/logs/" + role + (n > 1 ? "-" + std::to_string(n) : "") + ".log");
   if (!p) return false;
   args_[role] = extra;
   procs_.erase(role);

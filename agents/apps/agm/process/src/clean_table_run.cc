@@ -26,20 +26,10 @@ struct Seen {
   int room_changes = 0;
   std::string last_next;
 
-  void watch(ObservedRun& run) {
-    graph::Graph& g = run.graph();
-    g.subscribe([this, &run, &g](const graph::ChangeBatch& b) {
-      const NodeId robot = node_id(g, node::kRobot);
-      if (robot.is_null()) return;
-      for (const graph::EdgeChange& e : b.edges)
-        if (e.key.from == robot) on_edge(run, g, e);
-      on_plan(run, g);
-    });
-  }
-
   void on_edge(ObservedRun& run, const graph::Graph& g, const graph::EdgeChange& e) {
     const std::string type(e.key.type.str()), to = g.name_of(e.key.to);
-    const bool made = e.kind == graph::ChangeKind::kCreated, gone = e.kind == graph::ChangeKind::kDeleted;
+    const bool made = e.kind == graph::ChangeKind::kCreated,
+               gone = e.kind == graph::ChangeKind::kDeleted;
     if (type == edge::kIn && made && g.edge_attr(e.key, "committed_ns")) {
       ++room_changes;
       run.say("changeRoom -> " + to);
@@ -66,11 +56,14 @@ struct Seen {
     }
     auto status = g.get<std::string>(plan, "status");
     auto next = g.get<std::int64_t>(plan, "next");
-    const std::string now_next = (status.ok() ? *status : "") + " " + (next.ok() ? std::to_string(*next + 1) : "");
+    const std::string now_next =
+        (status.ok() ? *status : "") + " " + (next.ok() ? std::to_string(*next + 1) : "");
     if (now_next == last_next) return;
     last_next = now_next;
-    if (auto st = next_plan_step(g)) run.say("plan: next step " + std::to_string(st->index + 1) + " (" + st->rule + ")");
-    else if (status.ok()) run.say("plan: " + *status);
+    if (auto st = next_plan_step(g))
+      run.say("plan: next step " + std::to_string(st->index + 1) + " (" + st->rule + ")");
+    else if (status.ok())
+      run.say("plan: " + *status);
   }
 
   int count(GraspEvent::Kind kind, const char* object) const {
@@ -83,33 +76,30 @@ struct Seen {
 }  // namespace
 
 int run_clean_table(const AgmDdsRun& r) {
-  auto log = named_logger("quiver scenario");
   if (!r.kill.empty()) {
     // A navigation process restarted mid-mission would start a new platform at the start pose.
-    log->error("--kill is not supported with --mission clean-table (docs/scenarios.md, limits)");
+    named_logger("quiver scenario")
+        ->error("--kill is not supported with --mission clean-table (docs/scenarios.md, limits)");
     return 2;
   }
   auto opened = ObservedRun::open(r, "quiver-agm-clean-table");
   if (!opened) return 2;
   ObservedRun& run = *opened;
-  const AgmProcessOptions& po = run.processes();
   graph::Graph& g = run.graph();
   Seen seen;
-  seen.watch(run);
-  std::vector<std::string> failures;
-
-  run.introduce("Clean the table", "the planner agent, navigation, rooms, grasping and humans");
-  AgmProcesses procs(po);
-  auto with = [](std::vector<std::string> a) {
-    a.insert(a.end(), {"--mission", kCleanTable});
-    return a;
-  };
-  if (!procs.start("navigation", with({"--measure-humans", "--quiet-when-done"})) ||
-      !procs.start("rooms", with({"--measure-humans"})) || !procs.start("grasping", with({"--measure-humans"})) ||
-      !procs.start(kPlannerRole, with({"--measure-humans"})) || !procs.start("humans", with({}))) {
-    log->error("cannot start {} run ROLE", po.exe);
+  run.watch([&](NodeId, const graph::EdgeChange& e) { seen.on_edge(run, g, e); },
+            [&] { seen.on_plan(run, g); });
+  const std::vector<std::string> mission = {"--mission", kCleanTable},
+                                 measured = {"--measure-humans", "--mission", kCleanTable};
+  if (!run.start(
+          "Clean the table", "the planner agent, navigation, rooms, grasping and humans",
+          {{"navigation", {"--measure-humans", "--quiet-when-done", "--mission", kCleanTable}},
+           {"rooms", measured},
+           {"grasping", measured},
+           {kPlannerRole, measured},
+           {"humans", mission}}))
     return 2;
-  }
+  std::vector<std::string> failures;
   const std::int64_t deadline = run.started_ns() + static_cast<std::int64_t>(r.timeout_s * 1e9);
   std::int64_t achieved_at = -1;
   while (monotonic_ns() < deadline) {
@@ -122,12 +112,16 @@ int run_clean_table(const AgmDdsRun& r) {
       continue;
     }
     if (achieved_at < 0) achieved_at = monotonic_ns();
-    if (!robot.is_null() && !g.has_edge(robot, robot, edge::kMoved) && monotonic_ns() > achieved_at + 2 * kSec) break;
+    if (!robot.is_null() && !g.has_edge(robot, robot, edge::kMoved) &&
+        monotonic_ns() > achieved_at + 2 * kSec)
+      break;
   }
-  if (achieved_at < 0) failures.push_back("the plan was not achieved within " + std::to_string(r.timeout_s) + " s");
+  if (achieved_at < 0)
+    failures.push_back("the plan was not achieved within " + std::to_string(r.timeout_s) + " s");
 
   std::optional<json> humans;
-  std::map<std::string, json> finals = run.stop(procs, {"navigation", "rooms", "grasping", kPlannerRole}, humans);
+  std::map<std::string, json> finals =
+      run.stop({"navigation", "rooms", "grasping", kPlannerRole}, humans);
 
   // Checks: those of the simulator on what the observer saw, and the processes' own.
   append(failures, end_state_failures(g, kCleanTable));
@@ -142,15 +136,20 @@ int run_clean_table(const AgmDdsRun& r) {
     if (st.contains("humans_latency")) pooled.merge_json(st["humans_latency"]);
   const CleanTableReport rep = check_clean_table(g);
   std::printf(
-      "\nChecks: mission %s on the final replica; plan '%s' (version %lld, %lld replans), its first version through "
-      "the grammar guard: %s; %d changeRoom; mugs grasped/released %d/%d and %d/%d; human joints reached the others: "
+      "\nChecks: mission %s on the final replica; plan '%s' (version %lld, %lld replans), its "
+      "first version through "
+      "the grammar guard: %s; %d changeRoom; mugs grasped/released %d/%d and %d/%d; human joints "
+      "reached the others: "
       "p50 %.0f us, p99 %.0f us (%llu poses); replicas %s.\n",
-      rep.mission_holds ? "holds" : "does NOT hold", rep.plan_status.c_str(), static_cast<long long>(rep.version),
-      static_cast<long long>(rep.replans), verified.c_str(), seen.room_changes,
-      seen.count(GraspEvent::Kind::kGrasped, "mug"), seen.count(GraspEvent::Kind::kReleased, "mug"),
-      seen.count(GraspEvent::Kind::kGrasped, "mug2"), seen.count(GraspEvent::Kind::kReleased, "mug2"),
-      pooled.percentile_us(0.5), pooled.percentile_us(0.99), static_cast<unsigned long long>(pooled.count()),
-      (equal ? "all equal (digest " + digest.substr(0, 12) + ")" : std::string("NOT equal")).c_str());
+      rep.mission_holds ? "holds" : "does NOT hold", rep.plan_status.c_str(),
+      static_cast<long long>(rep.version), static_cast<long long>(rep.replans), verified.c_str(),
+      seen.room_changes, seen.count(GraspEvent::Kind::kGrasped, "mug"),
+      seen.count(GraspEvent::Kind::kReleased, "mug"),
+      seen.count(GraspEvent::Kind::kGrasped, "mug2"),
+      seen.count(GraspEvent::Kind::kReleased, "mug2"), pooled.percentile_us(0.5),
+      pooled.percentile_us(0.99), static_cast<unsigned long long>(pooled.count()),
+      (equal ? "all equal (digest " + digest.substr(0, 12) + ")" : std::string("NOT equal"))
+          .c_str());
   return ObservedRun::verdict(failures, "The mission holds; the run passed its checks.");
 }
 

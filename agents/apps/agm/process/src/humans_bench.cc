@@ -17,7 +17,9 @@ namespace {
 using json = nlohmann::json;
 
 double seconds_between(const json& status) {
-  return static_cast<double>(status["last_ns"].get<std::int64_t>() - status["first_ns"].get<std::int64_t>()) / 1e9;
+  return static_cast<double>(status["last_ns"].get<std::int64_t>() -
+                             status["first_ns"].get<std::int64_t>()) /
+         1e9;
 }
 
 }  // namespace
@@ -69,7 +71,10 @@ int run_humans_bench(const HumansBench& b) {
     deliveries += h["count"].get<std::uint64_t>();
     if (h["last_ns"].get<std::int64_t>() > h["first_ns"].get<std::int64_t>())
       delivery_secs = std::max(delivery_secs, seconds_between(h));
-    per_agent[r] = {{"poses", h["count"]}, {"p50_us", h["p50_us"]}, {"p99_us", h["p99_us"]}, {"max_us", h["max_us"]}};
+    per_agent[r] = {{"poses", h["count"]},
+                    {"p50_us", h["p50_us"]},
+                    {"p99_us", h["p99_us"]},
+                    {"max_us", h["max_us"]}};
   }
   json res;
   res["bench"] = "humans";
@@ -80,12 +85,16 @@ int run_humans_bench(const HumansBench& b) {
   if (humans) {
     const double secs = seconds_between(*humans);
     res["seconds"] = std::round(secs * 100) / 100;
-    res["rt_updates_per_s"] = secs > 0 ? std::lround((*humans)["rt_updates"].get<double>() / secs) : 0;
-    res["transactions_per_s"] = secs > 0 ? std::lround(2 * (*humans)["frames"].get<double>() / secs) : 0;
+    res["rt_updates_per_s"] =
+        secs > 0 ? std::lround((*humans)["rt_updates"].get<double>() / secs) : 0;
+    res["transactions_per_s"] =
+        secs > 0 ? std::lround(2 * (*humans)["frames"].get<double>() / secs) : 0;
   }
   res["deliveries"] = deliveries;
   res["deliveries_per_s_per_agent"] =
-      delivery_secs > 0 ? std::lround(static_cast<double>(deliveries) / others.size() / delivery_secs) : 0;
+      delivery_secs > 0
+          ? std::lround(static_cast<double>(deliveries) / others.size() / delivery_secs)
+          : 0;
   res["latency_us_p50"] = pooled.percentile_us(0.50);
   res["latency_us_p99"] = pooled.percentile_us(0.99);
   res["latency_us_max"] = pooled.max_us();

@@ -2,6 +2,7 @@
 // What the AGM runs over DDS share: the observer replica that watches the agent processes and
 // narrates what it sees, and the check of the agents' final status lines.
 #include <cstdint>
+#include <functional>
 #include <map>
 #include <memory>
 #include <nlohmann/json.hpp>
@@ -23,24 +24,31 @@ class ObservedRun {
   static std::unique_ptr<ObservedRun> open(const AgmDdsRun& r, const char* prefix);
   DdsReplica& replica() { return *replica_; }
   graph::Graph& graph() { return replica_->graph(); }
-  const AgmProcessOptions& processes() const { return processes_; }
   std::int64_t started_ns() const { return t_start_; }
   /// Seconds since open().
   double elapsed() const;
+  /// Tells `on_edge` of every change to an edge from the robot the replica learns (once the
+  /// robot is there), then `on_batch` (if any) of the whole batch.
+  void watch(std::function<void(graph::NodeId robot, const graph::EdgeChange&)> on_edge,
+             std::function<void()> on_batch = {});
   /// "[ 12.34 s] line" on stdout.
   void say(const std::string& line) const;
-  /// The run's first lines: what runs (`agents`) over which domain, where the logs go.
-  void introduce(const std::string& what, const std::string& agents) const;
+  /// Prints the run's first lines (`what` runs, `who`: over which domain, where the logs go) and
+  /// starts the agents (role, arguments), in order. False (logged) when one cannot start.
+  bool start(const std::string& what, const std::string& who,
+             const std::vector<std::pair<std::string, std::vector<std::string>>>& agents);
+  AgmProcesses& processes() { return *procs_; }
   /// Stops the tracker, then (once its last poses are everywhere) `roles`: their final status
   /// lines by role, and the tracker's in `humans`.
-  std::map<std::string, nlohmann::json> stop(AgmProcesses& procs, const std::vector<std::string>& roles,
+  std::map<std::string, nlohmann::json> stop(const std::vector<std::string>& roles,
                                              std::optional<nlohmann::json>& humans);
   /// Prints the failures and the verdict (`passed` when there are none). @returns the exit status.
   static int verdict(const std::vector<std::string>& failures, const char* passed);
 
  private:
   std::unique_ptr<DdsReplica> replica_;
-  AgmProcessOptions processes_;
+  AgmProcessOptions options_;
+  std::unique_ptr<AgmProcesses> procs_;  ///< stopped before the observer goes
   std::int64_t t_start_ = 0;
 };
 
@@ -49,7 +57,8 @@ class ObservedRun {
 /// tracker's `humans` status too, added to `finals`) exited with status 0.
 std::vector<std::string> final_status_failures(std::map<std::string, nlohmann::json>& finals,
                                                const std::string& digest, std::size_t expected,
-                                               const std::optional<nlohmann::json>& humans, bool& equal);
+                                               const std::optional<nlohmann::json>& humans,
+                                               bool& equal);
 
 inline void append(std::vector<std::string>& failures, const std::vector<std::string>& more) {
   failures.insert(failures.end(), more.begin(), more.end());

@@ -62,17 +62,22 @@ void observe_plan(sim::ScenarioRun& run) {
   AgmRun& st = agm_run(run);
   const graph::Graph* g = planner_replica(run);
   const bool achieved = g && plan_attr(*g, "status") == "achieved";
-  if (!achieved) st.achieved_at = -1;
-  else if (st.achieved_at < 0) st.achieved_at = run.host().now();
+  if (!achieved)
+    st.achieved_at = -1;
+  else if (st.achieved_at < 0)
+    st.achieved_at = run.host().now();
 }
 
 Status start(sim::ScenarioRun& run) {
   auto st = std::make_shared<AgmRun>();
-  if (Status s = internal::read_settings(run.scenario().settings, run.scenario().name, st->spec); !s.ok()) return s;
+  if (Status s = internal::read_settings(run.scenario().settings, run.scenario().name, st->spec);
+      !s.ok())
+    return s;
   internal::read_check_params(run.scenario().checks, st->spec.checks);
   const bool clean = st->clean_table();
   // The platform outlives the navigation agent's incarnations; clean-table gives it no route.
-  st->platform = std::make_shared<Platform>(clean ? std::vector<Leg>{} : default_route(), default_start());
+  st->platform =
+      std::make_shared<Platform>(clean ? std::vector<Leg>{} : default_route(), default_start());
   AgmRoleOptions& ro = st->roles;
   ro.platform = st->platform;
   ro.clean_table = clean;
@@ -109,7 +114,8 @@ bool done(sim::ScenarioRun& run) {
   AgmRun& st = agm_run(run);
   const std::int64_t now = run.host().now();
   if (!st.clean_table())
-    return st.platform->started() && st.platform->finished(now) && now > *st.platform->end_time() + 3 * kSec;
+    return st.platform->started() && st.platform->finished(now) &&
+           now > *st.platform->end_time() + 3 * kSec;
   observe_plan(run);
   return st.achieved_at >= 0 && st.platform->finished(now) && now > st.achieved_at + 2 * kSec;
 }
@@ -205,8 +211,9 @@ sim::ScenarioApp make_app() {
   sim::ScenarioApp app("agm");
   app.default_agents([](const json& settings) { return agents_of(settings_of(settings)); });
   app.default_world([](const json& settings) {
-    return std::string(settings_of(settings).mission == kCleanTable ? embedded_file("clean-table.json")
-                                                                    : world_json());
+    return std::string(settings_of(settings).mission == kCleanTable
+                           ? embedded_file("clean-table.json")
+                           : world_json());
   });
   std::vector<std::string> roles = role_names();
   roles.push_back(kPlannerRole);
@@ -216,7 +223,8 @@ sim::ScenarioApp make_app() {
       return a.ok() ? std::move(*a) : nullptr;
     });
   app.role("person", [](sim::ScenarioRun& run) -> std::unique_ptr<Agent> {
-    return std::make_unique<internal::PutBack>(static_cast<std::int64_t>(agm_run(run).spec.put_back_s * 1e9));
+    return std::make_unique<internal::PutBack>(
+        static_cast<std::int64_t>(agm_run(run).spec.put_back_s * 1e9));
   });
   app.settings([](const json& keys, const std::string& source) {
     AgmScenario s;

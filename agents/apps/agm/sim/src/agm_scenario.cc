@@ -66,7 +66,9 @@ Result<AgmScenario> AgmScenario::parse(const json& j, const std::string& source)
   auto g = sim::Scenario::parse(j, source, agm_app());
   if (!g.ok()) return g.error();
   for (const char* k : {"agents", "world"})
-    if (j.contains(k)) return bad(source, std::string("/") + k, "an AGM scenario's mission chooses its agents and world");
+    if (j.contains(k))
+      return bad(source, std::string("/") + k,
+                 "an AGM scenario's mission chooses its agents and world");
   AgmScenario s;
   if (j.contains("name")) s.name = g->name;
   s.faults = g->faults;
@@ -96,7 +98,8 @@ AgmScenario AgmScenario::random_faults(std::uint64_t seed, const std::string& mi
   // they cannot do is see a crossing or a start of motion they are cut off from.
   s.checks.exact_crossings = false;
   s.checks.expect_pause = false;
-  s.checks.motion_allowance_ms = 500;  // the grasping agent's freshness bound (300 ms), ticks, retries
+  s.checks.motion_allowance_ms =
+      500;  // the grasping agent's freshness bound (300 ms), ticks, retries
   std::vector<std::string> roles = role_names();
   if (!mission.empty()) roles.push_back(kPlannerRole);
   sim::FaultMix mix;  // loss up to 20%, up to two partitions and two kill -9, all in the first 35 s

@@ -15,11 +15,12 @@ Error bad(const std::string& source, const std::string& pointer, const std::stri
 
 Status read_settings(const nlohmann::json& j, const std::string& source, AgmScenario& s) {
   for (auto it = j.begin(); it != j.end(); ++it)
-    if (it.key() != "humans" && it.key() != "humans_hz" && it.key() != "reach_off_m" && it.key() != "mission" &&
-        it.key() != "put_back_s")
+    if (it.key() != "humans" && it.key() != "humans_hz" && it.key() != "reach_off_m" &&
+        it.key() != "mission" && it.key() != "put_back_s")
       return bad(source, "/" + it.key(), "unknown key");
   if (j.contains("mission")) {
-    if (!j["mission"].is_string() || (j["mission"] != "" && j["mission"] != std::string(kCleanTable)))
+    if (!j["mission"].is_string() ||
+        (j["mission"] != "" && j["mission"] != std::string(kCleanTable)))
       return bad(source, "/mission", "expected \"\" or \"clean-table\"");
     s.mission = j["mission"].get<std::string>();
   }
@@ -59,8 +60,9 @@ nlohmann::json write_checks(const AgmChecks& c) {
                       {"crossing_lag_ms", c.crossing_lag_ms},
                       {"expect_pause", c.expect_pause},
                       {"motion_allowance_ms", c.motion_allowance_ms}};
-  for (const char* on : {"finished", "converged", "end_state", "moved_matches_odometry", "no_grasp_while_driving",
-                         "reach", "grasps", "room_changes", "human_poses_delivered", "plan"})
+  for (const char* on :
+       {"finished", "converged", "end_state", "moved_matches_odometry", "no_grasp_while_driving",
+        "reach", "grasps", "room_changes", "human_poses_delivered", "plan"})
     j[on] = true;
   return j;
 }

@@ -23,7 +23,8 @@ void append(Failures& to, const Failures& from) { to.insert(to.end(), from.begin
 class Sampled : public sim::Check {
  public:
   void start(sim::ScenarioRun& run) override {
-    if (applies(agm_run(run))) run.host().every(10 * kMs, [this, &run] { sample(run, agm_run(run)); });
+    if (applies(agm_run(run)))
+      run.host().every(10 * kMs, [this, &run] { sample(run, agm_run(run)); });
   }
   void finish(sim::ScenarioRun& run, Failures& f) override {
     append(f, failures_);
@@ -80,11 +81,14 @@ class NoGraspWhileDriving final : public Sampled {
       if (b <= t && t < e) began = b;
     const graph::Graph& g = *host.graph(grasping);
     const NodeId robot = node_id(g, node::kRobot);
-    if (!robot.is_null() && began >= 0 && t - began > allowance(st) && !g.edges_from(robot, edge::kGrasping).empty())
-      fail("at " + seconds_text(t) + " still grasping, the platform drives since " + seconds_text(began));
+    if (!robot.is_null() && began >= 0 && t - began > allowance(st) &&
+        !g.edges_from(robot, edge::kGrasping).empty())
+      fail("at " + seconds_text(t) + " still grasping, the platform drives since " +
+           seconds_text(began));
   }
   void at_end(sim::ScenarioRun&, AgmRun& st, Failures& f) override {
-    append(f, grasp_motion_failures(st.grasps, *st.platform, allowance(st), st.roles.navigation.moved_window_ns));
+    append(f, grasp_motion_failures(st.grasps, *st.platform, allowance(st),
+                                    st.roles.navigation.moved_window_ns));
   }
 };
 
@@ -135,67 +139,75 @@ void register_checks(sim::ScenarioApp& app) {
   app.check("moved_matches_odometry", sampled<MovedMatchesOdometry>());
   app.check("no_grasp_while_driving", sampled<NoGraspWhileDriving>());
   app.check("finished", at_end([](sim::ScenarioRun& run, AgmRun& st, Failures& f) {
-    if (st.finished) return;
-    const std::string limit = std::to_string(run.scenario().limit_s);
-    f.push_back(st.clean_table() ? "the plan was not achieved within " + limit + " s"
-                                 : "the route did not end within " + limit + " s (the platform waits for the grasp)");
-  }));
+              if (st.finished) return;
+              const std::string limit = std::to_string(run.scenario().limit_s);
+              f.push_back(st.clean_table() ? "the plan was not achieved within " + limit + " s"
+                                           : "the route did not end within " + limit +
+                                                 " s (the platform waits for the grasp)");
+            }));
   app.check("converged", at_end([](sim::ScenarioRun&, AgmRun& st, Failures& f) {
-    if (!st.converged) f.push_back("replicas differ after healing and 5 s of quiet");
-  }));
+              if (!st.converged) f.push_back("replicas differ after healing and 5 s of quiet");
+            }));
   app.check("end_state", at_end([](sim::ScenarioRun& run, AgmRun& st, Failures& f) {
-    append(f, end_state_failures(final_replica(run), st.spec.mission));
-  }));
+              append(f, end_state_failures(final_replica(run), st.spec.mission));
+            }));
   app.check("room_changes", at_end([](sim::ScenarioRun& run, AgmRun& st, Failures& f) {
-    if (st.clean_table()) {
-      append(f, crossing_count_failures(st.changes, st.expected, run.scenario().faults.empty()));
-      return;
-    }
-    const bool exact = st.spec.checks.exact_crossings;
-    const auto frame = static_cast<std::int64_t>(1e9 / st.roles.navigation.rate_hz);
-    append(f, room_change_failures(final_replica(run), *st.platform, st.changes, exact, st.spec.checks.crossing_lag_ms,
-                                   frame));
-    append(f, crossing_count_failures(st.changes, st.expected, exact));
-  }));
+              if (st.clean_table()) {
+                append(f, crossing_count_failures(st.changes, st.expected,
+                                                  run.scenario().faults.empty()));
+                return;
+              }
+              const bool exact = st.spec.checks.exact_crossings;
+              const auto frame = static_cast<std::int64_t>(1e9 / st.roles.navigation.rate_hz);
+              append(f, room_change_failures(final_replica(run), *st.platform, st.changes, exact,
+                                             st.spec.checks.crossing_lag_ms, frame));
+              append(f, crossing_count_failures(st.changes, st.expected, exact));
+            }));
   app.check("reach", at_end([](sim::ScenarioRun&, AgmRun& st, Failures& f) {
-    const double on = st.roles.grasping.reach_on_m;
-    if (!st.clean_table()) {
-      append(f, reach_failures(st.grasps, *st.platform, on, false));
-      return;
-    }
-    for (const GraspEvent& e : st.grasps)
-      if (e.kind == GraspEvent::Kind::kReach && e.distance >= on)
-        f.push_back("reach of " + e.object + " set at FCL distance " + std::to_string(e.distance));
-  }));
+              const double on = st.roles.grasping.reach_on_m;
+              if (!st.clean_table()) {
+                append(f, reach_failures(st.grasps, *st.platform, on, false));
+                return;
+              }
+              for (const GraspEvent& e : st.grasps)
+                if (e.kind == GraspEvent::Kind::kReach && e.distance >= on)
+                  f.push_back("reach of " + e.object + " set at FCL distance " +
+                              std::to_string(e.distance));
+            }));
   app.check("grasps", at_end([](sim::ScenarioRun& run, AgmRun& st, Failures& f) {
-    if (st.clean_table()) {
-      append(f, carry_failures(st.grasps, undisturbed(run, st)));
-      return;
-    }
-    int grasps = 0;
-    for (const GraspEvent& e : st.grasps) grasps += e.kind == GraspEvent::Kind::kGrasped;
-    if (grasps == 0) f.push_back("the mug was never grasped");
-    if (st.spec.checks.exact_crossings && grasps != 1) f.push_back("grasped " + std::to_string(grasps) + " times");
-  }));
+              if (st.clean_table()) {
+                append(f, carry_failures(st.grasps, undisturbed(run, st)));
+                return;
+              }
+              int grasps = 0;
+              for (const GraspEvent& e : st.grasps) grasps += e.kind == GraspEvent::Kind::kGrasped;
+              if (grasps == 0) f.push_back("the mug was never grasped");
+              if (st.spec.checks.exact_crossings && grasps != 1)
+                f.push_back("grasped " + std::to_string(grasps) + " times");
+            }));
   app.check("expect_pause", at_end([](sim::ScenarioRun&, AgmRun& st, Failures& f) {
-    bool paused = false;
-    for (const GraspEvent& e : st.grasps) paused = paused || e.kind == GraspEvent::Kind::kPaused;
-    if (!st.clean_table() && !paused) f.push_back("the nudge mid-grasp did not pause the grasp");
-  }));
+              bool paused = false;
+              for (const GraspEvent& e : st.grasps)
+                paused = paused || e.kind == GraspEvent::Kind::kPaused;
+              if (!st.clean_table() && !paused)
+                f.push_back("the nudge mid-grasp did not pause the grasp");
+            }));
   app.check("human_poses_delivered", at_end([](sim::ScenarioRun&, AgmRun& st, Failures& f) {
-    if (st.spec.humans && st.human_deliveries == 0) f.push_back("no human joint pose reached the other agents");
-  }));
+              if (st.spec.humans && st.human_deliveries == 0)
+                f.push_back("no human joint pose reached the other agents");
+            }));
   // Clean-table: the first plan through the grammar guard, and replanning when (and only when)
   // the world deviates.
-  app.check("plan", at_end([](sim::ScenarioRun& run, AgmRun& st, Failures& f) {
-    if (!st.clean_table()) return;
-    append(f, st.plan_failures);
-    const std::int64_t replans = check_clean_table(final_replica(run)).replans;
-    if (st.spec.put_back_s > 0 && replans < 1)
-      f.push_back("the mug was put back on the table, yet the planner never replanned");
-    if (undisturbed(run, st) && replans != 0)
-      f.push_back("the planner replanned " + std::to_string(replans) + " times without faults");
-  }));
+  app.check(
+      "plan", at_end([](sim::ScenarioRun& run, AgmRun& st, Failures& f) {
+        if (!st.clean_table()) return;
+        append(f, st.plan_failures);
+        const std::int64_t replans = check_clean_table(final_replica(run)).replans;
+        if (st.spec.put_back_s > 0 && replans < 1)
+          f.push_back("the mug was put back on the table, yet the planner never replanned");
+        if (undisturbed(run, st) && replans != 0)
+          f.push_back("the planner replanned " + std::to_string(replans) + " times without faults");
+      }));
 }
 
 }  // namespace quiver::agents::inline apps::agm::internal

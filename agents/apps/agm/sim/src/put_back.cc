@@ -37,8 +37,8 @@ void PutBack::setup(AgentContext& ctx) {
   ctx.every(100'000'000, [this, &ctx] {
     if (done_ || ctx.now() < at_ns_) return;
     graph::Graph& g = ctx.graph();
-    const NodeId mug = node_id(g, "mug"), table = node_id(g, "table"), robot = node_id(g, node::kRobot),
-                 world = node_id(g, node::kWorld);
+    const NodeId mug = node_id(g, "mug"), table = node_id(g, "table"),
+                 robot = node_id(g, node::kRobot), world = node_id(g, node::kWorld);
     if (mug.is_null() || table.is_null() || world.is_null() || g.has_edge(mug, table, edge::kOn) ||
         g.has_edge(robot, mug, edge::kCarrying) || g.has_edge(robot, mug, edge::kGrasping))
       return;

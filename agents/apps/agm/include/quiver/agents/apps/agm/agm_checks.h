@@ -48,15 +48,16 @@ std::vector<std::string> crossing_count_failures(const std::vector<RoomChange>& 
 /// The fixed route's reach of the mug (kReach, kNoReach events): set at least once, each time
 /// below `reach_on_m` by FCL and by the true distance from the platform's pose (within 1 cm),
 /// never back to noReach (hysteresis). `once`: set exactly once.
-std::vector<std::string> reach_failures(const std::vector<GraspEvent>& events, const Platform& truth,
-                                        double reach_on_m, bool once);
+std::vector<std::string> reach_failures(const std::vector<GraspEvent>& events,
+                                        const Platform& truth, double reach_on_m, bool once);
 
 /// Never grasping while the platform drives: a grasp completes (kGrasped, its run from the last
 /// kStarted of the object) only if the platform drove during it for at most `allowance_ns`; an
 /// object is put down (kReleased) only when the platform has not moved for `moved_window_ns`
 /// less the allowance.
-std::vector<std::string> grasp_motion_failures(const std::vector<GraspEvent>& events, const Platform& truth,
-                                               std::int64_t allowance_ns, std::int64_t moved_window_ns);
+std::vector<std::string> grasp_motion_failures(const std::vector<GraspEvent>& events,
+                                               const Platform& truth, std::int64_t allowance_ns,
+                                               std::int64_t moved_window_ns);
 
 /// Clean the table: each mug grasped and released (`once_each`: exactly once), never two objects
 /// carried at once (kGrasped, kReleased events in order).

@@ -21,7 +21,7 @@ using ObserverFactory = std::function<Result<std::unique_ptr<DdsReplica>>(DdsRep
 struct AgmDdsRun {
   AgmProcessOptions processes;
   ObserverFactory observer;
-  double timeout_s = 150;  ///< give up after this
+  double timeout_s = 150;            ///< give up after this
   double crossing_lag_ms = 100;      ///< changeRoom committed within this of its pose
   double motion_allowance_ms = 150;  ///< a grasp ends within this of the platform moving
   /// kill -9 this agent at kill_at_s and restart it restart_after_s later (fixed route only).
