@@ -51,6 +51,9 @@ set(QUIVER_PC_viewer_LIBS "-lquiver_viewer")
 set(QUIVER_PC_agm_REQUIRES "quiver-sim = ${PROJECT_VERSION}, quiver-kinematics = ${PROJECT_VERSION}, nlohmann_json")
 set(QUIVER_PC_agm_PRIVATE "")
 set(QUIVER_PC_agm_LIBS "-lquiver_agm_sim -lquiver_agm")
+if(TARGET quiver_agm_process)
+  set(QUIVER_PC_agm_LIBS "-lquiver_agm_process ${QUIVER_PC_agm_LIBS}")
+endif()
 # Relocatable: the prefix is found from the .pc file's own place, so `cmake --install --prefix`
 # anywhere gives working files.
 file(RELATIVE_PATH QUIVER_PC_PREFIX_FROM_PCDIR

@@ -10,9 +10,11 @@
 
 #include <nlohmann/json.hpp>
 
-#include "subprocess.h"
+#include "quiver/agents/runtime/process/subprocess.h"
 
 namespace quiver::tools {
+
+using agents::Subprocess;
 
 struct BarthelProcessOptions {
   std::uint32_t domain = 0;

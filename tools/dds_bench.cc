@@ -28,10 +28,12 @@
 #include "quiver/agents/replica/security/keys.h"
 #include "quiver/graph/graph.h"
 #include "quiver/base/rng.h"
-#include "subprocess.h"
+#include "quiver/agents/runtime/process/subprocess.h"
 
 namespace quiver::tools {
 namespace {
+
+using agents::Subprocess;
 
 using agents::DdsReplica;
 using agents::monotonic_ns;

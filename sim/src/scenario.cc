@@ -24,7 +24,7 @@ bool generic_key(const std::string& k) {
 std::vector<ScenarioAgent> Scenario::agents_of(const ScenarioApp& app) const {
   if (!agents.empty()) return agents;
   std::vector<ScenarioAgent> out;
-  for (const auto& r : app.default_agents()) out.push_back({r, r});
+  for (const auto& r : app.default_agents(settings)) out.push_back({r, r});
   return out;
 }
 
@@ -119,16 +119,20 @@ Result<Scenario> Scenario::parse(const nlohmann::json& j, const std::string& sou
   return s;
 }
 
-Result<Scenario> Scenario::load(const std::string& path, const ScenarioApp& app) {
+Result<nlohmann::json> Scenario::read(const std::string& path) {
   std::ifstream in(path);
   if (!in) return Error{ErrorCode::kIo, path + ": cannot open the scenario file"};
-  nlohmann::json j;
   try {
-    j = nlohmann::json::parse(in);
+    return nlohmann::json::parse(in);
   } catch (const nlohmann::json::parse_error& e) {
     return Error{ErrorCode::kInvalidArgument, path + ": not JSON: " + e.what()};
   }
-  return parse(j, path, app);
+}
+
+Result<Scenario> Scenario::load(const std::string& path, const ScenarioApp& app) {
+  auto j = read(path);
+  if (!j.ok()) return j.error();
+  return parse(*j, path, app);
 }
 
 nlohmann::json Scenario::to_json() const {

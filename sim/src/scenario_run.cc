@@ -32,7 +32,7 @@ ScenarioOutcome ScenarioRun::run() {
   auto fail = [&](const std::string& f) {
     if (out.failures.size() < 20) out.failures.push_back(f);
   };
-  std::string world = app_.default_world();
+  std::string world = app_.default_world(s_.settings);
   if (!s_.world_file.empty()) {
     std::ifstream in(s_.world_file);
     if (!in) {
@@ -86,6 +86,7 @@ ScenarioOutcome ScenarioRun::run() {
   for (auto& c : checks) c->start(*this);
   const auto limit = static_cast<std::int64_t>(s_.limit_s * 1e9);
   while (host_->now() < limit && !app_.done(*this)) host_->run_until(host_->now() + 100'000'000);
+  app_.settle_run(*this);
   for (auto& c : checks) c->finish(*this, out.failures);
   if (out.failures.size() > 20) out.failures.resize(20);
   app_.add_report(*this, metrics_);

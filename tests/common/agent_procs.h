@@ -12,9 +12,11 @@
 #include <thread>
 #include <vector>
 
-#include "subprocess.h"
+#include "quiver/agents/runtime/process/subprocess.h"
 
 namespace quiver::tools {
+
+using agents::Subprocess;
 
 using json = nlohmann::json;
 

@@ -51,6 +51,9 @@ struct Scenario {
   static Result<Scenario> parse(const nlohmann::json& j, const std::string& source, const ScenarioApp& app);
   /// parse() of a file; kIo when it cannot be read.
   static Result<Scenario> load(const std::string& path, const ScenarioApp& app);
+  /// The JSON of a scenario file (for an app's typed scenario that reads its keys too): kIo when
+  /// it cannot be read, kInvalidArgument naming `path` when it is not JSON.
+  static Result<nlohmann::json> read(const std::string& path);
   nlohmann::json to_json() const;
   /// The agents it runs: its own, or the app's default roles.
   std::vector<ScenarioAgent> agents_of(const ScenarioApp& app) const;

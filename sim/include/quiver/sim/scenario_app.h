@@ -65,17 +65,28 @@ class ScenarioApp {
   ScenarioApp& workload(std::string name, WorkloadFactory make);
   /// The agents a scenario runs when its file names none, in order.
   ScenarioApp& default_agents(std::vector<std::string> roles);
+  /// The same, chosen from the app's settings in the scenario (an app whose settings add or drop
+  /// an agent). Fault events may name only the agents a scenario runs.
+  ScenarioApp& default_agents(std::function<std::vector<std::string>(const nlohmann::json& settings)> roles);
   /// The world every replica is seeded with when the file names none (JSON world text).
   ScenarioApp& default_world(std::string world_json);
+  /// The same, chosen from the app's settings in the scenario.
+  ScenarioApp& default_world(std::function<std::string(const nlohmann::json& settings)> world_json);
   /// Checks the app's own top-level keys of a scenario file (all keys the simulator does not
   /// know); an unknown one is an error. `source` names the file. Without it, every key unknown to
   /// the simulator is refused.
   ScenarioApp& settings(std::function<Status(const nlohmann::json& app_keys, const std::string& source)> check);
-  /// Called once the host has booted the agents, before faults and checks start: the app sets up
-  /// the state its roles share (ScenarioRun::state()).
+  /// Called once the host is made, before it boots the agents (their roles are made later, on
+  /// their first setup) and before faults and checks start: the app sets up the state its roles
+  /// share (ScenarioRun::state()).
   ScenarioApp& on_start(std::function<Status(ScenarioRun&)> fn);
   /// Ends a run before its time limit (checked every 100 ms of virtual time).
   ScenarioApp& done_when(std::function<bool(ScenarioRun&)> fn);
+  /// Called once a run is done (or its time is up), before the checks finish: the app brings the
+  /// run to the state its final checks read, e.g. heals every fault, restarts every agent, quiets
+  /// them and lets the replicas settle (ScenarioRun::host(): virtual time may advance; the checks
+  /// that sample over time go on sampling). What it measures on the way goes in the run's state.
+  ScenarioApp& settle(std::function<void(ScenarioRun&)> fn);
   /// Adds the app's figures to a run's outcome when it ends.
   ScenarioApp& report(std::function<void(ScenarioRun&, nlohmann::json& metrics)> fn);
 
@@ -86,11 +97,14 @@ class ScenarioApp {
   const CheckFactory* check_factory(const std::string& c) const;
   const WorkloadFactory* workload_factory(const std::string& w) const;
   std::vector<std::string> check_names() const;
-  const std::vector<std::string>& default_agents() const { return default_agents_; }
-  const std::string& default_world() const { return default_world_; }
+  std::vector<std::string> default_agents(const nlohmann::json& settings) const;
+  std::string default_world(const nlohmann::json& settings) const;
   Status check_settings(const nlohmann::json& app_keys, const std::string& source) const;
   Status start(ScenarioRun& run) const { return on_start_ ? on_start_(run) : Status{}; }
   bool done(ScenarioRun& run) const { return done_when_ && done_when_(run); }
+  void settle_run(ScenarioRun& run) const {
+    if (settle_) settle_(run);
+  }
   void add_report(ScenarioRun& run, nlohmann::json& metrics) const {
     if (report_) report_(run, metrics);
   }
@@ -100,12 +114,17 @@ class ScenarioApp {
   std::map<std::string, RoleFactory> roles_;
   std::map<std::string, CheckFactory> checks_;
   std::map<std::string, WorkloadFactory> workloads_;
-  std::vector<std::string> default_agents_;
-  std::string default_world_;
+  std::function<std::vector<std::string>(const nlohmann::json&)> default_agents_;
+  std::function<std::string(const nlohmann::json&)> default_world_;
   std::function<Status(const nlohmann::json&, const std::string&)> settings_;
   std::function<Status(ScenarioRun&)> on_start_;
   std::function<bool(ScenarioRun&)> done_when_;
+  std::function<void(ScenarioRun&)> settle_;
   std::function<void(ScenarioRun&, nlohmann::json&)> report_;
 };
+
+/// A check that is on or off in a scenario file ("name": true; false makes none): `finish` adds
+/// at the run's end what failed. Anything but true or false is refused, naming where it is.
+ScenarioApp::CheckFactory switch_check(std::function<void(ScenarioRun&, std::vector<std::string>& failures)> finish);
 
 }  // namespace quiver::sim

@@ -2,8 +2,8 @@
 /// @file
 /// Running a scenario (scenario.h) in the simulator: its agents on an AgentHost (each on the agent
 /// engine, virtual time, the virtual network carrying the samples DDS would), its fault schedule,
-/// workloads and checks, until the app says it is done or the time limit passes. One seed replays
-/// a run exactly.
+/// workloads and checks, until the app says it is done or the time limit passes; then the app
+/// settles the run (ScenarioApp::settle()) and the checks finish. One seed replays a run exactly.
 ///
 /// Threading: the simulator's one thread.
 
@@ -65,8 +65,8 @@ class ScenarioRun {
   const ScenarioApp& app_;
   std::uint64_t seed_;
   std::function<void(std::int64_t, const std::string&)> log_;
+  std::any state_;  ///< outlives the host: the agents may hold pointers into it
   std::unique_ptr<AgentHost> host_;
-  std::any state_;
   std::string making_;
   FaultCounts counts_;
   nlohmann::json metrics_ = nlohmann::json::object();

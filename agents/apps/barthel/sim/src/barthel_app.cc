@@ -42,21 +42,6 @@ Error bad(const std::string& where, const std::string& what) {
   return Error{ErrorCode::kInvalidArgument, where + ": " + what};
 }
 
-// A check that is on or off ("no_item_asked_twice": true).
-template <class Fn>
-sim::ScenarioApp::CheckFactory switch_check(Fn finish) {
-  struct C final : sim::Check {
-    explicit C(Fn f) : fn(std::move(f)) {}
-    Fn fn;
-    void finish(sim::ScenarioRun& run, std::vector<std::string>& failures) override { fn(run, failures); }
-  };
-  return [finish](const json& p, const std::string& where) -> Result<std::unique_ptr<sim::Check>> {
-    if (!p.is_boolean()) return bad(where, "expected true or false");
-    if (!p.get<bool>()) return std::unique_ptr<sim::Check>();
-    return std::unique_ptr<sim::Check>(std::make_unique<C>(finish));
-  };
-}
-
 // A check with a value the stored result must have ("status": "completed", "total": 85).
 template <class T, class Fn>
 sim::ScenarioApp::CheckFactory value_check(const char* expected, Fn finish) {
@@ -152,7 +137,7 @@ sim::ScenarioApp make_app() {
     m["finished_s"] = r ? static_cast<double>(s.stored_at) / 1e9 : -1.0;
   });
   // The checks: a result is stored (always), and what the scenario asks of it.
-  app.check("result_stored", switch_check([](sim::ScenarioRun& run, std::vector<std::string>& f) {
+  app.check("result_stored", sim::switch_check([](sim::ScenarioRun& run, std::vector<std::string>& f) {
     if (!stored(run))
       f.push_back("no result stored within " + std::to_string(run.scenario().limit_s) + " s of virtual time");
   }));
@@ -181,11 +166,11 @@ sim::ScenarioApp make_app() {
     if (const auto r = stored(run); r && r->total != v)
       f.push_back("total " + std::to_string(r->total) + ", expected " + std::to_string(v));
   }));
-  app.check("result_matches_script", switch_check([](sim::ScenarioRun& run, std::vector<std::string>& f) {
+  app.check("result_matches_script", sim::switch_check([](sim::ScenarioRun& run, std::vector<std::string>& f) {
     if (const auto r = stored(run))
       for (const auto& d : result_differences(*r, state(run).script.expected())) f.push_back(d);
   }));
-  app.check("no_item_asked_twice", switch_check([](sim::ScenarioRun& run, std::vector<std::string>& f) {
+  app.check("no_item_asked_twice", sim::switch_check([](sim::ScenarioRun& run, std::vector<std::string>& f) {
     // Read the patient's replica (never killed): every prompt the robot said to the end.
     const graph::Graph* g = truth(run);
     if (!g) f.push_back("no replica to check the questions in");

@@ -1,9 +1,13 @@
 #pragma once
 /// @file
-/// The AGM scenarios of seed 001 in the simulator: the navigation, robot-in-room, grasping and
-/// human-tracking agents (agents/apps/agm) on the AGM world, with a fault schedule (partitions, packet
-/// loss, kill -9 and restart of any agent: sim/fault_model.h's FaultEvent), and the checks of what
-/// must hold — over time and at the end:
+/// The AGM scenarios of seed 001 in the simulator: the app's registration with it (agm_app(): the
+/// navigation, rooms, grasping and human-tracking agents of agents/apps/agm, the planner agent and
+/// the 'person' of clean-table, on the AGM world; its settings, checks, shared devices, when a run
+/// is done and how it settles), and the typed scenario that tests and `quiver sim --agm` use. A
+/// scenario file is the simulator's (sim/scenario.h: faults are sim/fault_model.h's partitions,
+/// packet loss, kill -9 and restart of any agent) with the AGM keys "humans", "humans_hz",
+/// "reach_off_m", "mission", "put_back_s". What must hold — over time and at the end (the checks
+/// themselves: agents/apps/agm/agm_checks.h, shared with the processes over DDS):
 ///  - the robot ends in the kitchen, carrying the mug, which is in the kitchen too;
 ///  - changeRoom follows the platform: every change is based on a real pose inside the new room;
 ///    without faults, exactly one change per crossing, issued at the first or second pose past it,
@@ -15,6 +19,12 @@
 ///    platform stood still through it; without faults, the nudge mid-grasp pauses it;
 ///  - movedInLastSeconds on the navigation agent's replica matches the odometry;
 ///  - after healing, every replica equal (digests).
+///
+/// The checks by name in a scenario file ("checks": {name: parameter}): finished, converged,
+/// end_state, moved_matches_odometry, no_grasp_while_driving, reach, grasps, room_changes,
+/// human_poses_delivered, plan, expect_pause (true or false each: on or off), and the parameters
+/// exact_crossings (true or false), crossing_lag_ms and motion_allowance_ms (milliseconds) of
+/// room_changes, grasps and no_grasp_while_driving. The typed scenario runs them all.
 #include <cstdint>
 #include <functional>
 #include <nlohmann/json_fwd.hpp>
@@ -23,8 +33,12 @@
 
 #include "quiver/base/result.h"
 #include "quiver/sim/fault_model.h"
+#include "quiver/sim/scenario_app.h"
 
 namespace quiver::agents::inline apps::agm {
+
+/// The AGM app as the simulator runs it (built once).
+const sim::ScenarioApp& agm_app();
 
 struct AgmChecks {
   bool exact_crossings = true;
@@ -55,10 +69,10 @@ struct AgmScenario {
   /// deviates from the plan and the planner must plan again. Checked: at least one replan, and
   /// the mission still reached.
   double put_back_s = 0;
-  /// From a scenario file (docs/scenarios.md): {"name", "faults": [...] as in Barthel scenario
-  /// files with the AGM agents' names, "checks": {"exact_crossings", "crossing_lag_ms",
-  /// "expect_pause", "motion_allowance_ms"}, "humans", "humans_hz", "reach_off_m", "limit_s",
-  /// "mission", "put_back_s"}.
+  /// From a scenario file (docs/scenarios.md): {"name", "faults": [...] naming the agents the
+  /// mission runs, "checks": {"exact_crossings", "crossing_lag_ms", "expect_pause",
+  /// "motion_allowance_ms", ...}, "humans", "humans_hz", "reach_off_m", "limit_s" (>= 45),
+  /// "mission", "put_back_s"}; its agents and world follow from the mission.
   /// @returns kInvalidArgument naming `source` and the JSON pointer of a bad value.
   static Result<AgmScenario> parse(const nlohmann::json& j, const std::string& source);
   static Result<AgmScenario> load(const std::string& path);

@@ -1,5 +1,7 @@
 #pragma once
-// Child processes with their stdout on a pipe, for the multi-process benchmark and tests.
+/// @file
+/// Child processes with their stdout on a pipe: the agent processes that `quiver` starts (the
+/// multi-process benchmarks and scenarios, agents/apps/*/process) and the tests start.
 
 #include <fcntl.h>
 #include <poll.h>
@@ -16,7 +18,7 @@
 
 extern char** environ;
 
-namespace quiver::tools {
+namespace quiver::agents::inline runtime {
 
 class Subprocess {
  public:
@@ -122,4 +124,4 @@ class Subprocess {
   std::optional<int> status_;
 };
 
-}  // namespace quiver::tools
+}  // namespace quiver::agents::inline runtime
