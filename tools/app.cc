@@ -1,3 +1,4 @@
+// The quiver command: its subcommands collected from each *_commands.cc, and main().
 #include <CLI/CLI.hpp>
 
 #include <memory>

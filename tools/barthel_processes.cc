@@ -1,3 +1,4 @@
+// The Barthel agents as one OS process each: starting, killing and restarting them by name.
 #include "barthel_processes.h"
 
 #include <sys/stat.h>

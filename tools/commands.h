@@ -1,4 +1,5 @@
 #pragma once
+// What each quiver subcommand file adds to the command line (add_*_commands).
 
 #include <CLI/CLI.hpp>
 

@@ -1,3 +1,4 @@
+// Joining a live DDS domain as an observer and waiting until it holds the shared graph.
 #include "observer.h"
 
 #include <cstdio>

@@ -1,3 +1,4 @@
+// The progress line of long runs, drawn on stderr only when stdout is a terminal.
 #include "progress.h"
 
 #include <unistd.h>

@@ -1,3 +1,4 @@
+// quiver sim: the options of a simulated run (Barthel, AGM, a scenario file or random schedules).
 #include <algorithm>
 #include <cstdio>
 #include <iostream>

@@ -1,3 +1,5 @@
+// The simulator's agent host: runs agents' engines on simulated time, their samples carried as
+// CDR over the simulated network, kills and restarts them.
 #include "quiver/sim/agent_host.h"
 
 #include "quiver/graph/world_file.h"

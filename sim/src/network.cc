@@ -1,3 +1,4 @@
+// The simulated network: delays, losses, retransmits of reliable samples, partitions, hosts down.
 #include "quiver/sim/network.h"
 
 #include <algorithm>

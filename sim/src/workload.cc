@@ -1,3 +1,4 @@
+// Workloads by name: the seeded operations the simulator's agents commit.
 #include "quiver/sim/workload.h"
 
 #include <array>

@@ -1,3 +1,5 @@
+// The AGM app's roles by name: which agent `quiver run ROLE` makes for navigation, rooms,
+// grasping, humans and the planner, with the options they share.
 #include "quiver/agents/apps/agm/agm_roles.h"
 
 #include <nlohmann/json.hpp>

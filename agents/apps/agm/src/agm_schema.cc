@@ -1,3 +1,4 @@
+// The AGM world's schema: its symbol and edge types, the world file, and finding its nodes.
 #include "quiver/agents/apps/agm/agm_schema.h"
 
 #include <algorithm>

@@ -1,3 +1,4 @@
+// The clean-the-table mission: its goal, its grammar, and the report on a replica's plan.
 #include "quiver/agents/apps/agm/clean_table.h"
 
 #include "quiver/agents/apps/agm/agm_schema.h"

@@ -1,3 +1,5 @@
+// The grasping agent: sets reach from the platform's pose and grasps and releases objects,
+// never while the platform drives.
 #include "quiver/agents/apps/agm/grasping.h"
 
 #include <map>

@@ -1,3 +1,4 @@
+// The human tracker: people's joints as kinematic frames, published at the tracker's rate.
 #include "quiver/agents/apps/agm/humans.h"
 
 #include <cmath>

@@ -1,3 +1,4 @@
+// The latency probe: how long a tracked pose took to reach this agent (p50/p99/max).
 #include "quiver/agents/apps/agm/latency_probe.h"
 
 #include <algorithm>

@@ -1,3 +1,4 @@
+// The navigation agent: drives the platform along its route or the plan and publishes its pose.
 #include "quiver/agents/apps/agm/navigation.h"
 
 #include <algorithm>

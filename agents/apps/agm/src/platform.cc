@@ -1,3 +1,4 @@
+// The platform: the robot's true pose over time along a route of legs (the world the agents sense).
 #include "quiver/agents/apps/agm/platform.h"
 
 #include <algorithm>

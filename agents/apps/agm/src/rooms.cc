@@ -1,3 +1,4 @@
+// The rooms agent: commits changeRoom when the robot's pose crosses into another room.
 #include "quiver/agents/apps/agm/rooms.h"
 
 #include <nlohmann/json.hpp>
