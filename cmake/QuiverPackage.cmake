@@ -44,7 +44,7 @@ set(QUIVER_PC_dds_LIBS "-lquiver_runtime_process -lquiver_agents_dds -lquiver_dd
 # cv::Mat is in quiver::images' API: opencv4 is a public requirement (its include path).
 set(QUIVER_PC_sim_REQUIRES "quiver-agents = ${PROJECT_VERSION}, quiver-dds = ${PROJECT_VERSION}, opencv4")
 set(QUIVER_PC_sim_PRIVATE "libgvc, libcgraph")
-set(QUIVER_PC_sim_LIBS "-lquiver_sim -lquiver_render -lquiver_render_rules -lquiver_barthel -lquiver_images -lquiver_devices")
+set(QUIVER_PC_sim_LIBS "-lquiver_barthel_process -lquiver_barthel_sim -lquiver_sim -lquiver_render -lquiver_render_rules -lquiver_barthel -lquiver_images -lquiver_devices")
 set(QUIVER_PC_viewer_REQUIRES "quiver-sim = ${PROJECT_VERSION}, quiver-kinematics = ${PROJECT_VERSION}, nlohmann_json")
 set(QUIVER_PC_viewer_PRIVATE "cpp-httplib")
 set(QUIVER_PC_viewer_LIBS "-lquiver_viewer")

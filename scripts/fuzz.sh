@@ -4,6 +4,7 @@
 # sanitizer report, leak, out-of-memory, invariant violation); the failing input is kept under
 # build-fuzz/findings/.
 #   scripts/fuzz.sh [seconds-per-target]   (default 30; or QUIVER_FUZZ_SECONDS)
+# Targets run QUIVER_FUZZ_JOBS at a time (default: the number of cores), each for the full time.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 seconds="${1:-${QUIVER_FUZZ_SECONDS:-30}}"
@@ -15,28 +16,42 @@ CC=clang CXX=clang++ cmake -S . -B build-fuzz -G Ninja -DCMAKE_BUILD_TYPE=RelWit
   -DQUIVER_BUILD_FUZZERS=ON -DQUIVER_SANITIZE=ON >/dev/null
 dds_targets="dds_summary dds_delta dds_pull dds_state dds_bye"
 cmake --build build-fuzz --target graph_delta_fuzzer replication_samples_fuzzer world_file_fuzzer grammar_file_fuzzer \
-  dsr_file_fuzzer agm_file_fuzzer mission_file_fuzzer store_record_fuzzer \
+  dsr_file_fuzzer agm_file_fuzzer mission_file_fuzzer store_record_fuzzer recording_file_fuzzer \
   $(for t in $dds_targets; do printf '%s_fuzzer ' "$t"; done) fuzz_smoke_test
 corpus=build-fuzz/corpus
-mkdir -p "$corpus"/{delta,samples,world,grammar,dsr,agm,mission,store} build-fuzz/findings
+mkdir -p "$corpus"/{delta,samples,world,grammar,dsr,agm,mission,store,recording} build-fuzz/findings
 for t in $dds_targets; do mkdir -p "$corpus/$t"; done
 # Seed inputs: the smoke test writes the real inputs it mutates (the CORTEX and AGM worlds: the
 # interop test fixtures).
 QUIVER_FUZZ_CORPUS="$corpus" build-fuzz/tests/fuzz_smoke_test --gtest_filter='*' >/dev/null
-status=0
-for t in delta:graph_delta samples:replication_samples world:world_file grammar:grammar_file \
-         dsr:dsr_file agm:agm_file mission:mission_file store:store_record \
-         $(for t in $dds_targets; do printf '%s:%s ' "$t" "$t"; done); do
-  dir="${t%%:*}"
-  bin="build-fuzz/tests/${t#*:}_fuzzer"
-  echo "fuzz.sh: ${t#*:} for ${seconds}s"
-  if ! (cd build-fuzz/findings && "../../$bin" "../../$corpus/$dir" -max_total_time="$seconds" \
-        -rss_limit_mb=2048 -malloc_limit_mb=2048 -print_final_stats=1 2>"${t#*:}.log"); then
-    echo "fuzz.sh: FINDING in ${t#*:}: see build-fuzz/findings/${t#*:}.log" >&2
-    tail -40 "build-fuzz/findings/${t#*:}.log" >&2
-    status=1
-  else
-    grep -E "stat::number_of_executed_units" "build-fuzz/findings/${t#*:}.log" | sed "s/^/  /"
+jobs="${QUIVER_FUZZ_JOBS:-$(nproc)}"
+# One target for $seconds; its log in build-fuzz/findings/NAME.log; non-zero on a finding.
+fuzz_one() {
+  local dir="${1%%:*}" name="${1#*:}"
+  if ! (cd build-fuzz/findings && "../../build-fuzz/tests/${name}_fuzzer" "../../$corpus/$dir" \
+        -max_total_time="$seconds" -rss_limit_mb=2048 -malloc_limit_mb=2048 -print_final_stats=1 \
+        2>"$name.log"); then
+    echo "fuzz.sh: FINDING in $name: see build-fuzz/findings/$name.log" >&2
+    tail -40 "build-fuzz/findings/$name.log" >&2
+    return 1
   fi
+  echo "fuzz.sh: $name for ${seconds}s: $(grep -E 'stat::number_of_executed_units' \
+    "build-fuzz/findings/$name.log" | sed 's/.*: *//') inputs, no finding"
+}
+status=0
+running=0
+for t in delta:graph_delta samples:replication_samples world:world_file grammar:grammar_file \
+         dsr:dsr_file agm:agm_file mission:mission_file store:store_record recording:recording_file \
+         $(for t in $dds_targets; do printf '%s:%s ' "$t" "$t"; done); do
+  if [ "$running" -ge "$jobs" ]; then
+    wait -n || status=1
+    running=$((running - 1))
+  fi
+  fuzz_one "$t" &
+  running=$((running + 1))
+done
+while [ "$running" -gt 0 ]; do
+  wait -n || status=1
+  running=$((running - 1))
 done
 exit $status

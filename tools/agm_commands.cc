@@ -2,7 +2,6 @@
 // human tracking — one process per agent over DDS on loopback, checked from an observer replica)
 // and quiver bench humans (the human-tracking load reaching the other agents while they work):
 // their options; the runs are agents/apps/agm/process's.
-#include "barthel_processes.h"
 #include "commands.h"
 #include "dds_options.h"
 #include "quiver/agents/apps/agm/agm_roles.h"
@@ -17,7 +16,7 @@ namespace agm = agents::agm;
 agm::AgmProcessOptions processes(const DdsFlags& dds, const std::string& out) {
   agm::AgmProcessOptions o;
   o.dds = dds;
-  o.exe = self_executable();
+  o.exe = agents::self_executable();
   o.out = out;
   return o;
 }

@@ -1,14 +1,5 @@
-// quiver run ROLE (one Barthel agent as a process) and quiver scenario barthel (all of them, one
-// process each, over DDS on loopback, with a live transcript read from the graph).
-#include <sys/stat.h>
-#include <unistd.h>
-
-#include <chrono>
-#include <csignal>
-#include <cstdio>
-#include <fstream>
-#include <iostream>
-#include <map>
+// The Barthel commands: quiver run ROLE (one Barthel or AGM agent as this process), quiver
+// scenario barthel and quiver bench reaction (agents/apps/barthel/process runs them).
 #include <nlohmann/json.hpp>
 
 #include "commands.h"
@@ -16,12 +7,9 @@
 #include "dds_options.h"
 #include "quiver/agents/apps/agm/agm_roles.h"
 #include "quiver/agents/apps/agm/agm_schema.h"
-#include "quiver/agents/apps/barthel/checks.h"
 #include "quiver/agents/apps/barthel/grammars.h"
 #include "quiver/agents/apps/barthel/barthel_roles.h"
-#include "quiver/agents/apps/barthel/transcript.h"
-#include "quiver/agents/devices/json_result_store.h"
-#include "barthel_processes.h"
+#include "quiver/agents/apps/barthel/process/barthel_runs.h"
 
 namespace quiver::tools {
 namespace {
@@ -40,18 +28,6 @@ struct RunFlags {
   bool quiet_when_done = false;
   std::string mission;
 };
-
-Result<barthel::PatientScript> load_script(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) return Error{ErrorCode::kIo, path + ": cannot open the patient script"};
-  try {
-    auto s = barthel::PatientScript::from_json(json::parse(in));
-    if (!s.ok()) return Error{s.error().code, path + ":" + s.error().message};
-    return s;
-  } catch (const json::parse_error& e) {
-    return Error{ErrorCode::kInvalidArgument, path + ": not JSON: " + e.what()};
-  }
-}
 
 // One agent of the AGM scenarios (agents/apps/agm), on the AGM world unless told otherwise.
 int run_agm_role(RunFlags f) {
@@ -81,7 +57,7 @@ int run_role(RunFlags f) {
   ro.sim_ns_per_word = static_cast<std::int64_t>(f.words_ms * 1e6);
   ro.planner.answer_timeout_ns = static_cast<std::int64_t>(f.answer_timeout_s * 1e9);
   if (!f.script.empty()) {
-    auto s = load_script(f.script);
+    auto s = barthel::PatientScript::load(f.script);
     if (!s.ok()) {
       agents::named_logger("quiver run")->error("{}", s.error().to_string());
       return 2;
@@ -103,147 +79,21 @@ int run_role(RunFlags f) {
 
 struct ScenarioFlags {
   DdsFlags dds;
-  std::string out, script, kill = "planner";
-  int kill_at_item = 4;
-  double restart_after_s = 1.0;
-  double timeout_s = 600;
-  bool simulated_speech = false;
-  bool second_planner = false;
-  double answer_timeout_s = 8;
-  double words_ms = 250;
-  double never_speaking_absent_ms = 300;
-  bool expect_interruption = false;
+  barthel::BarthelDdsRun run;
 };
 
-// The demo's patient: answers by voice, once stays silent and then touches the screen, once
-// says something the robot cannot understand, and leaves the chair in the middle of a question.
-barthel::PatientScript demo_script() {
-  using barthel::ReplyKind;
-  barthel::PatientScript s = barthel::PatientScript::random(7);
-  s.items[1].first = {ReplyKind::kSilent, 0};
-  s.items[1].second = {ReplyKind::kTouch, 1};
-  s.items[3].first = {ReplyKind::kMisunderstand, 0};
-  s.items[3].second = {ReplyKind::kVoice, 2};
-  s.leaves.push_back({2, 1'500'000'000, 4'000'000'000});
-  return s;
-}
+struct ReactionFlags {
+  DdsFlags dds;
+  barthel::ReactionBench bench;
+};
 
-int run_barthel(const ScenarioFlags& f) {
-  std::string out = f.out;
-  if (out.empty()) {
-    char tmpl[] = "/tmp/quiver-barthel-XXXXXX";
-    if (!mkdtemp(tmpl)) {
-      std::perror("quiver scenario: mkdtemp");
-      return 2;
-    }
-    out = tmpl;
-  }
-  ::mkdir(out.c_str(), 0755);
-  barthel::PatientScript script = demo_script();
-  if (!f.script.empty()) {
-    auto s = load_script(f.script);
-    if (!s.ok()) {
-      agents::named_logger("quiver scenario")->error("{}", s.error().to_string());
-      return 2;
-    }
-    script = *s;
-  }
-  const std::string script_path = out + "/patient.json";
-  std::ofstream(script_path) << script.to_json().dump(1) << "\n";
-
-  BarthelProcesses procs({f.dds.domain, f.dds.dds_config, out, script_path, f.answer_timeout_s, f.simulated_speech, f.words_ms});
-  agents::DdsReplicaOptions o;
-  o.name = "transcript";
-  o.observer = true;
-  auto created = f.dds.create_agent(o);
-  if (!created.ok()) {
-    agents::named_logger("quiver scenario")->error("{}", created.error().to_string());
-    return 2;
-  }
-  agents::DdsReplica& obs = **created;
-  const auto t0 = std::chrono::steady_clock::now();
-  auto elapsed = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(); };
-  barthel::Transcript transcript(obs.graph(), [&](const std::string& line) {
-    std::printf("[%6.1f s] %s\n", elapsed(), line.c_str());
-    std::fflush(stdout);
-  });
-  // Checked over time from this replica: never speaking to the patient while the person is away.
-  barthel::AbsenceWatch absence;
-  auto sample = [&] {
-    absence.sample(agents::monotonic_ns(), barthel::patient_present_truth(obs.graph()), barthel::speaking_to_patient(obs.graph()));
-  };
-  obs.graph().subscribe([&](const graph::ChangeBatch& b) {
-    transcript.on_changes(b);
-    sample();
-  });
-
-  std::printf("Barthel test over Cyclone DDS (domain %u, loopback): planner, speech, panel, person and the simulated "
-              "patient, one process each, no executive.\nOutput folder: %s\n\n",
-              f.dds.domain, out.c_str());
-  for (const auto& r : barthel::role_names())
-    if (!procs.start(r)) {
-      agents::named_logger("quiver scenario")->error("cannot start {} run {}", self_executable(), r);
-      return 2;
-    }
-  if (f.second_planner) procs.start("planner", "planner-2");
-
-  bool killed = false, restarted = false;
-  double killed_at = 0, final_at = -1;
-  while (elapsed() < f.timeout_s) {
-    obs.spin_once(20'000'000);
-    sample();
-    if (!f.kill.empty() && !killed && transcript.item() >= f.kill_at_item) {
-      const int pid = procs.kill(f.kill, SIGKILL);
-      if (pid > 0) {
-        std::printf("[%6.1f s] *** kill -9 %s (pid %d) during item %d\n", elapsed(), f.kill.c_str(), pid, transcript.item());
-        killed = true;
-        killed_at = elapsed();
-      }
-    }
-    if (killed && !restarted && elapsed() - killed_at >= f.restart_after_s) {
-      procs.start(f.kill);
-      std::printf("[%6.1f s] *** %s restarted (empty replica; it continues from what the graph holds)\n", elapsed(),
-                  f.kill.c_str());
-      restarted = true;
-    }
-    const bool final = transcript.status() == "done" || transcript.status() == "clinician_called";
-    if (final && final_at < 0) final_at = elapsed();
-    if (final && (transcript.goodbye_said() || elapsed() - final_at > 30)) break;
-  }
-  procs.stop_all();
-
-  // The result the clinician validates, against what the patient's script implies; the checks.
-  std::vector<std::string> failures;
-  const auto expected = script.expected();
-  std::printf("\nResult (%s/result.json): ", out.c_str());
-  auto result = agents::devices::load_test_result(out + "/result.json");
-  if (!result.ok()) {
-    std::printf("none stored\n");
-    failures.push_back(result.error().to_string());
-  } else {
-    std::printf("%s, %d of 100 (the patient's script implies %s, %d)\n", result->status.c_str(), result->total,
-                expected.status.c_str(), expected.total);
-    for (auto& d : barthel::result_differences(*result, expected)) failures.push_back(d);
-  }
-  for (auto& d : barthel::questions_asked_twice(obs.graph())) failures.push_back(d);
-  if (absence.max_ms() > f.never_speaking_absent_ms)
-  {
-    char why[160];
-    std::snprintf(why, sizeof why, "spoke to the patient %.1f ms after the person had left (limit %.0f ms)", absence.max_ms(),
-                  f.never_speaking_absent_ms);
-    failures.push_back(why);
-  }
-  if (f.expect_interruption && transcript.interruptions() == 0)
-    failures.push_back("the person left but the robot was never stopped mid-sentence");
-  std::printf("Checks: every item's score as the script implies, no question asked twice, never speaking to the "
-              "patient more than %.0f ms after the person left (longest: %.0f ms), %d sentence(s) stopped mid-way.\n",
-              f.never_speaking_absent_ms, absence.max_ms(), transcript.interruptions());
-  for (const auto& d : failures) std::printf("  FAILED: %s\n", d.c_str());
-  std::printf(failures.empty() ? "The stored result matches the patient's script.\n"
-                               : "The run FAILED its checks.\n");
-  std::printf("Audio: %s/speech/*.wav   Screens: %s/screen/*.png   Pages: %s/pages.jsonl   Logs: %s/logs/\n",
-              out.c_str(), out.c_str(), out.c_str(), out.c_str());
-  return failures.empty() ? 0 : 1;
+// The DDS flags as a process run's options: the domain, the configuration, this executable to
+// start the agents with, and the observer's replica.
+void apply(const DdsFlags& dds, barthel::BarthelProcessOptions& p, agents::ReplicaFactory& observer) {
+  p.domain = dds.domain;
+  p.dds_config = dds.dds_config;
+  p.exe = agents::self_executable();
+  observer = [dds](agents::DdsReplicaOptions o) { return dds.create_agent(std::move(o)); };
 }
 
 }  // namespace
@@ -276,20 +126,46 @@ void add_barthel_commands(CLI::App& app) {
   auto* sc = app.add_subcommand("scenario", "Run a scenario as one process per agent over DDS on loopback");
   auto* b = sc->add_subcommand("barthel", "The Barthel test: five agent processes, a live transcript from the graph");
   sf->dds.add_to(b);
-  b->add_option("--out", sf->out, "output folder (default: a new /tmp/quiver-barthel-*)");
-  b->add_option("--script", sf->script, "the patient's script (JSON; default: the demo patient)")->check(CLI::ExistingFile);
-  b->add_option("--kill", sf->kill, "kill -9 this agent mid-test and restart it (\"\" for none)");
-  b->add_option("--kill-at-item", sf->kill_at_item, "... when the test reaches this item")->check(CLI::Range(0, 9));
-  b->add_option("--restart-after", sf->restart_after_s, "... and restart it this many seconds later")->check(CLI::Range(0.0, 60.0));
-  b->add_option("--timeout", sf->timeout_s, "give up after this many seconds")->check(CLI::Range(1.0, 86400.0));
-  b->add_option("--answer-timeout", sf->answer_timeout_s, "seconds the planner waits for an answer")->check(CLI::Range(0.1, 600.0));
-  b->add_option("--words-ms", sf->words_ms, "simulated speech: milliseconds per word")->check(CLI::Range(1.0, 5000.0));
-  b->add_flag("--simulated-speech", sf->simulated_speech, "simulated speech durations instead of espeak-ng (faster)");
-  b->add_option("--never-speaking-absent-ms", sf->never_speaking_absent_ms,
+  b->add_option("--out", sf->run.out, "output folder (default: a new /tmp/quiver-barthel-*)");
+  b->add_option("--script", sf->run.script, "the patient's script (JSON; default: the demo patient)")->check(CLI::ExistingFile);
+  b->add_option("--kill", sf->run.kill, "kill -9 this agent mid-test and restart it (\"\" for none)");
+  b->add_option("--kill-at-item", sf->run.kill_at_item, "... when the test reaches this item")->check(CLI::Range(0, 9));
+  b->add_option("--restart-after", sf->run.restart_after_s, "... and restart it this many seconds later")->check(CLI::Range(0.0, 60.0));
+  b->add_option("--timeout", sf->run.timeout_s, "give up after this many seconds")->check(CLI::Range(1.0, 86400.0));
+  b->add_option("--answer-timeout", sf->run.processes.answer_timeout_s, "seconds the planner waits for an answer")->check(CLI::Range(0.1, 600.0));
+  b->add_option("--words-ms", sf->run.processes.words_ms, "simulated speech: milliseconds per word")->check(CLI::Range(1.0, 5000.0));
+  b->add_flag("--simulated-speech", sf->run.processes.simulated_speech, "simulated speech durations instead of espeak-ng (faster)");
+  b->add_option("--never-speaking-absent-ms", sf->run.never_speaking_absent_ms,
                 "check: never speaking to the patient longer than this after the person left")->check(CLI::Range(1.0, 600000.0));
-  b->add_flag("--expect-interruption", sf->expect_interruption, "check: the person's leaving stops the robot mid-sentence at least once");
-  b->add_flag("--second-planner", sf->second_planner, "start a second planner instance too (it waits; it takes over if needed)");
-  b->callback([sf] { set_exit_code(run_barthel(*sf)); });
+  b->add_flag("--expect-interruption", sf->run.expect_interruption, "check: the person's leaving stops the robot mid-sentence at least once");
+  b->add_flag("--second-planner", sf->run.second_planner, "start a second planner instance too (it waits; it takes over if needed)");
+  b->callback([sf] {
+    barthel::BarthelDdsRun run = sf->run;
+    apply(sf->dds, run.processes, run.observer);
+    set_exit_code(barthel::run_barthel_over_dds(run));
+  });
+}
+
+void add_reaction_bench_command(CLI::App& app) {
+  CLI::App* bench = app.get_subcommand("bench");
+  auto f = std::make_shared<ReactionFlags>();
+  f->dds.domain = 81;
+  barthel::ReactionBench& b = f->bench;
+  b.processes.words_ms = 60;
+  auto* r = bench->add_subcommand("reaction",
+                                  "Person lost -> Speech stops the audio: the Barthel agents as processes over DDS (loopback)");
+  f->dds.add_to(r);
+  r->add_option("--leaves", b.leaves, "times the patient leaves mid-question per run")->check(CLI::Range(1, 100'000))->capture_default_str();
+  r->add_option("--runs", b.runs, "runs (the summary gives the median of their percentiles)")->check(CLI::Range(1, 1000))->capture_default_str();
+  r->add_option("--words-ms", b.processes.words_ms, "simulated speech: milliseconds per word")->check(CLI::Range(1.0, 5000.0))->capture_default_str();
+  r->add_option("--leave-after-ms", b.leave_after_ms, "the patient leaves this long into the question")->check(CLI::Range(1.0, 60000.0))->capture_default_str();
+  r->add_option("--away-ms", b.away_ms, "and comes back this much later")->check(CLI::Range(1.0, 60000.0))->capture_default_str();
+  r->add_option("--out", b.out, "keep each run's logs, script and result in OUT/run-K (default: new /tmp folders)");
+  r->callback([f] {
+    barthel::ReactionBench run = f->bench;
+    apply(f->dds, run.processes, run.observer);
+    set_exit_code(barthel::run_reaction_bench(run));
+  });
 }
 
 }  // namespace quiver::tools

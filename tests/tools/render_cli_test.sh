@@ -78,7 +78,7 @@ expect_error "give either an input file or --domain D" $q render world.json --do
 [ ! -e x.png ] || fail "x.png was written"
 
 # A live domain: nobody there, then an agent that seeded the sample world.
-expect_error "\[quiver render\] error: no agent answered on DDS domain 197" $q render --domain 197 --timeout 0.3 -o x.png
+expect_error "\[quiver render\] error: no agent answered on DDS domain 195" $q render --domain 195 --timeout 0.3 -o x.png
 $q agent --name seeder --domain 196 --world world.json --run-for 60 >agent.log 2>&1 &
 agent_pid=$!
 out=$($q render --domain 196 --timeout 20 -o live.svg --hide-geometry 2>&1) || fail "render --domain: $out"

@@ -2,6 +2,7 @@
 // they imply.
 #include "quiver/agents/apps/barthel/patient_script.h"
 
+#include <fstream>
 #include <nlohmann/json.hpp>
 
 #include "quiver/agents/apps/barthel/items.h"
@@ -101,6 +102,18 @@ PatientScript PatientScript::varied(std::uint64_t seed) {
     s.leaves.push_back(l);
   }
   return s;
+}
+
+Result<PatientScript> PatientScript::load(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) return Error{ErrorCode::kIo, path + ": cannot open the patient script"};
+  try {
+    auto s = from_json(nlohmann::json::parse(in));
+    if (!s.ok()) return Error{s.error().code, path + ":" + s.error().message};
+    return s;
+  } catch (const nlohmann::json::parse_error& e) {
+    return Error{ErrorCode::kInvalidArgument, path + ": not JSON: " + e.what()};
+  }
 }
 
 Result<PatientScript> PatientScript::from_json(const nlohmann::json& j) {

@@ -1,6 +1,6 @@
 #pragma once
 /// @file
-/// Scenarios as data (docs/scenarios.md): which agents run (by the roles an app registered), on
+/// Scenarios as data (docs/simulation.md): which agents run (by the roles an app registered), on
 /// which world, under which faults (the one fault model: fault_model.h), what workloads drive
 /// them and what must hold (checks by registered name), for how long. The simulator knows no app:
 /// the keys it does not know belong to the app (ScenarioApp::settings()).

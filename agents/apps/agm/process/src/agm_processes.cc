@@ -8,13 +8,6 @@
 
 namespace quiver::agents::inline apps::agm {
 
-std::string out_dir(const std::string& out, const char* prefix) {
-  if (!out.empty()) return out;
-  std::string tmpl = std::string("/tmp/") + prefix + "-XXXXXX";
-  if (!mkdtemp(tmpl.data())) return "/tmp";
-  return tmpl;
-}
-
 AgmProcesses::AgmProcesses(AgmProcessOptions o) : o_(std::move(o)) {
   ::mkdir(o_.out.c_str(), 0755);
   ::mkdir((o_.out + "/logs").c_str(), 0755);

@@ -52,6 +52,10 @@ struct PatientScript {
   /// "second": ...}, x10], "leaves": [{"item", "after_ms", "for_ms"}], "think_ms": [min, max]}.
   /// @returns kInvalidArgument naming the JSON pointer of a bad value.
   static Result<PatientScript> from_json(const nlohmann::json& j);
+  /// Reads the script from the file at `path` (as from_json()).
+  /// @returns kIo when it cannot be opened, kInvalidArgument (naming the file) when it is not
+  /// JSON or not a script.
+  static Result<PatientScript> load(const std::string& path);
   nlohmann::json to_json() const;
 
   /// The outcome the script implies.

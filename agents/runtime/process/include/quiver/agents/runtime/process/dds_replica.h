@@ -181,4 +181,8 @@ class DdsReplica {
   std::atomic<bool> stop_{false};
 };
 
+/// Opens a replica on the caller's domain with the caller's DDS flags (configuration, security):
+/// how a process runner (agents/apps/*/process) gets its observer.
+using ReplicaFactory = std::function<Result<std::unique_ptr<DdsReplica>>(DdsReplicaOptions)>;
+
 }  // namespace quiver::agents

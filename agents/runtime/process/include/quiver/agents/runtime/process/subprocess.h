@@ -10,6 +10,8 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <sys/stat.h>
+
 #include <chrono>
 #include <cstring>
 #include <optional>
@@ -123,5 +125,22 @@ class Subprocess {
   std::string buf_;
   std::optional<int> status_;
 };
+
+/// `out`, or a new directory /tmp/PREFIX-XXXXXX when it is empty ("/tmp" if none can be made):
+/// where a multi-process run puts its logs and outputs.
+inline std::string out_dir(const std::string& out, const char* prefix) {
+  if (!out.empty()) return out;
+  std::string tmpl = std::string("/tmp/") + prefix + "-XXXXXX";
+  if (!mkdtemp(tmpl.data())) return "/tmp";
+  return tmpl;
+}
+
+/// @returns the path of the running executable (to start its `run ROLE` subcommand), or
+/// "quiver" when /proc/self/exe cannot be read.
+inline std::string self_executable() {
+  char buf[4096];
+  const ssize_t n = readlink("/proc/self/exe", buf, sizeof buf - 1);
+  return n > 0 ? std::string(buf, static_cast<std::size_t>(n)) : "quiver";
+}
 
 }  // namespace quiver::agents::inline runtime

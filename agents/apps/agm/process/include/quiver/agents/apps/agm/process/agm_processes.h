@@ -21,9 +21,6 @@ struct AgmProcessOptions {
   std::string out;   ///< logs go to OUT/logs; empty: a new directory /tmp/<prefix>-XXXXXX
 };
 
-/// `out`, or a new directory /tmp/PREFIX-XXXXXX when it is empty ("/tmp" if none can be made).
-std::string out_dir(const std::string& out, const char* prefix);
-
 class AgmProcesses {
  public:
   /// Logs go to o.out/logs (both made if need be; o.out must not be empty: out_dir()).

@@ -15,12 +15,9 @@
 
 namespace quiver::agents::inline apps::agm {
 
-/// Opens the observer's replica on the caller's domain (its DDS flags: configuration, security).
-using ObserverFactory = std::function<Result<std::unique_ptr<DdsReplica>>(DdsReplicaOptions)>;
-
 struct AgmDdsRun {
   AgmProcessOptions processes;
-  ObserverFactory observer;
+  ReplicaFactory observer;  ///< opens the observer's replica
   double timeout_s = 150;            ///< give up after this
   double crossing_lag_ms = 100;      ///< changeRoom committed within this of its pose
   double motion_allowance_ms = 150;  ///< a grasp ends within this of the platform moving

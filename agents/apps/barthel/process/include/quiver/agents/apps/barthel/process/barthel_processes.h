@@ -1,7 +1,8 @@
 #pragma once
-// The Barthel agents as one OS process each (`quiver run ROLE`), over DDS on loopback: started,
-// killed and restarted by name, their stderr logged in OUT/logs/NAME.log. Used by
-// `quiver scenario barthel` and `quiver bench reaction`.
+/// @file
+/// The Barthel agents as one OS process each (`EXE run ROLE`), over DDS on loopback: started,
+/// killed and restarted by name, their stderr logged in OUT/logs/NAME.log. The runs of
+/// barthel_runs.h (`quiver scenario barthel`, `quiver bench reaction`) are built on it.
 #include <cstdint>
 #include <map>
 #include <optional>
@@ -12,13 +13,12 @@
 
 #include "quiver/agents/runtime/process/subprocess.h"
 
-namespace quiver::tools {
-
-using agents::Subprocess;
+namespace quiver::agents::inline apps::barthel {
 
 struct BarthelProcessOptions {
   std::uint32_t domain = 0;
   std::string dds_config = "loopback";
+  std::string exe;          ///< the executable whose `run ROLE` runs an agent (the quiver command)
   std::string out;          ///< devices write here; logs go to out/logs
   std::string script_path;  ///< the patient's script (JSON)
   double answer_timeout_s = 8;
@@ -28,6 +28,7 @@ struct BarthelProcessOptions {
 
 class BarthelProcesses {
  public:
+  /// Makes o.out and o.out/logs. While it lives, SIGINT and SIGTERM stop its agents first.
   explicit BarthelProcesses(BarthelProcessOptions o);
   ~BarthelProcesses();
   BarthelProcesses(const BarthelProcesses&) = delete;
@@ -45,11 +46,7 @@ class BarthelProcesses {
  private:
   std::vector<std::string> argv_of(const std::string& role, const std::string& name) const;
   BarthelProcessOptions o_;
-  std::string exe_;
   std::map<std::string, Subprocess> procs_;
 };
 
-/// The path of the running executable (to start its `run` subcommand).
-std::string self_executable();
-
-}  // namespace quiver::tools
+}  // namespace quiver::agents::inline apps::barthel

@@ -2,8 +2,7 @@
 // run as one process each over DDS on loopback; the simulated patient leaves the chair in the
 // middle of the first question again and again. Each time, Person commits the loss
 // (person.lost_ns, on the machine's monotonic clock that every process shares) and Speech stops
-// the audio when the change reaches it; Speech records the difference. One JSON line per run,
-// then the medians over runs.
+// the audio when the change reaches it; Speech records the difference.
 #include <sys/stat.h>
 #include <unistd.h>
 
@@ -15,35 +14,24 @@
 #include <set>
 #include <thread>
 
-#include "barthel_processes.h"
-#include "bench_stats.h"
-#include "commands.h"
-#include "quiver/agents/runtime/process/logging.h"
-#include "dds_options.h"
-#include "quiver/agents/apps/barthel/patient_script.h"
 #include "quiver/agents/apps/barthel/barthel_roles.h"
 #include "quiver/agents/apps/barthel/barthel_schema.h"
+#include "quiver/agents/apps/barthel/process/barthel_runs.h"
+#include "quiver/agents/runtime/process/logging.h"
+#include "quiver/base/percentiles.h"
 
-namespace quiver::tools {
+namespace quiver::agents::inline apps::barthel {
 namespace {
 
-namespace barthel = agents::barthel;
 using nlohmann::json;
-
-struct ReactionFlags {
-  DdsFlags dds;
-  int leaves = 100;
-  int runs = 3;
-  double words_ms = 60;
-  double leave_after_ms = 300;
-  double away_ms = 400;
-  std::string out;
-};
+using base::median;
+using base::Percentiles;
+using base::round_to;
 
 // A patient who answers every question by voice but leaves mid-question `n` times on the first item.
-barthel::PatientScript restless_patient(const ReactionFlags& f) {
-  barthel::PatientScript s = barthel::PatientScript::random(1);
-  for (auto& it : s.items) it.first = it.second = {barthel::ReplyKind::kVoice, 0};
+PatientScript restless_patient(const ReactionBench& f) {
+  PatientScript s = PatientScript::random(1);
+  for (auto& it : s.items) it.first = it.second = {ReplyKind::kVoice, 0};
   s.leaves.clear();
   for (int i = 0; i < f.leaves; ++i)
     s.leaves.push_back({0, static_cast<std::int64_t>(f.leave_after_ms * 1e6), static_cast<std::int64_t>(f.away_ms * 1e6)});
@@ -62,22 +50,27 @@ std::string make_dir(const std::string& base, int run) {
 }
 
 // One run: the reactions Speech measured, in milliseconds (empty when the run could not start).
-std::vector<double> one_run(const ReactionFlags& f, int run, std::string& dir) {
+std::vector<double> one_run(const ReactionBench& f, int run, std::string& dir) {
   dir = make_dir(f.out, run);
   if (dir.empty()) return {};
   const std::string script_path = dir + "/patient.json";
   std::ofstream(script_path) << restless_patient(f).to_json().dump(1) << "\n";
 
-  agents::DdsReplicaOptions o;
+  DdsReplicaOptions o;
   o.name = "reaction-observer";
   o.observer = true;
-  auto obs = f.dds.create_agent(o);
+  auto obs = f.observer(o);
   if (!obs.ok()) {
-    agents::named_logger("quiver bench reaction")->error("{}", obs.error().to_string());
+    named_logger("quiver bench reaction")->error("{}", obs.error().to_string());
     return {};
   }
-  BarthelProcesses procs({f.dds.domain, f.dds.dds_config, dir, script_path, 8, true, f.words_ms});
-  for (const auto& r : barthel::role_names())
+  BarthelProcessOptions po = f.processes;
+  po.out = dir;
+  po.script_path = script_path;
+  po.answer_timeout_s = 8;
+  po.simulated_speech = true;
+  BarthelProcesses procs(po);
+  for (const auto& r : role_names())
     if (!procs.start(r)) return {};
 
   // Watch the losses Person commits until the patient has left `leaves` times and come back.
@@ -88,13 +81,13 @@ std::vector<double> one_run(const ReactionFlags& f, int run, std::string& dir) {
   std::int64_t done_at = -1;
   for (;;) {
     (*obs)->spin_once(20'000'000);
-    const graph::NodeId person = barthel::node_id(g, barthel::node::kPerson);
-    if (const std::int64_t lost = barthel::attr_int(g, person, "lost_ns", 0); lost > 0) losses.insert(lost);
+    const graph::NodeId person = node_id(g, node::kPerson);
+    if (const std::int64_t lost = attr_int(g, person, "lost_ns", 0); lost > 0) losses.insert(lost);
     const double t = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    if (done_at < 0 && static_cast<int>(losses.size()) >= f.leaves && barthel::person_present(g)) done_at = agents::monotonic_ns();
-    if (done_at >= 0 && agents::monotonic_ns() - done_at > 500'000'000) break;
+    if (done_at < 0 && static_cast<int>(losses.size()) >= f.leaves && person_present(g)) done_at = monotonic_ns();
+    if (done_at >= 0 && monotonic_ns() - done_at > 500'000'000) break;
     if (t > limit_s) {
-      agents::named_logger("quiver bench reaction")->warn("run {} saw {} of {} losses in {:.0f} s; stopping", run, losses.size(), f.leaves, limit_s);
+      named_logger("quiver bench reaction")->warn("run {} saw {} of {} losses in {:.0f} s; stopping", run, losses.size(), f.leaves, limit_s);
       break;
     }
   }
@@ -105,8 +98,9 @@ std::vector<double> one_run(const ReactionFlags& f, int run, std::string& dir) {
   return ms;
 }
 
+}  // namespace
 
-int run_bench_reaction(const ReactionFlags& f) {
+int run_reaction_bench(const ReactionBench& f) {
   std::vector<double> p50s, p99s;
   for (int run = 0; run < f.runs; ++run) {
     std::string dir;
@@ -127,22 +121,4 @@ int run_bench_reaction(const ReactionFlags& f) {
   return 0;
 }
 
-}  // namespace
-
-void add_reaction_bench_command(CLI::App& app) {
-  CLI::App* bench = app.get_subcommand("bench");
-  auto f = std::make_shared<ReactionFlags>();
-  f->dds.domain = 81;
-  auto* r = bench->add_subcommand("reaction",
-                                  "Person lost -> Speech stops the audio: the Barthel agents as processes over DDS (loopback)");
-  f->dds.add_to(r);
-  r->add_option("--leaves", f->leaves, "times the patient leaves mid-question per run")->check(CLI::Range(1, 100'000))->capture_default_str();
-  r->add_option("--runs", f->runs, "runs (the summary gives the median of their percentiles)")->check(CLI::Range(1, 1000))->capture_default_str();
-  r->add_option("--words-ms", f->words_ms, "simulated speech: milliseconds per word")->check(CLI::Range(1.0, 5000.0))->capture_default_str();
-  r->add_option("--leave-after-ms", f->leave_after_ms, "the patient leaves this long into the question")->check(CLI::Range(1.0, 60000.0))->capture_default_str();
-  r->add_option("--away-ms", f->away_ms, "and comes back this much later")->check(CLI::Range(1.0, 60000.0))->capture_default_str();
-  r->add_option("--out", f->out, "keep each run's logs, script and result in OUT/run-K (default: new /tmp folders)");
-  r->callback([f] { set_exit_code(run_bench_reaction(*f)); });
-}
-
-}  // namespace quiver::tools
+}  // namespace quiver::agents::inline apps::barthel

@@ -1,5 +1,5 @@
 // The Barthel agents as one OS process each: starting, killing and restarting them by name.
-#include "barthel_processes.h"
+#include "quiver/agents/apps/barthel/process/barthel_processes.h"
 
 #include <sys/stat.h>
 #include <unistd.h>
@@ -7,7 +7,7 @@
 #include <atomic>
 #include <csignal>
 
-namespace quiver::tools {
+namespace quiver::agents::inline apps::barthel {
 namespace {
 
 // The agents' pids, for the signal handler: a scenario stopped by SIGINT or SIGTERM takes its
@@ -31,13 +31,7 @@ void remember(pid_t old_pid, pid_t new_pid) {
 
 }  // namespace
 
-std::string self_executable() {
-  char buf[4096];
-  ssize_t n = readlink("/proc/self/exe", buf, sizeof buf - 1);
-  return n > 0 ? std::string(buf, static_cast<std::size_t>(n)) : "quiver";
-}
-
-BarthelProcesses::BarthelProcesses(BarthelProcessOptions o) : o_(std::move(o)), exe_(self_executable()) {
+BarthelProcesses::BarthelProcesses(BarthelProcessOptions o) : o_(std::move(o)) {
   ::mkdir(o_.out.c_str(), 0755);
   ::mkdir((o_.out + "/logs").c_str(), 0755);
   std::signal(SIGINT, stop_agents_and_exit);
@@ -47,7 +41,7 @@ BarthelProcesses::BarthelProcesses(BarthelProcessOptions o) : o_(std::move(o)), 
 BarthelProcesses::~BarthelProcesses() { stop_all(); }
 
 std::vector<std::string> BarthelProcesses::argv_of(const std::string& role, const std::string& name) const {
-  std::vector<std::string> a = {exe_,       "run",         role,          "--domain",    std::to_string(o_.domain),
+  std::vector<std::string> a = {o_.exe,       "run",         role,          "--domain",    std::to_string(o_.domain),
                                 "--dds-config", o_.dds_config, "--out",   o_.out,        "--script",
                                 o_.script_path, "--join-wait", "1",       "--answer-timeout", std::to_string(o_.answer_timeout_s)};
   if (!name.empty()) a.insert(a.end(), {"--name", name});
@@ -95,4 +89,4 @@ std::optional<nlohmann::json> BarthelProcesses::last_status(const std::string& n
   return last;
 }
 
-}  // namespace quiver::tools
+}  // namespace quiver::agents::inline apps::barthel
