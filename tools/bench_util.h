@@ -1,33 +1,13 @@
 #pragma once
-// Helpers shared by the bench commands and quiver_bench_tf2 (built as C++17 against tf2, without
-// the quiver libraries: this header needs only the standard library and Eigen).
+// The benchmarks' clock and transforms tree under their old names, for quiver_bench_tf2
+// (tools/bench_tf2.cc): they are quiver_bench's (quiver/tools/bench/bench_util.h).
 
-#include <Eigen/Geometry>
-#include <array>
-#include <chrono>
+#include "quiver/tools/bench/bench_util.h"
 
 namespace quiver::tools {
 
-/// Seconds of steady_clock time since `t0`.
-inline double seconds_since(std::chrono::steady_clock::time_point t0) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-}
-
-/// One edge pose of the `bench transforms` tree: root "world", two branches b0_1..b0_D and
-/// b1_1..b1_D; edge i of branch k has a pose at t = 1 s (sample 0) and another at t = 2 s
-/// (sample 1), with different rotations and translations.
-struct BenchPose {
-  std::array<double, 3> translation;
-  std::array<double, 4> rotation;  // w x y z
-};
-
-inline BenchPose bench_pose(int branch, int i, int sample) {
-  const double angle = 0.1 * (i + 1) + 0.05 * branch + 0.3 * sample;
-  Eigen::Vector3d axis(1.0 + 0.1 * i, 0.5 * branch - 0.2, 0.3 + 0.2 * sample);
-  axis.normalize();
-  Eigen::Quaterniond q(Eigen::AngleAxisd(angle, axis));
-  return BenchPose{{0.1 + 0.01 * i + 0.05 * sample, 0.02 * branch - 0.01, 0.05 + 0.001 * i},
-                   {q.w(), q.x(), q.y(), q.z()}};
-}
+using bench::bench_pose;
+using bench::BenchPose;
+using bench::seconds_since;
 
 }  // namespace quiver::tools
