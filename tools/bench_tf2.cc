@@ -1,6 +1,6 @@
 // quiver_bench_tf2: the `quiver bench transforms` workload run against ROS tf2 (Debian
 // libtf2-dev), printing the same JSON lines with "impl":"tf2", so both run on one machine in one
-// go. The tree (the poses come from bench_util.h, as in tools/kinematics_commands.cc): root
+// go. The tree (the poses come from bench_util.h, as in tools/bench/src/transform_bench.cc): root
 // "world", two branches b0_1..b0_D and b1_1..b1_D, each edge with a sample at t = 1 s and one at
 // t = 2 s; look up the leaf of branch 0 relative to the leaf of branch 1 at the latest time and
 // at t = 1.5 s.
@@ -19,14 +19,14 @@
 #include <thread>
 #include <vector>
 
-#include "bench_util.h"
+#include "quiver/tools/bench/bench_util.h"
 
 namespace {
 
 using Clock = std::chrono::steady_clock;
-using quiver::tools::bench_pose;
-using quiver::tools::BenchPose;
-using quiver::tools::seconds_since;
+using quiver::tools::bench::bench_pose;
+using quiver::tools::bench::BenchPose;
+using quiver::tools::bench::seconds_since;
 
 void build(tf2::BufferCore& buf, int depth) {
   for (int sample = 0; sample < 2; ++sample)

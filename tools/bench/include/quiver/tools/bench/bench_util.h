@@ -1,14 +1,15 @@
 #pragma once
-// Helpers shared by the bench commands and quiver_bench_tf2 (built as C++17 against tf2, without
-// the quiver libraries: this header needs only the standard library and Eigen).
+// The benchmarks' clock and the `bench transforms` tree, shared with quiver_bench_tf2 (built as
+// C++17 against tf2, without the quiver libraries: this header needs only the standard library
+// and Eigen).
 
 #include <Eigen/Geometry>
 #include <array>
 #include <chrono>
 
-namespace quiver::tools {
+namespace quiver::tools::bench {
 
-/// Seconds of steady_clock time since `t0`.
+/// @returns the seconds of steady_clock time since `t0`.
 inline double seconds_since(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
@@ -21,6 +22,7 @@ struct BenchPose {
   std::array<double, 4> rotation;  // w x y z
 };
 
+/// @returns the pose of edge `i` of branch `branch` (0 or 1) at sample `sample` (0 or 1).
 inline BenchPose bench_pose(int branch, int i, int sample) {
   const double angle = 0.1 * (i + 1) + 0.05 * branch + 0.3 * sample;
   Eigen::Vector3d axis(1.0 + 0.1 * i, 0.5 * branch - 0.2, 0.3 + 0.2 * sample);
@@ -30,4 +32,4 @@ inline BenchPose bench_pose(int branch, int i, int sample) {
                    {q.w(), q.x(), q.y(), q.z()}};
 }
 
-}  // namespace quiver::tools
+}  // namespace quiver::tools::bench

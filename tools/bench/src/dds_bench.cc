@@ -1,0 +1,108 @@
+// The DDS transport benchmark (`quiver bench dds`): the coordinator of its writer, reader and
+// joiner processes, and its result line.
+#include "quiver/tools/bench/dds_bench.h"
+
+#include <stdlib.h>
+
+#include <algorithm>
+#include <filesystem>
+#include <iostream>
+#include <memory>
+
+#include "quiver/agents/replica/security/keys.h"
+#include "quiver/agents/runtime/process/logging.h"
+#include "quiver/tools/bench/attached_viewer.h"
+#include "quiver/base/percentiles.h"
+
+namespace quiver::tools::bench {
+namespace {
+
+using agents::Subprocess;
+using json = nlohmann::json;
+
+// --secure: a fresh CA and one identity per role, in a temporary directory removed at exit.
+std::optional<std::string> make_bench_keys(int readers) {
+  char tmpl[] = "/tmp/quiver-bench-keys-XXXXXX";
+  if (mkdtemp(tmpl) == nullptr) return std::nullopt;
+  const std::string dir = tmpl;
+  std::vector<std::string> names = {"bench-writer", "bench-joiner"};
+  for (int i = 0; i < readers; ++i) names.push_back("bench-reader-" + std::to_string(i));
+  Status s = agents::security::init_keys(dir);
+  for (const auto& n : names)
+    if (s.ok()) s = agents::security::add_agent(dir, n);
+  if (!s.ok()) {
+    agents::named_logger("bench")->error("--secure: {}", s.error().to_string());
+    return std::nullopt;
+  }
+  return dir;
+}
+
+}  // namespace
+
+int run_dds_bench(const DdsBench& b) {
+  DdsBench f = b;
+  std::shared_ptr<void> cleanup;
+  if (f.secure || f.secure_transport) {
+    if (f.with_viewer) {
+      agents::named_logger("bench")->error("--secure with --with-viewer is not supported");
+      return 2;
+    }
+    auto dir = make_bench_keys(f.readers);
+    if (!dir) return 2;
+    f.roles.dds.security = *dir;
+    cleanup = std::shared_ptr<void>(nullptr, [d = *dir](void*) { std::filesystem::remove_all(d); });
+  }
+  std::vector<std::string> common = {"--updates",         std::to_string(f.updates),
+                                     "--batch",           std::to_string(f.batch),
+                                     "--readers",         std::to_string(f.readers),
+                                     "--latency-samples", std::to_string(f.latency_samples),
+                                     "--join-nodes",      std::to_string(f.join_nodes)};
+  if (f.secure_transport) common.push_back("--transport-only");
+  auto readers = spawn_roles(f.roles, "reader", f.readers, common);
+  if (!readers) return 2;
+  std::unique_ptr<AttachedViewer> viewer;
+  if (f.with_viewer) {
+    viewer = AttachedViewer::start(f.roles.exe, f.roles.dds, f.viewer_every_delta);
+    if (!viewer) return 2;
+  }
+  auto writer = Subprocess::spawn(role_argv(f.roles, "writer", common));
+  if (!writer) return 2;
+  auto ready = read_json(*writer, "writer", 600'000);
+  if (!ready) return 1;
+  auto joiner = Subprocess::spawn(role_argv(f.roles, "joiner", common));
+  if (!joiner) return 2;
+  auto joined = read_json(*joiner, "joiner", 120'000);
+  std::int64_t t_done = 0;
+  std::vector<double> lat;
+  for (int i = 0; i < f.readers; ++i) {
+    auto r = read_json((*readers)[i], "reader", 120'000);
+    if (!r) return 1;
+    t_done = std::max<std::int64_t>(t_done, (*r)["t_throughput_done_ns"].get<std::int64_t>());
+    for (double v : (*r)["latencies_us"]) lat.push_back(v);
+  }
+  writer->wait(10'000);
+  for (auto& r : *readers) r.wait(10'000);
+  joiner->wait(10'000);
+  const double secs = static_cast<double>(t_done - (*ready)["t0_ns"].get<std::int64_t>()) / 1e9;
+  json out;
+  out["bench"] = "dds";
+  out["security"] = f.secure ? "dds+signed-deltas" : f.secure_transport ? "dds" : "none";
+  out["updates"] = f.updates;
+  out["batch"] = f.batch;
+  out["readers"] = f.readers;
+  out["updates_per_s"] = static_cast<long>(static_cast<double>(f.updates) / secs);
+  const Percentiles pct(lat);
+  out["latency_us_p50"] = round_to(pct.at(0.50), 1);
+  out["latency_us_p99"] = round_to(pct.at(0.99), 1);
+  out["latency_samples"] = lat.size();
+  out["join_ms_10k"] = joined ? (*joined)["join_ms"] : json(nullptr);
+  if (joined) out["join_ms_10k_from_process_start"] = (*joined)["join_ms_from_process_start"];
+  out["write_timeouts"] = (*ready)["write_timeouts"];
+  out["with_viewer"] = f.with_viewer;
+  if (f.with_viewer) out["viewer_every_delta"] = f.viewer_every_delta;
+  if (viewer) out["viewer_event_bytes"] = viewer->stop();
+  std::cout << out.dump() << std::endl;
+  return joined && (*joined)["synced"].get<bool>() ? 0 : 1;
+}
+
+}  // namespace quiver::tools::bench
