@@ -10,6 +10,7 @@
 #include "quiver/graph/codec.h"
 #include "quiver/graph/graph.h"
 #include "quiver/base/percentiles.h"
+#include "quiver/tools/bench/bench_objects.h"
 #include "quiver/tools/bench/bench_util.h"
 
 namespace quiver::tools::bench {
@@ -28,18 +29,13 @@ int run_crdt_bench(const CrdtBench& b) {
     if (measuring) total_bytes += bytes.size();
     deltas.push_back(std::move(bytes));
   });
-  std::vector<Symbol> names;
-  for (int k = 0; k < b.attrs; ++k) names.emplace_back("a" + std::to_string(k));
-  std::vector<NodeId> ids;
-  {
-    auto tx = a.begin();
-    for (int i = 0; i < b.nodes; ++i) {
-      std::vector<std::pair<Symbol, Value>> init;
-      for (int k = 0; k < b.attrs; ++k) init.emplace_back(names[k], Value(0.0));
-      ids.push_back(*tx.create_node("object", "n" + std::to_string(i), std::move(init)));
-    }
-    (void)tx.commit();
+  auto objects = create_bench_objects(a, b.nodes, b.attrs);
+  if (!objects.ok()) {
+    agents::named_logger("quiver bench crdt")->error("{}", objects.error().to_string());
+    return 2;
   }
+  const std::vector<Symbol>& names = objects->attrs;
+  const std::vector<NodeId>& ids = objects->ids;
   std::size_t setup_msgs = deltas.size();
   Rng rng(b.seed);
   measuring = true;

@@ -18,6 +18,7 @@
 #include "quiver/graph/codec.h"
 #include "quiver/graph/graph.h"
 #include "quiver/base/percentiles.h"
+#include "quiver/tools/bench/bench_objects.h"
 #include "quiver/tools/bench/bench_util.h"
 
 namespace quiver::tools::bench {
@@ -59,18 +60,10 @@ Result<WriteRun> write_run(const StoreBench& b, Store* store, std::uint64_t seed
     ++seq;
     if (store != nullptr) store->local(seq, bytes);
   });
-  std::vector<Symbol> names;
-  for (int k = 0; k < b.attrs; ++k) names.emplace_back("a" + std::to_string(k));
-  std::vector<NodeId> ids;
-  {
-    auto tx = a.begin();
-    for (int i = 0; i < b.nodes; ++i) {
-      std::vector<std::pair<Symbol, Value>> init;
-      for (int k = 0; k < b.attrs; ++k) init.emplace_back(names[k], Value(0.0));
-      ids.push_back(*tx.create_node("object", "n" + std::to_string(i), std::move(init)));
-    }
-    if (auto c = tx.commit(); !c.ok()) return c.error();
-  }
+  auto objects = create_bench_objects(a, b.nodes, b.attrs);
+  if (!objects.ok()) return objects.error();
+  const std::vector<Symbol>& names = objects->attrs;
+  const std::vector<NodeId>& ids = objects->ids;
   Rng rng(seed);
   long done = 0;
   const auto t0 = Clock::now();

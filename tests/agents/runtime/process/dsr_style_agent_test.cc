@@ -149,7 +149,9 @@ TEST(AgentApi, CallRunsOnTheHostTickAndReturnsAFuture) {
   graph::Graph g(graph::ReplicaId{fnv1a64("idle"), 1});
   Idle agent;
   std::int64_t now = 0;
-  AgentRuntime rt(agent, g, nullptr, RuntimeOptions{1, {}, 100'000'000, [&] { return now; }, nullptr});
+  RuntimeOptions options;
+  options.clock = [&] { return now; };
+  AgentRuntime rt(agent, g, nullptr, options);
   ASSERT_TRUE(rt.start().ok());
   std::future<std::size_t> nodes;
   std::thread other([&] {
