@@ -157,23 +157,10 @@ void bind_agent_base(py::module_& m) {
           raise(make_error(ErrorCode::kInvalidArgument,
                            "run_agent(): negative run_for, join_wait or hang"));
         AgentRun run;
-        int rc = 0;
-        {
-          struct Unbind {
-            ~Unbind() { bind_current_run(nullptr); }
-          } unbind;
-          bind_current_run(&run);
+        const int rc = run_bound(run, [&] {
           SignalHandlersKept handlers;
-          py::gil_scoped_release release;
-          rc = agents::run_process(agent, f);
-        }
-        run.scope->open = false;
-        run.ctx = py::none();
-        if (run.error) {
-          py::error_already_set e = std::move(*run.error);
-          run.error.reset();
-          throw e;
-        }
+          return agents::run_process(agent, f);
+        });
         if (rc != 0)
           raise(make_error(ErrorCode::kInvalidArgument,
                            "run_agent(): agent '" + agent.name() +

@@ -47,6 +47,31 @@ bool guarded(F&& fn, bool cleanup = false) {
   return false;
 }
 
+/// Runs `host` (a call that runs agents, which call back into Python) with `run` bound to this
+/// thread and the GIL released; then closes the run's scope and rethrows the first exception a
+/// callback raised. GIL held on entry and on return. @returns what `host` returned.
+/// @throws py::error_already_set raised by a callback.
+template <class F>
+auto run_bound(AgentRun& run, F&& host) {
+  decltype(host()) out{};
+  {
+    struct Unbind {
+      ~Unbind() { bind_current_run(nullptr); }
+    } unbind;
+    bind_current_run(&run);
+    py::gil_scoped_release release;
+    out = host();
+  }
+  run.scope->open = false;
+  run.ctx = py::none();
+  if (run.error) {
+    py::error_already_set e = std::move(*run.error);
+    run.error.reset();
+    throw e;
+  }
+  return out;
+}
+
 /// A ChangeFilter from optional lists of names.
 graph::ChangeFilter to_filter(const std::vector<std::string>& node_types,
                               const std::vector<std::string>& edge_types,

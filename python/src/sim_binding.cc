@@ -166,28 +166,14 @@ void bind_sim(py::module_& m) {
             guarded([&] { log_fn->fn()(static_cast<double>(t) / 1e9, line); }, /*cleanup=*/true);
           };
         }
-        sim::ScenarioOutcome out;
-        {
-          struct Unbind {
-            ~Unbind() { bind_current_run(nullptr); }
-          } unbind;
-          bind_current_run(&run);
-          py::gil_scoped_release release;
-          out = sim::run_scenario(*s, app, seed, logger);
-        }
-        run.scope->open = false;
-        run.ctx = py::none();
-        if (run.error) {
-          py::error_already_set e = std::move(*run.error);
-          run.error.reset();
-          throw e;
-        }
+        const sim::ScenarioOutcome out =
+            run_bound(run, [&] { return sim::run_scenario(*s, app, seed, logger); });
         return py::module_::import("json").attr("loads")(out.to_json().dump());
       },
       py::arg("scenario"), py::arg("roles"), py::kw_only(), py::arg("checks") = py::dict(), py::arg("seed") = 1,
       py::arg("log") = py::none(),
       "Runs a scenario in the simulator with agents written in Python: `scenario` is a dict or the "
-      "path of a scenario file (docs/scenarios.md: agents by role, faults, checks by name, limit_s); "
+      "path of a scenario file (docs/simulation.md: agents by role, faults, checks by name, limit_s); "
       "`roles` maps a role to a factory, factory(name) -> an AgentBase (called again after every "
       "restart); `checks` maps a check's name to fn(run: SimRun, params) -> list of failures, called "
       "at the end. Virtual time; one seed replays a run exactly. Returns the outcome: {'passed', "
