@@ -16,6 +16,7 @@ packages=(
   chromium chromium-driver python3-selenium
   iproute2 procps python3
   pybind11-dev python3-dev python3-pytest python3-numpy python3-pytest-benchmark
+  python3-matplotlib
 )
 
 missing=()

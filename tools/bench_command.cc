@@ -1,10 +1,11 @@
-// quiver bench, quiver bench crdt, quiver bench load: their options; the runs are tools/bench's
+// quiver bench, quiver bench crdt, load and scale: their options; the runs are tools/bench's
 // (quiver_bench).
 #include <memory>
 
 #include "commands.h"
 #include "quiver/tools/bench/crdt_bench.h"
 #include "quiver/tools/bench/load_bench.h"
+#include "quiver/tools/bench/scale_bench.h"
 
 namespace quiver::tools {
 
@@ -30,6 +31,20 @@ void add_bench_commands(CLI::App& app) {
   load->add_option("--frames", l->frames)->check(CLI::Range(2, 10'000'000))->capture_default_str();
   load->add_option("--runs", l->runs)->check(CLI::Range(1, 1000))->capture_default_str();
   load->callback([l] { set_exit_code(bench::run_load_bench(*l)); });
+  auto sc = std::make_shared<bench::ScaleBench>();
+  auto* scale = bench->add_subcommand(
+      "scale",
+      "What each agent pays as agents are added: `quiver sim --agents N` for each N, bytes and "
+      "messages per op per agent (scripts/plot_scale.py draws them)");
+  scale->add_option("--agents", sc->agents, "the numbers of agents, e.g. --agents 4,8,16")
+      ->delimiter(',')
+      ->check(CLI::Range(1, 256))
+      ->capture_default_str();
+  scale->add_option("--steps", sc->steps, "workload steps per run")
+      ->check(CLI::Range(1, 10'000'000))
+      ->capture_default_str();
+  scale->add_option("--seed", sc->seed)->check(CLI::NonNegativeNumber)->capture_default_str();
+  scale->callback([sc] { set_exit_code(bench::run_scale_bench(*sc)); });
 }
 
 }  // namespace quiver::tools

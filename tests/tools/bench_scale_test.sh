@@ -1,0 +1,27 @@
+#!/bin/sh
+# quiver bench scale runs the simulator for each number of agents and prints one JSON line each,
+# with the figures scripts/plot_scale.py draws; the plot script writes a PNG and an SVG of them.
+# Usage: bench_scale_test.sh QUIVER SOURCE_DIR
+set -eu
+q=$1
+src=$2
+work=$(mktemp -d)
+trap 'rm -rf "$work"' EXIT
+fail() { echo "FAILED: $*"; exit 1; }
+"$q" bench scale --agents 2,4 --steps 100 --seed 3 > "$work/scale.jsonl" || fail "quiver bench scale exited $?"
+cat "$work/scale.jsonl"
+[ "$(grep -c '"bench":"scale"' "$work/scale.jsonl")" -eq 2 ] || fail "expected 2 JSON lines"
+for n in 2 4; do
+  line=$(grep "\"agents\":$n," "$work/scale.jsonl") || fail "no line for $n agents"
+  echo "$line" | grep -q '"converged":true' || fail "$n agents did not converge"
+  echo "$line" | grep -q '"invariant_violations":0' || fail "$n agents: invariant violations"
+  echo "$line" | grep -Eq '"bytes_per_op_per_agent":[1-9]' || fail "$n agents: no bytes per op per agent"
+done
+"$q" bench scale --agents 0 > /dev/null 2>&1 && fail "--agents 0 was accepted"
+/usr/bin/python3 "$src/scripts/plot_scale.py" "run=$work/scale.jsonl" -o "$work/scale" || fail "plot_scale.py exited $?"
+for ext in png svg; do
+  [ -s "$work/scale.$ext" ] || fail "no scale.$ext"
+done
+head -c 8 "$work/scale.png" | od -An -c | grep -q 'P   N   G' || fail "scale.png is not a PNG"
+grep -q '<svg' "$work/scale.svg" || fail "scale.svg is not an SVG"
+echo "bench_scale_test passed: 2 runs, both converged, plotted as PNG and SVG"

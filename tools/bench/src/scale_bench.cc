@@ -1,0 +1,46 @@
+// The scaling benchmark (`quiver bench scale`): bytes and messages per op per agent as N grows.
+#include "quiver/tools/bench/scale_bench.h"
+
+#include <chrono>
+#include <iostream>
+#include <nlohmann/json.hpp>
+
+#include "quiver/base/percentiles.h"
+#include "quiver/sim/simulator.h"
+#include "quiver/tools/bench/bench_util.h"
+
+namespace quiver::tools::bench {
+
+int run_scale_bench(const ScaleBench& b) {
+  int status = 0;
+  for (int n : b.agents) {
+    sim::SimConfig c;
+    c.agents = n;
+    c.steps = b.steps;
+    c.seed = b.seed;
+    const auto t0 = std::chrono::steady_clock::now();
+    const sim::SimResult r = sim::run_simulation(c);
+    const double wall_s = seconds_since(t0);
+    const double per = r.ops > 0 ? static_cast<double>(r.ops) * n : 1.0;
+    nlohmann::json j = {{"bench", "scale"},
+                        {"host", "sim"},
+                        {"agents", n},
+                        {"steps", b.steps},
+                        {"seed", b.seed},
+                        {"ops", r.ops},
+                        {"bytes", r.bytes},
+                        {"messages", r.messages},
+                        {"bytes_per_op_per_agent", round_to(static_cast<double>(r.bytes) / per, 1)},
+                        {"messages_per_op_per_agent",
+                         round_to(static_cast<double>(r.messages) / per, 3)},
+                        {"virtual_ms", r.virtual_ms},
+                        {"converged", r.converged},
+                        {"invariant_violations", r.invariant_violations},
+                        {"wall_s", round_to(wall_s, 2)}};
+    std::cout << j.dump() << std::endl;
+    if (!r.converged || r.invariant_violations != 0) status = 1;
+  }
+  return status;
+}
+
+}  // namespace quiver::tools::bench
