@@ -1,7 +1,7 @@
 #!/usr/bin/python3
 """Draws `quiver bench scale` JSON lines as log-log curves (PNG and SVG): bytes and messages per
-op per agent against the number of agents, one curve per input file (e.g. today's protocol and
-a new one, side by side).
+op per agent, and idle bytes per second per agent, against the number of agents, one curve per
+input file (e.g. today's protocol and a new one, side by side).
 
     build/quiver bench scale > scale.jsonl
     scripts/plot_scale.py scale.jsonl [LABEL=other.jsonl ...] -o docs/scale   # docs/scale.png, .svg
@@ -39,15 +39,20 @@ def main():
     ap.add_argument("inputs", nargs="+", help="FILE or LABEL=FILE (- for stdin)")
     ap.add_argument("-o", "--out", required=True, help="output path without extension")
     a = ap.parse_args()
-    fig, axes = plt.subplots(1, 2, figsize=(11, 4.5))
+    panels = [("bytes_per_op_per_agent", "bytes per op per agent"),
+              ("messages_per_op_per_agent", "messages per op per agent"),
+              ("idle_bytes_per_s_per_agent", "idle bytes per second per agent")]
+    fig, axes = plt.subplots(1, len(panels), figsize=(16, 4.5))
     for spec in a.inputs:
         label, _, path = spec.rpartition("=")
         rows = read_lines(path)
         label = label or path
-        n = [r["agents"] for r in rows]
-        axes[0].plot(n, [r["bytes_per_op_per_agent"] for r in rows], "o-", label=label)
-        axes[1].plot(n, [r["messages_per_op_per_agent"] for r in rows], "o-", label=label)
-    for ax, what in zip(axes, ["bytes per op per agent", "messages per op per agent"]):
+        for ax, (key, _) in zip(axes, panels):
+            points = [(r["agents"], r[key]) for r in rows if r.get(key, 0) > 0]
+            if points:
+                ax.plot([p[0] for p in points], [p[1] for p in points], "o-", label=label)
+    axes[2].axhline(1000, ls="--", color="grey", label="target (issue 22): 1 KB/s")
+    for ax, (_, what) in zip(axes, panels):
         ax.set_xscale("log", base=2)
         ax.set_yscale("log")
         ax.set_xlabel("agents")

@@ -44,6 +44,9 @@ void add_bench_commands(CLI::App& app) {
       ->check(CLI::Range(1, 10'000'000))
       ->capture_default_str();
   scale->add_option("--seed", sc->seed)->check(CLI::NonNegativeNumber)->capture_default_str();
+  scale->add_option("--idle", sc->idle_s, "virtual seconds of idle traffic measured after each run")
+      ->check(CLI::Range(0.05, 3600.0))
+      ->capture_default_str();
   scale->callback([sc] { set_exit_code(bench::run_scale_bench(*sc)); });
 }
 

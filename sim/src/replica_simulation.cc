@@ -82,6 +82,12 @@ SimResult Simulation::run() {
   result_.dropped = net_.stats().dropped;
   result_.retransmitted = net_.stats().retransmitted;
   result_.duplicated = net_.stats().duplicated;
+  if (cfg_.idle_ns > 0) {
+    note("idle for " + std::to_string(cfg_.idle_ns / 1'000'000) + " ms");
+    net_.run_until(net_.now() + cfg_.idle_ns);
+    result_.idle_messages = net_.stats().messages - result_.messages;
+    result_.idle_bytes = net_.stats().bytes - result_.bytes;
+  }
   check_invariants_all();
   result_.digest = agents_[0].graph->digest().hex();
   result_.final_nodes = agents_[0].graph->node_count();

@@ -16,6 +16,7 @@ for n in 2 4; do
   echo "$line" | grep -q '"converged":true' || fail "$n agents did not converge"
   echo "$line" | grep -q '"invariant_violations":0' || fail "$n agents: invariant violations"
   echo "$line" | grep -Eq '"bytes_per_op_per_agent":[1-9]' || fail "$n agents: no bytes per op per agent"
+  echo "$line" | grep -Eq '"idle_bytes_per_s_per_agent":[1-9]' || fail "$n agents: no idle traffic measured"
 done
 "$q" bench scale --agents 0 > /dev/null 2>&1 && fail "--agents 0 was accepted"
 /usr/bin/python3 "$src/scripts/plot_scale.py" "run=$work/scale.jsonl" -o "$work/scale" || fail "plot_scale.py exited $?"

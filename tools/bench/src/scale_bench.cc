@@ -18,6 +18,7 @@ int run_scale_bench(const ScaleBench& b) {
     c.agents = n;
     c.steps = b.steps;
     c.seed = b.seed;
+    c.idle_ns = static_cast<std::int64_t>(b.idle_s * 1e9);
     const auto t0 = std::chrono::steady_clock::now();
     const sim::SimResult r = sim::run_simulation(c);
     const double wall_s = seconds_since(t0);
@@ -33,6 +34,10 @@ int run_scale_bench(const ScaleBench& b) {
                         {"bytes_per_op_per_agent", round_to(static_cast<double>(r.bytes) / per, 1)},
                         {"messages_per_op_per_agent",
                          round_to(static_cast<double>(r.messages) / per, 3)},
+                        {"idle_bytes_per_s_per_agent",
+                         round_to(static_cast<double>(r.idle_bytes) / (b.idle_s * n), 1)},
+                        {"idle_messages_per_s_per_agent",
+                         round_to(static_cast<double>(r.idle_messages) / (b.idle_s * n), 2)},
                         {"virtual_ms", r.virtual_ms},
                         {"converged", r.converged},
                         {"invariant_violations", r.invariant_violations},

@@ -71,6 +71,9 @@ struct SimConfig {
   std::int64_t tick_interval_ns = 10'000'000;
   std::int64_t settle_limit_ns = 120'000'000'000;
   bool check_every_step = true;
+  /// After the run has converged: this much more virtual time with no workload, its traffic
+  /// counted apart (SimResult::idle_bytes, idle_messages) and not in `bytes` and `messages`.
+  std::int64_t idle_ns = 0;
   agents::ReplicatorOptions replicator = default_replicator();
   /// Called once at the end of the run with every replica (all up, converged or not), so a test
   /// can compare what the replicas answer (e.g. transform lookups).
@@ -97,6 +100,9 @@ struct SimResult {
   std::uint64_t messages = 0;  ///< samples handed to the network, per destination
   /// Their CDR bytes: what DDS would carry as sample payloads (agents/transport/wire).
   std::uint64_t bytes = 0;
+  /// What the replicas sent in the idle time after the run (SimConfig::idle_ns): heartbeats and
+  /// summaries only, with nothing to replicate.
+  std::uint64_t idle_messages = 0, idle_bytes = 0;
   std::uint64_t dropped = 0;
   std::uint64_t retransmitted = 0;  ///< reliable samples whose packet was lost and sent again
   std::uint64_t duplicated = 0;
