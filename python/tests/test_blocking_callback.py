@@ -13,6 +13,28 @@ import quiver
 
 PYTHON = "/usr/bin/python3" if os.path.exists("/usr/bin/python3") else sys.executable
 
+# The agent both scripts run: its action Say (defined by each script) on every utterance.
+SPEECH_AGENT = textwrap.dedent("""
+    class Speech(quiver.AgentBase):
+        def __init__(self):
+            super().__init__("speech")
+
+        def setup(self, ctx):
+            self.add_action(Say(), node_types=["utterance"])
+
+    quiver.run_agent(Speech(), domain=int(sys.argv[1]), dds_config="loopback", join_wait=0.5)
+""")
+
+
+def start_speech(tmp_path, text, domain):
+    """Runs the script `text` as the speech agent's process on `domain`; stdout, stderr piped."""
+    script = tmp_path / "speech.py"
+    script.write_text(text)
+    env = dict(os.environ)
+    env["PYTHONPATH"] = os.pathsep.join(p for p in [os.path.dirname(quiver.__file__), env.get("PYTHONPATH", "")] if p)
+    return subprocess.Popen([PYTHON, str(script), str(domain)], env=env, stdout=subprocess.PIPE,
+                            stderr=subprocess.PIPE, text=True)
+
 SPEECH = textwrap.dedent("""
     import sys, time
     import quiver
@@ -47,27 +69,14 @@ SPEECH = textwrap.dedent("""
         def cancel(self, ctx, m, reason):
             ctx.log("cancelled: " + reason.name)
 
-    class Speech(quiver.AgentBase):
-        def __init__(self):
-            super().__init__("speech")
-
-        def setup(self, ctx):
-            self.add_action(Say(), node_types=["utterance"])
-
-    quiver.run_agent(Speech(), domain=int(sys.argv[1]), dds_config="loopback", join_wait=0.5)
-""")
+""") + SPEECH_AGENT
 
 
 def test_a_blocking_process_keeps_its_agent_alive_and_its_lock(tmp_path):
     domain = 121
-    script = tmp_path / "speech.py"
-    script.write_text(SPEECH)
-    env = dict(os.environ)
-    env["PYTHONPATH"] = os.pathsep.join(p for p in [os.path.dirname(quiver.__file__), env.get("PYTHONPATH", "")] if p)
     with quiver.Agent("watcher", domain=domain) as obs:
         obs.write(lambda t: t.create_node("person", "person"))
-        proc = subprocess.Popen([PYTHON, str(script), str(domain)], env=env, stdout=subprocess.PIPE,
-                                stderr=subprocess.PIPE, text=True)
+        proc = start_speech(tmp_path, SPEECH, domain)
         try:
             assert obs.wait_until(lambda g: "speech" in obs.peers(), timeout=20), "speech never joined"
             time.sleep(0.5)
@@ -141,26 +150,13 @@ SPEECH_WITH_A_JOB = textwrap.dedent("""
         def cancel(self, ctx, m, reason):
             pass
 
-    class Speech(quiver.AgentBase):
-        def __init__(self):
-            super().__init__("speech")
-
-        def setup(self, ctx):
-            self.add_action(Say(), node_types=["utterance"])
-
-    quiver.run_agent(Speech(), domain=int(sys.argv[1]), dds_config="loopback", join_wait=0.5)
-""")
+""") + SPEECH_AGENT
 
 
 def test_work_in_a_job_leaves_the_agents_loop_running(tmp_path):
     domain = 122
-    script = tmp_path / "speech.py"
-    script.write_text(SPEECH_WITH_A_JOB)
-    env = dict(os.environ)
-    env["PYTHONPATH"] = os.pathsep.join(p for p in [os.path.dirname(quiver.__file__), env.get("PYTHONPATH", "")] if p)
     with quiver.Agent("watcher", domain=domain) as obs:
-        proc = subprocess.Popen([PYTHON, str(script), str(domain)], env=env, stdout=subprocess.PIPE,
-                                stderr=subprocess.PIPE, text=True)
+        proc = start_speech(tmp_path, SPEECH_WITH_A_JOB, domain)
         try:
             assert obs.wait_until(lambda g: "speech" in obs.peers(), timeout=20), "speech never joined"
             time.sleep(0.5)

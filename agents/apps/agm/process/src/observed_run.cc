@@ -5,21 +5,16 @@
 
 #include "quiver/agents/apps/agm/agm_schema.h"
 #include "quiver/agents/runtime/process/logging.h"
+#include "quiver/agents/runtime/process/observer_replica.h"
 
 namespace quiver::agents::inline apps::agm {
 namespace internal {
 
 std::unique_ptr<ObservedRun> ObservedRun::open(const AgmDdsRun& r, const char* prefix) {
-  DdsReplicaOptions o;
-  o.name = "agm-observer";
-  o.observer = true;
-  auto created = r.observer(o);
-  if (!created.ok()) {
-    named_logger("quiver scenario")->error("{}", created.error().to_string());
-    return nullptr;
-  }
+  auto replica = open_observer_replica(r.observer, "agm-observer", "quiver scenario");
+  if (!replica) return nullptr;
   auto run = std::make_unique<ObservedRun>();
-  run->replica_ = std::move(*created);
+  run->replica_ = std::move(replica);
   run->options_ = r.processes;
   run->options_.out = out_dir(r.processes.out, prefix);
   run->t_start_ = monotonic_ns();

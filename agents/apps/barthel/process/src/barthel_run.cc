@@ -12,6 +12,7 @@
 #include "quiver/agents/apps/barthel/transcript.h"
 #include "quiver/agents/devices/json_result_store.h"
 #include "quiver/agents/runtime/process/logging.h"
+#include "quiver/agents/runtime/process/observer_replica.h"
 
 namespace quiver::agents::inline apps::barthel {
 namespace {
@@ -81,15 +82,9 @@ int run_barthel_over_dds(const BarthelDdsRun& r) {
   BarthelProcesses procs(po);  // makes `out`
   std::ofstream(po.script_path) << script.to_json().dump(1) << "\n";
 
-  DdsReplicaOptions o;
-  o.name = "transcript";
-  o.observer = true;
-  auto created = r.observer(o);
-  if (!created.ok()) {
-    log->error("{}", created.error().to_string());
-    return 2;
-  }
-  DdsReplica& obs = **created;
+  auto observer = open_observer_replica(r.observer, "transcript", "quiver scenario");
+  if (!observer) return 2;
+  DdsReplica& obs = *observer;
   const auto t0 = std::chrono::steady_clock::now();
   auto elapsed = [&] {
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();

@@ -18,6 +18,7 @@
 #include "quiver/agents/apps/barthel/barthel_schema.h"
 #include "quiver/agents/apps/barthel/process/barthel_runs.h"
 #include "quiver/agents/runtime/process/logging.h"
+#include "quiver/agents/runtime/process/observer_replica.h"
 #include "quiver/base/percentiles.h"
 
 namespace quiver::agents::inline apps::barthel {
@@ -56,14 +57,8 @@ std::vector<double> one_run(const ReactionBench& f, int run, std::string& dir) {
   const std::string script_path = dir + "/patient.json";
   std::ofstream(script_path) << restless_patient(f).to_json().dump(1) << "\n";
 
-  DdsReplicaOptions o;
-  o.name = "reaction-observer";
-  o.observer = true;
-  auto obs = f.observer(o);
-  if (!obs.ok()) {
-    named_logger("quiver bench reaction")->error("{}", obs.error().to_string());
-    return {};
-  }
+  auto obs = open_observer_replica(f.observer, "reaction-observer", "quiver bench reaction");
+  if (!obs) return {};
   BarthelProcessOptions po = f.processes;
   po.out = dir;
   po.script_path = script_path;
@@ -75,12 +70,12 @@ std::vector<double> one_run(const ReactionBench& f, int run, std::string& dir) {
 
   // Watch the losses Person commits until the patient has left `leaves` times and come back.
   std::set<std::int64_t> losses;
-  const graph::Graph& g = (*obs)->graph();
+  const graph::Graph& g = obs->graph();
   const auto t0 = std::chrono::steady_clock::now();
   const double limit_s = 30 + f.leaves * 6.0;
   std::int64_t done_at = -1;
   for (;;) {
-    (*obs)->spin_once(20'000'000);
+    obs->spin_once(20'000'000);
     const graph::NodeId person = node_id(g, node::kPerson);
     if (const std::int64_t lost = attr_int(g, person, "lost_ns", 0); lost > 0) losses.insert(lost);
     const double t = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
