@@ -38,8 +38,13 @@ void add_bench_commands(CLI::App& app) {
       "messages per op per agent (scripts/plot_scale.py draws them)");
   scale->add_option("--agents", sc->agents, "the numbers of agents, e.g. --agents 4,8,16")
       ->delimiter(',')
-      ->check(CLI::Range(1, 256))
+      ->check(CLI::Range(1, 1000))
       ->capture_default_str();
+  scale->add_option("--protocol", sc->protocol,
+                    "gossip (the default) or all-to-all (the protocol before issue 22, for the curve beside)")
+      ->check(CLI::IsMember({"gossip", "all-to-all"}))
+      ->capture_default_str();
+  scale->add_flag("--no-heal", sc->skip_heal, "skip the second run of each N (a partition until the end, then the heal)");
   scale->add_option("--steps", sc->steps, "workload steps per run")
       ->check(CLI::Range(1, 10'000'000))
       ->capture_default_str();

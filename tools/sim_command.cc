@@ -17,7 +17,7 @@ namespace quiver::tools {
 void add_sim_command(CLI::App& app) {
   auto cfg = std::make_shared<sim::SimConfig>();
   auto* cmd = app.add_subcommand("sim", "Run many replicas in one process on a seeded virtual network with faults");
-  cmd->add_option("--agents", cfg->agents, "number of agents (replicas)")->check(CLI::Range(1, 256))->capture_default_str();
+  cmd->add_option("--agents", cfg->agents, "number of agents (replicas)")->check(CLI::Range(1, 1000))->capture_default_str();
   cmd->add_option("--steps", cfg->steps, "workload transactions")->check(CLI::Range(0, 10'000'000))->capture_default_str();
   cmd->add_option("--seed", cfg->seed, "seed: a seed replays exactly")
       ->check(CLI::NonNegativeNumber)
@@ -29,6 +29,14 @@ void add_sim_command(CLI::App& app) {
   cmd->add_flag("--crashes", cfg->faults.crashes, "kill agents (state lost) and restart them");
   cmd->add_flag("--locks", cfg->locks.enabled, "agents also compete for priority locks on a few scopes");
   cmd->add_flag("--rooms", cfg->rooms.enabled, "agents move a robot between rooms under a grammar (violations repaired)");
+  auto protocol = std::make_shared<std::string>("gossip");
+  cmd->add_option("--protocol", *protocol,
+                  "membership and anti-entropy: gossip (constant-size beats to one peer per period) or all-to-all "
+                  "(every replica's whole (origin, seq) set to every peer each heartbeat: the protocol before issue 22)")
+      ->check(CLI::IsMember({"gossip", "all-to-all"}))
+      ->capture_default_str();
+  cmd->add_flag("--split", cfg->split_until_end,
+                "split the agents into two halves from a fifth of the workload to its end (settle_ms: converging after the heal)");
   auto verbose = std::make_shared<bool>(false);
   cmd->add_flag("-v,--verbose", *verbose, "narrate faults and phases on stderr");
   auto scenario = std::make_shared<std::string>();
@@ -48,7 +56,8 @@ void add_sim_command(CLI::App& app) {
                   "with --agm: clean-table (the planner agent plans, navigation and grasping follow its plan: both mugs "
                   "from the table to the kitchen)")
       ->check(CLI::IsMember({"", "clean-table"}));
-  cmd->callback([cfg, verbose, scenario, schedules, agm, mission] {
+  cmd->callback([cfg, verbose, scenario, schedules, agm, mission, protocol] {
+    cfg->replicator.gossip = *protocol == "gossip";
     auto log = agents::named_logger("quiver sim");
     auto narrate = [log](std::int64_t t, const std::string& line) { log->info("[{:8.3f} s] {}", static_cast<double>(t) / 1e9, line); };
     if (*agm) {

@@ -53,6 +53,8 @@ void VirtualNetwork::transmit(int from, int to, std::shared_ptr<const agents::Cd
   auto one = [&](int d) {
     ++stats_.messages;
     stats_.bytes += sample->bytes.size();
+    ++stats_.topic_messages[static_cast<std::size_t>(sample->topic)];
+    stats_.topic_bytes[static_cast<std::size_t>(sample->topic)] += sample->bytes.size();
     if (!nodes_[d].up || nodes_[d].group != nodes_[from].group) {
       ++stats_.dropped;
       return;

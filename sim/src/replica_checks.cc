@@ -45,6 +45,7 @@ void Simulation::check_invariants_all() {
 
 bool Simulation::converged() {
   const Agent& first = agents_[0];
+  if (!first.up) return false;  // a host down (fail-stopped) has no graph to compare
   Digest128 d = first.graph->digest();
   for (const auto& a : agents_) {
     if (!a.up) return false;

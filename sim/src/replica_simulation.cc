@@ -47,6 +47,12 @@ SimResult Simulation::run() {
   if (cfg_.rooms.enabled) create_rooms();
   for (int s = 0; s < cfg_.steps; ++s) net_.at((s + 1) * cfg_.step_interval_ns, [this] { step(); });
   plan_faults(work_end);
+  if (cfg_.split_until_end && cfg_.agents >= 2)
+    net_.at(work_end / 5, [this] {
+      note("split into two halves (even and odd agents) until the workload ends");
+      ++result_.partitions;
+      for (int i = 0; i < cfg_.agents; ++i) net_.set_group(i, i % 2);
+    });
   if (cfg_.disks.enabled) plan_disk_faults(work_end);
   // Workload and faults.
   net_.run_until(work_end + cfg_.step_interval_ns);
@@ -82,6 +88,21 @@ SimResult Simulation::run() {
   result_.dropped = net_.stats().dropped;
   result_.retransmitted = net_.stats().retransmitted;
   result_.duplicated = net_.stats().duplicated;
+  for (std::size_t k = 0; k < agents::kDdsTopicCount; ++k) {
+    static constexpr const char* kKinds[] = {"summary", "delta", "pull", "state", "bye"};
+    result_.by_kind[kKinds[k]] = {net_.stats().topic_messages[k], net_.stats().topic_bytes[k]};
+  }
+  {
+    std::size_t total = 0, n = 0;
+    for (const auto& a : agents_)
+      if (a.up && a.replicator) {
+        const std::size_t b = a.replicator->protocol_bytes();
+        result_.protocol_bytes_max = std::max(result_.protocol_bytes_max, b);
+        total += b;
+        ++n;
+      }
+    result_.protocol_bytes_mean = n ? total / n : 0;
+  }
   if (cfg_.idle_ns > 0) {
     note("idle for " + std::to_string(cfg_.idle_ns / 1'000'000) + " ms");
     net_.run_until(net_.now() + cfg_.idle_ns);

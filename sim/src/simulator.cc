@@ -19,6 +19,10 @@ agents::ReplicatorOptions SimConfig::default_replicator() {
   o.gap_grace_ns = 40'000'000;
   o.buffer_bytes = 24u << 10;
   o.chunk_bytes = 2u << 10;
+  // Gossip membership is off here (the library's default) and on in `quiver sim` and `quiver
+  // bench scale`; its periods are scaled for simulated time like the rest.
+  o.probe_ns = 300'000'000;
+  o.rediscover_ns = 2'000'000'000;
   return o;
 }
 
@@ -34,6 +38,12 @@ std::string SimResult::to_json() const {
   j["digest"] = digest;
   j["messages"] = messages;
   j["bytes"] = bytes;
+  for (const auto& [kind, mb] : by_kind)
+    if (mb.first > 0) j["by_kind"][kind] = {{"messages", mb.first}, {"bytes", mb.second}};
+  if (protocol_bytes_max > 0) {
+    j["protocol_bytes_max"] = protocol_bytes_max;
+    j["protocol_bytes_mean"] = protocol_bytes_mean;
+  }
   j["dropped"] = dropped;
   j["retransmitted"] = retransmitted;
   j["duplicated"] = duplicated;

@@ -19,6 +19,7 @@ int run_scale_bench(const ScaleBench& b) {
     c.steps = b.steps;
     c.seed = b.seed;
     c.idle_ns = static_cast<std::int64_t>(b.idle_s * 1e9);
+    c.replicator.gossip = b.protocol == "gossip";
     const auto t0 = std::chrono::steady_clock::now();
     const sim::SimResult r = sim::run_simulation(c);
     const double wall_s = seconds_since(t0);
@@ -39,9 +40,27 @@ int run_scale_bench(const ScaleBench& b) {
                         {"idle_messages_per_s_per_agent",
                          round_to(static_cast<double>(r.idle_messages) / (b.idle_s * n), 2)},
                         {"virtual_ms", r.virtual_ms},
+                        {"protocol", b.protocol},
+                        {"delta_bytes_per_op_per_receiver",
+                         round_to(static_cast<double>(r.by_kind.at("delta").second) /
+                                      (static_cast<double>(std::max<std::uint64_t>(1, r.ops)) * std::max(1, n - 1)),
+                                  1)},
+                        {"protocol_bytes_max", r.protocol_bytes_max},
+                        {"protocol_bytes_mean", r.protocol_bytes_mean},
                         {"converged", r.converged},
                         {"invariant_violations", r.invariant_violations},
                         {"wall_s", round_to(wall_s, 2)}};
+    for (const auto& [kind, mb] : r.by_kind)
+      if (mb.first > 0) j["by_kind"][kind] = {{"messages", mb.first}, {"bytes", mb.second}};
+    if (!b.skip_heal) {
+      sim::SimConfig h = c;
+      h.idle_ns = 0;
+      h.split_until_end = true;
+      const sim::SimResult hr = sim::run_simulation(h);
+      j["heal_ms"] = hr.settle_ms;
+      j["heal_converged"] = hr.converged;
+      if (!hr.converged || hr.invariant_violations != 0) status = 1;
+    }
     std::cout << j.dump() << std::endl;
     if (!r.converged || r.invariant_violations != 0) status = 1;
   }

@@ -95,6 +95,8 @@ void Replicator::publish(std::vector<std::uint8_t> bytes, std::uint64_t lo, std:
     if (auto sig = admission_->sign(*shared); !sig.empty())
       signature = std::make_shared<const std::vector<std::uint8_t>>(std::move(sig));
   applied_.add_range(self_, lo, hi);
+  ++state_version_;
+  applied_changed_ns_ = now_;
   record(self_, lo, hi, digest_of(*shared));
   remember(self_, lo, hi, shared, signature);
   ++stats_.deltas_published;
@@ -154,8 +156,11 @@ void Replicator::on_sample(const Sample& s, std::int64_t now_ns) {
   std::visit([&](const auto& msg) { handle(s.from, msg); }, s.message);
   if (announce_soon_) {
     announce_soon_ = false;
-    send_summary();
+    if (!opt_.gossip) send_summary();
   }
+  // Gossip: the origins of claims this sample brought are told at once that we hold them.
+  for (const PeerId& o : ack_to_) send_beat(Beat::kAck, o);
+  ack_to_.clear();
   send_queued();
 }
 

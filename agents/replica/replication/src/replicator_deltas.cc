@@ -51,6 +51,11 @@ Status Replicator::decode_delta(const PeerId& from, const DeltaMsg& m) {
 void Replicator::apply_delta(const PeerId& from, const DeltaMsg& m, std::uint64_t digest) {
   g_.merge(scratch_);
   ++state_version_;
+  applied_changed_ns_ = now_;
+  // A subscriber (a lock manager seeing a claim) asked for an acknowledgement: with gossip it
+  // goes to the claim's origin only.
+  if (announce_soon_ && opt_.gossip && std::find(ack_to_.begin(), ack_to_.end(), m.origin) == ack_to_.end())
+    ack_to_.push_back(m.origin);
   applied_.add_range(m.origin, m.lo, m.hi);
   if (journal_ != nullptr) journal_->remote(m.origin, m.lo, m.hi, *m.payload);
   record(m.origin, m.lo, m.hi, digest);
@@ -90,6 +95,7 @@ bool Replicator::admitted(const PeerId& from, const DeltaMsg& m, std::uint64_t d
   Status s = admission_verdict(from, m);
   if (s.ok()) return true;
   applied_.add_range(m.origin, m.lo, m.hi);
+  ++state_version_;
   record(m.origin, m.lo, m.hi, digest);
   remember(m.origin, m.lo, m.hi, m.payload, m.signature);
   queue(PeerId{}, DeltaMsg{m.origin, m.lo, m.hi, m.payload, m.signature});
@@ -183,6 +189,7 @@ void Replicator::skip_own_numbers_to(std::uint64_t hi) {
   if (hi <= seq_) return;
   flush();
   applied_.add_range(self_, seq_ + 1, hi);
+  ++state_version_;
   if (journal_ != nullptr) journal_->skipped(seq_ + 1, hi);
   seq_ = hi;
 }

@@ -33,7 +33,8 @@ Replicator::Peer* Replicator::heard_from(const PeerId& from) {
   Peer& p = it->second;
   if (p.said_bye) return nullptr;  // a late message of an incarnation that left cleanly
   p.info.last_heard_ns = now_;
-  if (!p.info.alive) {
+  // Gossip: a peer declared gone comes back only when it refutes (a higher life, handle_gossip()).
+  if (!p.info.alive && !(opt_.gossip && p.status == Liveness::kDead)) {
     p.info.alive = true;
     // A new incarnation of an agent means the old one is gone.
     for (auto& [id, other] : peers_)
@@ -80,14 +81,27 @@ bool Replicator::peer_alive(const PeerId& peer) const {
 }
 
 bool Replicator::all_peers_hold(const PeerId& origin, std::uint64_t lo, std::uint64_t hi) const {
-  for (const auto& [id, p] : peers_)
-    if (p.info.alive && !p.applied.includes(origin, lo, hi)) return false;
+  for (const auto& [id, p] : peers_) {
+    if (!p.info.alive) continue;
+    // Gossip: a peer acknowledges this replica's own numbers (your_seq), and holds others' when
+    // its reported set is ours or it told us its whole set.
+    const bool holds = !opt_.gossip ? p.applied.includes(origin, lo, hi)
+                       : origin == self_ && p.your_seq >= hi
+                           ? true
+                           : (p.report_ns >= 0 && p.hash == set_hash() && applied_.includes(origin, lo, hi)) ||
+                                 (p.full && p.applied.includes(origin, lo, hi));
+    if (!holds) return false;
+  }
   return true;
 }
 
 bool Replicator::peers_hold_all() const {
-  for (const auto& [id, p] : peers_)
-    if (counts(p) && !p.info.observer && !p.applied.includes(applied_)) return false;
+  for (const auto& [id, p] : peers_) {
+    if (!counts(p) || p.info.observer) continue;
+    const bool holds = opt_.gossip ? (p.report_ns >= 0 && p.hash == set_hash()) || p.covered == set_hash()
+                                   : p.applied.includes(applied_);
+    if (!holds) return false;
+  }
   return true;
 }
 
@@ -101,7 +115,7 @@ bool Replicator::synced() const {
     any = true;
     if (behind(p)) return false;
   }
-  return any && !state_.active;
+  return any && !state_.active && !(opt_.gossip && pulling_);
 }
 
 void Replicator::handle(const PeerId& from, const ByeMsg&) {

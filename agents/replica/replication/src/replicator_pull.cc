@@ -21,11 +21,25 @@ void Replicator::pull_from(const PeerId& target, bool whole_state) {
 }
 
 void Replicator::handle(const PeerId& from, const PullMsg& m) {
+  if (opt_.gossip) {
+    // The puller's whole set came with it: what it holds that we lack is pulled back, and its
+    // pull ends with a fresh report of ours (after the answer).
+    crdt::CausalContext theirs = to_context(m.applied);
+    Peer& p = peers_[from];
+    if (!applied_.includes(theirs) && peer_ranges_ + theirs.range_count() <= opt_.max_peer_ranges) {
+      peer_ranges_ = peer_ranges_ - p.applied.range_count() + theirs.range_count();
+      p.applied = std::move(theirs);
+      p.full = true;
+      p.full_hash = 0;
+      if (!pulling_ && counts(p)) mismatched_.try_emplace(from, now_ - opt_.gap_grace_ns);
+    }
+  }
   if (m.whole_state || m.as_state) return answer_with_state(from, m);
   crdt::CausalContext missing = applied_.minus(to_context(m.applied));
   if (missing.empty()) {
     // Nothing to give: a summary tells the puller so, and it moves on.
-    send_summary();
+    if (opt_.gossip) send_beat(Beat::kAck, from);
+    else send_summary();
     return;
   }
   // Can the relay buffer cover every missing (origin, seq)?
@@ -62,6 +76,7 @@ void Replicator::handle(const PeerId& from, const PullMsg& m) {
       queue(from, DeltaMsg{e->origin, e->lo, e->hi, e->bytes, e->signature});
       ++stats_.deltas_relayed;
     }
+    if (opt_.gossip) send_beat(Beat::kAck, from);
     return;
   }
   answer_with_state(from, m);
@@ -145,6 +160,7 @@ void Replicator::handle(const PeerId& from, const StateMsg& m) {
     }
   g_.merge(scratch_);
   ++state_version_;
+  applied_changed_ns_ = now_;
   applied_.join(applied);
   if (journal_ != nullptr) journal_->state(all, applied);
   // A state may carry deltas forged under our name: our next numbers go beyond them.

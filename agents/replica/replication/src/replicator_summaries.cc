@@ -53,6 +53,7 @@ void Replicator::check_digest(const PeerId& from, Peer& p, std::uint64_t digest)
 
 void Replicator::handle(const PeerId& from, const SummaryMsg& m) {
   Peer& p = peers_[from];
+  if (opt_.gossip) return handle_gossip(from, p, m);
   crdt::CausalContext applied = to_context(m.applied);
   const std::size_t total = peer_ranges_ - p.applied.range_count() + applied.range_count();
   if (total > opt_.max_peer_ranges)

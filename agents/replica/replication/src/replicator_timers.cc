@@ -9,23 +9,35 @@ namespace quiver::agents::inline replica {
 
 void Replicator::restore(const crdt::CausalContext& applied) {
   applied_.join(applied);
+  ++state_version_;
   seq_ = std::max(seq_, applied_.max_counter(self_));
 }
 
 void Replicator::start(std::int64_t now_ns) {
   now_ = now_ns;
   started_ = true;
+  started_ns_ = now_ns;
   next_heartbeat_ = now_ns + opt_.heartbeat_ns;
-  send_summary();
+  if (opt_.gossip) {
+    rng_ = (self_.agent ^ (self_.incarnation * 0x9e3779b97f4a7c15ULL)) | 1;
+    // Probes start at a point of the period that depends on the replica, so they do not bunch.
+    next_rediscover_ns_ = now_ns + opt_.rediscover_ns;
+    next_probe_ns_ = now_ns + static_cast<std::int64_t>(rng_ % static_cast<std::uint64_t>(std::max<std::int64_t>(1, opt_.probe_ns)));
+    send_beat(Beat::kHello, PeerId{});
+  } else {
+    send_summary();
+  }
   send_queued();
 }
 
 void Replicator::announce() {
-  send_summary();
+  if (opt_.gossip) send_beat(Beat::kHello, PeerId{});
+  else send_summary();
   send_queued();
 }
 
 void Replicator::leave() {
+  offering_ = false;
   flush();
   queue(PeerId{}, ByeMsg{});
   send_queued();
@@ -63,7 +75,7 @@ void Replicator::tick(std::int64_t now_ns) {
       }
     }
   }
-  for (auto it = peers_.begin(); it != peers_.end();) {
+  for (auto it = peers_.begin(); it != peers_.end() && !opt_.gossip;) {
     Peer& p = it->second;
     if (p.info.alive && now_ - p.info.last_heard_ns > opt_.lease_ns) mark_left(p);
     // Forget peers gone for long (bounded memory); a clean goodbye is kept as long, so that
@@ -76,6 +88,11 @@ void Replicator::tick(std::int64_t now_ns) {
     }
   }
   if (state_.active && now_ - state_.started_ns > 4 * opt_.pull_timeout_ns) state_ = Reassembly{};
+  if (opt_.gossip) {
+    gossip_tick();
+    send_queued();
+    return;
+  }
   const bool may_pull = opt_.sample_ns == 0 || now_ >= next_sample_;
   if (!pulling_ && may_pull) {
     const PeerId* pick = nullptr;

@@ -41,6 +41,22 @@ Status check(const SummaryMsg& m, const SampleLimits& lim) {
     return make_error(ErrorCode::kTooLarge, "the agent name is " + num(m.name.size()) + " bytes (the limit is " +
                                                 num(lim.max_name_bytes) + ")");
   if (!graph::valid_utf8(m.name)) return make_error(ErrorCode::kMalformed, "the agent name is not UTF-8");
+  if (static_cast<std::uint8_t>(m.beat) >= kBeatCount)
+    return make_error(ErrorCode::kMalformed, "its beat is " + num(static_cast<std::uint8_t>(m.beat)) + " (known: 0 to " +
+                                                 num(kBeatCount - 1) + ")");
+  if (m.beat != Beat::kFull && !m.applied.empty())
+    return make_error(ErrorCode::kMalformed, "a beat that is not a full summary carries an applied set");
+  if (m.beat == Beat::kPingReq && m.subject.is_null())
+    return make_error(ErrorCode::kMalformed, "a ping request names no replica to probe");
+  if (m.rumors.size() > lim.max_rumors)
+    return make_error(ErrorCode::kTooLarge, "it carries " + num(m.rumors.size()) + " rumors (the limit is " +
+                                                num(lim.max_rumors) + ")");
+  for (const Rumor& r : m.rumors) {
+    if (r.peer.is_null()) return make_error(ErrorCode::kMalformed, "a rumor names the null replica");
+    if (static_cast<std::uint8_t>(r.status) > 2)
+      return make_error(ErrorCode::kMalformed, "a rumor about " + r.peer.to_string() + " has the status " +
+                                                   num(static_cast<std::uint8_t>(r.status)) + " (known: 0 to 2)");
+  }
   return ranges(m.applied, "its applied set", lim);
 }
 

@@ -207,6 +207,8 @@ Status LockManager::acquire(NodeId root, std::int64_t priority) {
     return s;
   }
   mine_[root].seq = rep_ ? rep_->last_seq() : 0;
+  // Gossip membership acknowledges only on demand: ask the peers that have not.
+  if (rep_) rep_->want_acks(mine_[root].seq);
   scopes_dirty_ = true;
   return {};
 }

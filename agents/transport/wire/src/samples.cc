@@ -47,8 +47,20 @@ Sample sample_of(const quiver_wire_Summary& s) {
   m.name = s.name ? s.name : "";
   m.observer = s.observer;
   m.digest = s.digest;
+  m.beat = static_cast<Beat>(s.beat);  // validate() refuses a beat out of range
+  m.life = s.life;
+  m.set_hash = s.set_hash;
+  m.count = s.count;
+  m.your_seq = s.your_seq;
+  m.covered = s.covered;
+  m.subject = from_wire(s.subject);
   read_ranges(s.applied, m.applied);
-  return Sample{PeerId{s.sender_agent, s.sender_incarnation}, PeerId{}, std::move(m)};
+  m.rumors.reserve(s.rumors._length);
+  for (std::uint32_t i = 0; i < s.rumors._length; ++i) {
+    const auto& r = s.rumors._buffer[i];
+    m.rumors.push_back(Rumor{from_wire(r.peer), r.life, static_cast<Liveness>(r.status)});
+  }
+  return Sample{PeerId{s.sender_agent, s.sender_incarnation}, from_wire(s.destination), std::move(m)};
 }
 
 Sample sample_of(const quiver_wire_Delta& s) {
@@ -131,6 +143,20 @@ std::pair<DdsTopic, const void*> SampleBuilder::build(const Message& m, const Pe
           summary_.observer = msg.observer;
           summary_.applied = a_.build(msg.applied);
           summary_.digest = msg.digest;
+          summary_.destination = to;
+          summary_.beat = static_cast<std::uint8_t>(msg.beat);
+          summary_.life = msg.life;
+          summary_.set_hash = msg.set_hash;
+          summary_.count = msg.count;
+          summary_.your_seq = msg.your_seq;
+          summary_.covered = msg.covered;
+          summary_.subject = to_wire(msg.subject);
+          rumors_.clear();
+          for (const Rumor& r : msg.rumors)
+            rumors_.push_back(quiver_wire_Rumor{to_wire(r.peer), r.life, static_cast<std::uint8_t>(r.status)});
+          summary_.rumors._length = summary_.rumors._maximum = static_cast<std::uint32_t>(rumors_.size());
+          summary_.rumors._buffer = rumors_.data();
+          summary_.rumors._release = false;
           return {DdsTopic::kSummary, &summary_};
         } else if constexpr (std::is_same_v<T, DeltaMsg>) {
           delta_ = quiver_wire_Delta{from, to, to_wire(msg.origin), msg.lo, msg.hi, octets(*msg.payload),

@@ -46,6 +46,7 @@ class SampleBuilder {
     dds_sequence_quiver_wire_ReplicaRanges build(const RangeList& r);
   };
   Ranges a_, b_;
+  std::vector<quiver_wire_Rumor> rumors_;
   quiver_wire_Summary summary_{};
   quiver_wire_Delta delta_{};
   quiver_wire_Pull pull_{};

@@ -7,6 +7,7 @@
 /// hear each other) and nodes that are down. Deterministic: every draw comes from the one Rng it
 /// is given, and events at equal times run in the order they were scheduled.
 
+#include <array>
 #include <cstdint>
 #include <functional>
 #include <memory>
@@ -41,6 +42,8 @@ struct NetworkStats {
   std::uint64_t dropped = 0;        ///< packets lost: to loss, to a partition or to a host down
   std::uint64_t retransmitted = 0;  ///< of those, reliable samples sent again (they arrive late)
   std::uint64_t duplicated = 0;
+  /// messages and bytes by topic (agents::DdsTopic order: summary, delta, pull, state, bye)
+  std::array<std::uint64_t, agents::kDdsTopicCount> topic_messages{}, topic_bytes{};
 };
 
 class VirtualNetwork {

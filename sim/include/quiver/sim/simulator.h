@@ -12,6 +12,7 @@
 
 #include <cstdint>
 #include <functional>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -74,6 +75,10 @@ struct SimConfig {
   /// After the run has converged: this much more virtual time with no workload, its traffic
   /// counted apart (SimResult::idle_bytes, idle_messages) and not in `bytes` and `messages`.
   std::int64_t idle_ns = 0;
+  /// A partition into two halves (agents of even and odd index) from a fifth of the workload to
+  /// its end, healed with the other faults: `settle_ms` is then the time to converge after it
+  /// heals (`quiver bench scale`).
+  bool split_until_end = false;
   agents::ReplicatorOptions replicator = default_replicator();
   /// Called once at the end of the run with every replica (all up, converged or not), so a test
   /// can compare what the replicas answer (e.g. transform lookups).
@@ -103,6 +108,10 @@ struct SimResult {
   /// What the replicas sent in the idle time after the run (SimConfig::idle_ns): heartbeats and
   /// summaries only, with nothing to replicate.
   std::uint64_t idle_messages = 0, idle_bytes = 0;
+  /// `messages` and `bytes` by message kind ("summary", "delta", "pull", "state", "bye").
+  std::map<std::string, std::pair<std::uint64_t, std::uint64_t>> by_kind;
+  /// Replicator::protocol_bytes() at the end: the largest of any replica, and the mean.
+  std::size_t protocol_bytes_max = 0, protocol_bytes_mean = 0;
   std::uint64_t dropped = 0;
   std::uint64_t retransmitted = 0;  ///< reliable samples whose packet was lost and sent again
   std::uint64_t duplicated = 0;

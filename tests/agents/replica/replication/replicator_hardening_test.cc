@@ -230,6 +230,39 @@ TEST(ReplicatorHardeningTest, HugeAndUnrequestedStateChunksAreRefused) {
   EXPECT_TRUE(has_error(net.nodes[a], ErrorCode::kMalformed, "chunk 7 of 3"));
 }
 
+// Gossip beats (issue 22) that cannot mean anything are refused whole, naming the field.
+TEST(ReplicatorHardeningTest, MalformedGossipBeatsAreRefused) {
+  Net net;
+  int a = net.add(1);
+  SummaryMsg bad_beat{"rogue", false, {}};
+  bad_beat.beat = static_cast<Beat>(9);
+  SummaryMsg ranges_in_ping{"rogue", false, {Range{kRogue, 1, 2}}};
+  ranges_in_ping.beat = Beat::kPing;
+  SummaryMsg req_without_subject{"rogue", false, {}};
+  req_without_subject.beat = Beat::kPingReq;
+  SummaryMsg null_rumor{"rogue", false, {}};
+  null_rumor.beat = Beat::kPing;
+  null_rumor.rumors = {Rumor{PeerId{}, 1, Liveness::kDead}};
+  SummaryMsg bad_status{"rogue", false, {}};
+  bad_status.beat = Beat::kAck;
+  bad_status.rumors = {Rumor{PeerId{3, 1}, 1, static_cast<Liveness>(7)}};
+  SummaryMsg many{"rogue", false, {}};
+  many.beat = Beat::kPing;
+  many.rumors.assign(SampleLimits{}.max_rumors + 1, Rumor{PeerId{3, 1}, 1, Liveness::kAlive});
+  const std::pair<SummaryMsg, const char*> cases[] = {{bad_beat, "its beat is 9"},
+                                                      {ranges_in_ping, "carries an applied set"},
+                                                      {req_without_subject, "names no replica to probe"},
+                                                      {null_rumor, "a rumor names the null replica"},
+                                                      {bad_status, "has the status 7"},
+                                                      {many, "rumors (the limit is"}};
+  for (const auto& [msg, text] : cases) {
+    inject(net, a, kRogue, msg);
+    EXPECT_TRUE(has_error(net.nodes[a], msg.rumors.size() > 32 ? ErrorCode::kTooLarge : ErrorCode::kMalformed, text))
+        << text;
+  }
+  EXPECT_FALSE(net.nodes[a].rep->peer_known(kRogue)) << "nothing of a refused sample is used";
+}
+
 // Defects 3 and 4: ranges the protocol cannot mean, in any message.
 TEST(ReplicatorHardeningTest, RangesOutOfBoundsAreRefused) {
   Net net;

@@ -102,9 +102,26 @@ TEST(DdsInProcessTest, SummaryDigestAndPullFlagsTravelInSamples) {
     for (bool le : {true, false}) {
       SummaryMsg sm{"agent a", true, applied};
       sm.digest = 0x0123456789abcdefULL;
-      auto s = decode_cdr_sample(DdsTopic::kSummary, encode_cdr_sample(Sample{a, PeerId{}, sm}, xcdr, le).bytes);
+      sm.beat = Beat::kRelayedAck;
+      sm.life = 3;
+      sm.set_hash = 0xfeed;
+      sm.count = 42;
+      sm.your_seq = 7;
+      sm.covered = 0xbeef;
+      sm.subject = PeerId{9, 2};
+      sm.rumors = {Rumor{PeerId{5, 1}, 4, Liveness::kSuspect}, Rumor{PeerId{6, 1}, 0, Liveness::kDead}};
+      auto s = decode_cdr_sample(DdsTopic::kSummary, encode_cdr_sample(Sample{a, b, sm}, xcdr, le).bytes);
       ASSERT_TRUE(s.ok()) << s.error().to_string();
       const auto& got = std::get<SummaryMsg>(s->message);
+      EXPECT_EQ(s->to, b);
+      EXPECT_EQ(got.beat, Beat::kRelayedAck);
+      EXPECT_EQ(got.life, 3u);
+      EXPECT_EQ(got.set_hash, 0xfeedu);
+      EXPECT_EQ(got.count, 42u);
+      EXPECT_EQ(got.your_seq, 7u);
+      EXPECT_EQ(got.covered, 0xbeefu);
+      EXPECT_EQ(got.subject, (PeerId{9, 2}));
+      EXPECT_EQ(got.rumors, sm.rumors);
       EXPECT_EQ(got.digest, sm.digest);
       EXPECT_EQ(got.name, "agent a");
       EXPECT_TRUE(got.observer);

@@ -41,15 +41,50 @@ RangeList to_ranges(const crdt::CausalContext& c);
 /// @returns the union of the ranges.
 crdt::CausalContext to_context(const RangeList& r);
 
+/// What a summary is for. kFull carries the sender's whole (origin, seq) set (`applied`); the
+/// others are the constant-size beats of the gossip membership (docs/protocol.md, "Membership
+/// and anti-entropy without all-to-all heartbeats"): they carry a hash and a count of that set
+/// instead, and membership news (`rumors`).
+enum class Beat : std::uint8_t {
+  kFull = 0,       ///< the whole (origin, seq) set: to everyone (legacy heartbeat, hand-over offer)
+  kHello = 1,      ///< a replica starts: to everyone, once; members that were there answer kAck
+  kPing = 2,       ///< a probe: answer kAck (to `subject` through the sender, when set)
+  kAck = 3,        ///< a probe's answer (or an acknowledgement of a claim)
+  kPingReq = 4,    ///< "probe `subject` for me": the receiver pings it and relays the answer
+  kRelayedAck = 5  ///< `subject` answered a probe made on the receiver's behalf
+};
+inline constexpr std::uint8_t kBeatCount = 6;
+
+/// What one replica says about another's membership (SWIM-style): the peer, the life
+/// (incarnation of its liveness, raised by the peer itself to refute a suspicion) and the status.
+enum class Liveness : std::uint8_t { kAlive = 0, kSuspect = 1, kDead = 2 };
+struct Rumor {
+  PeerId peer;
+  std::uint64_t life = 0;
+  Liveness status = Liveness::kAlive;
+  friend bool operator==(const Rumor&, const Rumor&) = default;
+};
+
 /// Heartbeat: who I am and which (origin, seq) I hold. Acknowledgement and liveness at once.
 struct SummaryMsg {
   std::string name;
   bool observer = false;
+  /// kFull: the (origin, seq) set held. Empty in the other beats.
   RangeList applied;
   /// The sender's graph digest (64 of its 128 bits) when it holds exactly `applied`; 0: not sent.
   /// Equal `applied` sets with different digests mean the replicas joined different payloads
   /// under the same numbers (an equivocation): they repair by exchanging whole states.
   std::uint64_t digest = 0;
+  Beat beat = Beat::kFull;
+  std::uint64_t life = 0;      ///< the sender's life (Rumor::life)
+  std::uint64_t set_hash = 0;  ///< a hash of the sender's (origin, seq) set (0: not sent)
+  std::uint64_t count = 0;     ///< how many (origin, seq) pairs the sender holds
+  /// Addressed beats: the greatest n such that the sender holds the receiver's own 1..n.
+  std::uint64_t your_seq = 0;
+  /// Addressed beats: the set hash of the receiver's last kFull that the sender holds all of (0: none).
+  std::uint64_t covered = 0;
+  PeerId subject;              ///< kPingReq, kPing, kAck, kRelayedAck: the third replica (see Beat)
+  std::vector<Rumor> rumors;   ///< membership news, piggybacked
 };
 
 /// One delta interval of one origin: sequence numbers [lo, hi], encoded graph delta (whose

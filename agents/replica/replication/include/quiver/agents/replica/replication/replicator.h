@@ -69,7 +69,7 @@ struct ReplicatorOptions {
   std::size_t max_state_bytes = 1u << 30;    ///< a state transfer larger than this is refused
   bool coalesce = false;                     ///< hold local deltas until flush() or tick()
   SampleLimits limits;                       ///< what one sample may hold (validate.h)
-  std::size_t max_peers = 256;               ///< peers remembered at once (live or recently gone)
+  std::size_t max_peers = 1024;              ///< peers remembered at once (live or recently gone)
   std::size_t max_peer_ranges = 1u << 20;    ///< ranges of all peers' summaries kept together
   std::size_t equivocation_window = 1u << 16;  ///< (origin, seq) digests kept to detect equivocation
   /// Versions of one (origin, seq) remembered and relayed; later ones are joined but not relayed
@@ -88,6 +88,26 @@ struct ReplicatorOptions {
   /// bytes it waits at least B / sample_bytes_per_s before its next pull, so that a viewer of a
   /// busy graph samples less often instead of making the writers serialise more.
   std::size_t sample_bytes_per_s = 0;
+  /// Membership and anti-entropy by gossip over partial views instead of all-to-all summaries
+  /// (docs/protocol.md, "Membership and anti-entropy without all-to-all heartbeats"): every
+  /// probe_ns a replica probes one peer with a constant-size beat (SWIM-style, with indirect
+  /// probes and suspicion), membership news rides on the beats, and the (origin, seq) sets are
+  /// compared by hash and count, exchanged only when they differ. A transport that delivers
+  /// unicast samples to their destination only (the simulator's network) makes each replica's
+  /// cost independent of the number of replicas.
+  bool gossip = false;
+  std::int64_t probe_ns = 250'000'000;       ///< gossip: one probe per period
+  int indirect_probes = 3;                    ///< gossip: peers asked to probe an unanswering one
+  /// gossip: a peer suspected this long without refuting is declared gone (0: max(lease_ns, 3 probe_ns)).
+  std::int64_t suspect_timeout_ns = 0;
+  int rumor_repeats = 3;                      ///< gossip: each rumor is sent this many times log2(peers + 1)
+  std::size_t rumors_per_beat = 6;            ///< gossip: rumors piggybacked on one beat
+  /// gossip: every period one replica in about (live peers + 1) says hello to everyone again,
+  /// and a replica that hears nobody always does (rediscovery after partitions and restarts).
+  std::int64_t rediscover_ns = 2'000'000'000;
+  /// gossip: deltas of other origins leave the relay buffer after this long (own deltas once
+  /// every live peer acknowledged them), whatever its byte bound would allow.
+  std::int64_t relay_retain_ns = 2'000'000'000;
 };
 
 struct PeerInfo {
@@ -117,6 +137,8 @@ struct ReplicatorStats {
   std::uint64_t versions_not_relayed = 0;  ///< versions of one (origin, seq) beyond max_versions: joined only
   std::uint64_t deltas_refused = 0;        ///< deltas the Admission refused (never applied; relayed)
   std::uint64_t states_refused = 0;        ///< state transfers the Admission refused (never joined)
+  // Gossip membership (ReplicatorOptions::gossip).
+  std::uint64_t probes = 0, probes_indirect = 0, suspicions = 0, refutations = 0, declared_gone = 0;
 };
 
 class Replicator {
@@ -183,6 +205,15 @@ class Replicator {
   void leave();
   /// Sends a summary now (e.g. when the transport saw a newcomer appear). Owner thread only.
   void announce();
+  /// Offers this replica's whole (origin, seq) set to every peer, so that each pulls what it
+  /// lacks and says when it holds all of it: what a clean stop does before it waits for
+  /// peers_hold_all(). Repeated every pull_timeout_ns until leave(). With all-to-all summaries
+  /// (gossip off) every heartbeat already does this, and it only sends one now. Owner thread only.
+  void offer_all();
+  /// Asks every live peer that has not acknowledged this replica's own changes up to `seq`
+  /// (all_peers_hold()) to say so, now and every pull_first_timeout_ns until they all have: what
+  /// a lock claim waits for. With gossip off the heartbeats already carry it. Owner thread only.
+  void want_acks(std::uint64_t seq);
   /// Sends a summary as soon as the message being handled is fully applied (e.g. to acknowledge
   /// a lock claim promptly). Safe to call from change callbacks. Owner thread only.
   void announce_soon() { announce_soon_ = true; }
@@ -235,6 +266,11 @@ class Replicator {
   /// The (origin, seq) pairs whose effects this replica holds.
   /// @returns a reference that lives as long as the replicator. Owner thread only.
   const crdt::CausalContext& applied() const { return applied_; }
+  /// The bytes this replica's protocol state takes (peer table and what it records of each
+  /// peer, names, the equivocation records, rumors, the (origin, seq) set; not the graph and not
+  /// the relay buffer, whose bound is buffer_bytes), estimated from the containers' sizes.
+  /// Owner thread only.
+  std::size_t protocol_bytes() const;
   /// @returns the protocol's counters. Owner thread only.
   const ReplicatorStats& stats() const { return stats_; }
   /// @returns the options it was built with (sample_ns as set_sample_ns() left it).
@@ -253,6 +289,7 @@ class Replicator {
   struct Buffered {
     PeerId origin;
     std::uint64_t lo, hi;
+    std::int64_t at_ns;
     std::shared_ptr<const std::vector<std::uint8_t>> bytes;
     std::shared_ptr<const std::vector<std::uint8_t>> signature;
   };
@@ -267,6 +304,18 @@ class Replicator {
     std::int64_t suspect_until = 0;
     std::int64_t last_state_answer_ns = -1;
     int digest_mismatches = 0;  // summaries in a row with our (origin, seq) set but another digest
+    // Gossip (ReplicatorOptions::gossip).
+    bool full = false;          // `applied` holds its last kFull (or pull) set, not yet covered here
+    std::uint64_t full_hash = 0;  // that set's hash, acknowledged (covered) once this replica holds it
+    std::uint64_t life = 0;     // its life as last heard or rumored
+    Liveness status = Liveness::kAlive;
+    bool my_suspicion = false;  // this replica suspects it (and declares it gone when the time is up)
+    std::int64_t suspect_since = 0;
+    std::int64_t told_dead_ns = -1;
+    std::uint64_t hash = 0, count = 0;  // its last reported (origin, seq) set: hash and size
+    std::int64_t report_ns = -1;
+    std::uint64_t your_seq = 0;  // it holds this replica's own 1..your_seq
+    std::uint64_t covered = 0;   // the hash of our last offered set it holds all of
   };
   // The state transfer answering our outstanding pull (one at a time).
   struct Reassembly {
@@ -325,7 +374,23 @@ class Replicator {
   /// 64 bits of the graph's digest (never 0), computed again only after the graph changed.
   std::uint64_t state_digest();
   void check_digest(const PeerId& from, Peer& p, std::uint64_t digest);
-  bool behind(const Peer& p) const { return !applied_.includes(p.applied); }
+  bool behind(const Peer& p) const;
+  // Gossip (replicator_gossip.cc).
+  SummaryMsg beat(Beat b, const PeerId& to);
+  void send_beat(Beat b, const PeerId& to, const PeerId& subject = {});
+  void handle_gossip(const PeerId& from, Peer& p, const SummaryMsg& m);
+  void hear_rumor(const Rumor& r);
+  void spread(const Rumor& r);
+  void suspect(Peer& p);
+  void declare_dead(Peer& p);
+  void gossip_tick();
+  void probe_tick();
+  void trim_buffer_gossip();
+  const PeerId* next_probe_target();
+  void refresh_set_hash() const;
+  std::uint64_t set_hash() const { refresh_set_hash(); return set_hash_; }
+  std::uint64_t set_count() const { refresh_set_hash(); return set_count_; }
+  std::int64_t suspect_timeout() const;
   void remember(const PeerId& origin, std::uint64_t lo, std::uint64_t hi, Bytes bytes, Bytes signature);
   void evict_front();
   void trim_buffer();
@@ -375,6 +440,31 @@ class Replicator {
   bool gap_pending_ = false;
   std::int64_t gap_since_ns_ = 0;
   PeerId gap_peer_;
+
+  // Gossip state.
+  std::uint64_t life_ = 0;
+  std::int64_t started_ns_ = 0;
+  std::int64_t next_probe_ns_ = 0;
+  PeerId probe_target_, probe_cursor_;
+  std::int64_t probe_sent_ns_ = -1;
+  bool probe_indirect_ = false;
+  std::uint64_t probes_ = 0;
+  struct Spreading {
+    Rumor rumor;
+    int left;
+  };
+  std::vector<Spreading> rumors_;
+  std::vector<PeerId> ack_to_;
+  std::uint64_t want_acks_seq_ = 0;
+  std::int64_t next_ack_request_ns_ = 0;
+  std::int64_t next_rediscover_ns_ = 0;
+  bool offering_ = false;
+  std::int64_t next_offer_ns_ = 0;
+  bool digest_due_ = false;
+  std::uint64_t rng_ = 0;
+  std::int64_t applied_changed_ns_ = 0;
+  mutable std::uint64_t hash_version_ = ~0ull, set_hash_ = 0, set_count_ = 0;
+  std::map<PeerId, std::int64_t> mismatched_;  // peers whose last report showed what we lack
 
   std::vector<Sample> outbox_;
   mutable std::mutex heartbeat_mu_;

@@ -23,6 +23,7 @@ struct SampleLimits {
   std::size_t max_chunk_bytes = 16u << 20;  ///< one state chunk
   std::uint64_t max_chunks = 1u << 16;      ///< chunks of one state transfer
   std::size_t max_signature_bytes = 512;    ///< a delta's signature
+  std::size_t max_rumors = 32;              ///< membership rumors one beat carries
 };
 
 /// Checks a sample against `limits`. Pure and thread-safe; payloads are not decoded here (the

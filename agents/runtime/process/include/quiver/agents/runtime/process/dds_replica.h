@@ -118,6 +118,7 @@ class DdsReplica {
   /// away may still be pulling what it missed from this replica, perhaps its only holder.
   /// @returns true when handed over.
   bool hand_over(std::int64_t timeout_ns) {
+    replicator_->offer_all();
     return spin_until([this] { return replicator_->peers_hold_all(); }, timeout_ns);
   }
   /// Owner thread: spins until stop() is called.

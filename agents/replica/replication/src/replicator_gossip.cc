@@ -1,0 +1,490 @@
+// Replicator gossip membership (ReplicatorOptions::gossip): constant-size beats to one peer per
+// probe period (SWIM-style probes, indirect probes, suspicion and refutation), membership rumors
+// piggybacked on them, (origin, seq) sets compared by hash and count and exchanged only when they
+// differ, acknowledgements asked for only when a lock claim needs them, and the relay buffer
+// trimmed by age and acknowledgement. docs/protocol.md, "Membership and anti-entropy without
+// all-to-all heartbeats", explains why each piece is there.
+
+#include <algorithm>
+#include <bit>
+
+#include "quiver/agents/replica/replication/replicator.h"
+
+namespace quiver::agents::inline replica {
+
+namespace {
+
+std::uint64_t next_random(std::uint64_t& s) {
+  s ^= s << 13;
+  s ^= s >> 7;
+  s ^= s << 17;
+  return s;
+}
+
+}  // namespace
+
+void Replicator::refresh_set_hash() const {
+  if (hash_version_ == state_version_) return;
+  Hasher h(0x5e7);
+  std::uint64_t n = 0;
+  applied_.for_each_range([&](const PeerId& r, std::uint64_t lo, std::uint64_t hi) {
+    h.u64(r.agent).u64(r.incarnation).u64(lo).u64(hi);
+    n += hi - lo + 1;
+  });
+  set_hash_ = h.h64() | 1;  // never 0 (0: not sent)
+  set_count_ = n;
+  hash_version_ = state_version_;
+}
+
+std::int64_t Replicator::suspect_timeout() const {
+  if (opt_.suspect_timeout_ns > 0) return opt_.suspect_timeout_ns;
+  return std::max(opt_.lease_ns, 3 * opt_.probe_ns);
+}
+
+SummaryMsg Replicator::beat(Beat b, const PeerId& to) {
+  SummaryMsg m;
+  // The name goes to everyone in a hello, and in an addressed beat only to a peer whose name we
+  // do not know (then it likely does not know ours): it is most of a beat's variable size.
+  const auto known = to.is_null() ? peers_.end() : peers_.find(to);
+  if (to.is_null() || known == peers_.end() || known->second.info.name.empty()) m.name = opt_.name;
+  m.observer = opt_.observer;
+  m.beat = b;
+  m.life = life_;
+  m.set_hash = set_hash();
+  m.count = set_count();
+  if (!to.is_null()) {
+    m.your_seq = applied_.contiguous(to);
+    if (auto it = peers_.find(to); it != peers_.end() && it->second.full && applied_.includes(it->second.applied))
+      m.covered = it->second.full_hash;
+  }
+  if (digest_due_ && pending_lo_ == 0) {
+    m.digest = state_digest();
+    digest_due_ = false;
+  }
+  // Rumors: a suspicion of the receiver first (so that it can refute), then the others, each
+  // until it has been sent its number of times.
+  if (!to.is_null())
+    if (auto it = peers_.find(to); it != peers_.end() && it->second.status != Liveness::kAlive)
+      m.rumors.push_back(Rumor{to, it->second.life, it->second.status});
+  for (auto& s : rumors_) {
+    if (m.rumors.size() >= opt_.rumors_per_beat) break;
+    if (s.rumor.peer == to && s.rumor.status != Liveness::kAlive) continue;  // already first
+    m.rumors.push_back(s.rumor);
+    --s.left;
+  }
+  std::erase_if(rumors_, [](const Spreading& s) { return s.left <= 0; });
+  return m;
+}
+
+void Replicator::send_beat(Beat b, const PeerId& to, const PeerId& subject) {
+  SummaryMsg m = beat(b, to);
+  m.subject = subject;
+  queue(to, std::move(m));
+}
+
+void Replicator::spread(const Rumor& r) {
+  const int repeats =
+      opt_.rumor_repeats * std::max(1, static_cast<int>(std::bit_width(static_cast<std::uint64_t>(peers_.size()) + 1)));
+  // One rumor per peer: a newer one replaces an older.
+  std::erase_if(rumors_, [&](const Spreading& s) { return s.rumor.peer == r.peer; });
+  rumors_.push_back(Spreading{r, repeats});
+  // Bounded: the oldest news goes first.
+  const std::size_t cap = std::max<std::size_t>(64, 4 * opt_.rumors_per_beat);
+  if (rumors_.size() > cap) rumors_.erase(rumors_.begin(), rumors_.begin() + static_cast<long>(rumors_.size() - cap));
+}
+
+void Replicator::suspect(Peer& p) {
+  if (!p.info.alive || p.status != Liveness::kAlive) return;
+  p.status = Liveness::kSuspect;
+  p.my_suspicion = true;
+  p.suspect_since = now_;
+  ++stats_.suspicions;
+  spread(Rumor{p.info.id, p.life, Liveness::kSuspect});
+}
+
+void Replicator::declare_dead(Peer& p) {
+  p.status = Liveness::kDead;
+  p.my_suspicion = false;
+  mismatched_.erase(p.info.id);
+  if (p.info.alive) ++stats_.declared_gone;
+  mark_left(p);
+  spread(Rumor{p.info.id, p.life, Liveness::kDead});
+}
+
+// SWIM's rules, with the life as incarnation: news about a higher life wins; for the same life,
+// dead beats suspect beats alive. A replica suspected or declared gone refutes with a higher life.
+void Replicator::hear_rumor(const Rumor& r) {
+  if (r.peer == self_) {
+    if (r.status != Liveness::kAlive && r.life >= life_) {
+      life_ = r.life + 1;
+      ++stats_.refutations;
+      spread(Rumor{self_, life_, Liveness::kAlive});
+    }
+    return;
+  }
+  auto it = peers_.find(r.peer);
+  if (it == peers_.end()) {
+    // A peer only heard of: known alive (it must acknowledge claims too), named when it talks.
+    if (r.status != Liveness::kAlive || peers_.size() >= opt_.max_peers) return;
+    it = peers_.try_emplace(r.peer).first;
+    it->second.info.id = r.peer;
+    it->second.info.alive = true;
+    it->second.info.last_heard_ns = now_;
+    it->second.life = r.life;
+    spread(r);
+    return;
+  }
+  Peer& p = it->second;
+  if (p.said_bye) return;
+  const auto rank = [](Liveness s) { return static_cast<int>(s); };
+  const bool news = r.life > p.life || (r.life == p.life && rank(r.status) > rank(p.status));
+  if (!news) return;
+  p.life = r.life;
+  switch (r.status) {
+    case Liveness::kAlive:
+      p.status = Liveness::kAlive;
+      p.my_suspicion = false;
+      if (!p.info.alive) {
+        p.info.alive = true;
+        p.info.last_heard_ns = now_;
+        if (membership_cb_ && p.announced) membership_cb_(Membership::kJoined, p.info);
+      }
+      break;
+    case Liveness::kSuspect:
+      // Someone else's suspicion: noted and passed on; only the suspecter declares it gone.
+      p.status = Liveness::kSuspect;
+      p.my_suspicion = false;
+      break;
+    case Liveness::kDead:
+      p.status = Liveness::kDead;
+      p.my_suspicion = false;
+      mismatched_.erase(p.info.id);
+      mark_left(p);
+      break;
+  }
+  spread(r);
+}
+
+bool Replicator::behind(const Peer& p) const {
+  if (!opt_.gossip) return !applied_.includes(p.applied);  // its last summary holds more
+  if (p.full && !applied_.includes(p.applied)) return true;
+  if (p.report_ns < 0 || p.hash == set_hash()) return false;
+  // Its set differs: it may hold what we lack if it holds more, or as many but others, and
+  // nothing changed here since it said so (a delta in flight makes sets differ for a moment).
+  return p.count > set_count() || (p.count == set_count() && p.report_ns >= applied_changed_ns_);
+}
+
+void Replicator::handle_gossip(const PeerId& from, Peer& p, const SummaryMsg& m) {
+  const bool was_new = !p.announced || p.status == Liveness::kDead;
+  if (m.beat == Beat::kFull) {
+    crdt::CausalContext applied = to_context(m.applied);
+    const std::size_t total = peer_ranges_ - p.applied.range_count() + applied.range_count();
+    if (total > opt_.max_peer_ranges)
+      return reject(make_error(ErrorCode::kTooLarge, "summary from " + from.to_string() + ": " +
+                                                         std::to_string(applied.range_count()) +
+                                                         " ranges would exceed the peer table's limit"));
+    peer_ranges_ = total;
+    p.applied = std::move(applied);
+    p.full = true;
+    p.full_hash = m.set_hash;
+  }
+  // Its life: a higher one is news (it refuted a suspicion); a gone peer that talks with the life
+  // it was declared gone under is told so, and comes back when it refutes.
+  if (m.life > p.life || (m.life == p.life && p.status != Liveness::kDead)) {
+    const bool back = m.life > p.life && p.status != Liveness::kAlive;
+    p.life = m.life;
+    if (back || p.status == Liveness::kSuspect) {
+      p.status = Liveness::kAlive;
+      p.my_suspicion = false;
+      if (back) spread(Rumor{from, p.life, Liveness::kAlive});
+    }
+    if (!p.info.alive) {
+      p.info.alive = true;
+      if (membership_cb_ && p.announced) membership_cb_(Membership::kJoined, p.info);
+    }
+  } else if (p.status == Liveness::kDead && (p.told_dead_ns < 0 || now_ - p.told_dead_ns >= opt_.probe_ns)) {
+    p.told_dead_ns = now_;
+    send_beat(Beat::kAck, from);  // carries the rumor of its death first
+  }
+  // A beat without a name (the sender knows we know it) leaves the name we have.
+  const bool first = !p.announced && (!m.name.empty() || m.beat == Beat::kHello);
+  if (!m.name.empty()) p.info.name = m.name;
+  p.info.observer = m.observer;
+  if (!m.name.empty() && fnv1a64(m.name) == from.agent && names_.size() < 4 * opt_.max_peers)
+    names_.emplace(from.agent, m.name);
+  if (first) {
+    p.announced = true;
+    if (membership_cb_ && p.info.alive) membership_cb_(Membership::kJoined, p.info);
+  }
+  if (m.set_hash != 0) {
+    p.hash = m.set_hash;
+    p.count = m.count;
+    p.report_ns = now_;
+  }
+  p.your_seq = std::max(p.your_seq, m.your_seq);
+  if (m.covered != 0) p.covered = m.covered;
+  for (const Rumor& r : m.rumors) hear_rumor(r);
+
+  switch (m.beat) {
+    case Beat::kHello:
+      // A newcomer (or one back): members that were already there answer, so that it learns of them.
+      if (was_new && started_ && now_ - started_ns_ >= opt_.probe_ns) send_beat(Beat::kAck, from);
+      break;
+    case Beat::kPing: send_beat(Beat::kAck, from, m.subject); break;
+    case Beat::kPingReq: send_beat(Beat::kPing, m.subject, from); break;
+    case Beat::kAck:
+      if (!m.subject.is_null() && !(m.subject == self_)) {
+        send_beat(Beat::kRelayedAck, m.subject, from);  // it answered a probe made for `subject`
+      } else if (probe_sent_ns_ >= 0 && probe_target_ == from) {
+        probe_sent_ns_ = -1;
+      }
+      break;
+    case Beat::kRelayedAck:
+      if (probe_sent_ns_ >= 0 && probe_target_ == m.subject) probe_sent_ns_ = -1;
+      break;
+    case Beat::kFull: break;
+  }
+
+  if (!behind(p)) {
+    p.pull_failures = 0;
+    mismatched_.erase(from);
+    if (pulling_ && pull_target_ == from) {
+      pulling_ = false;
+      pull_timeouts_in_a_row_ = 0;
+    }
+  } else if (counts(p) && opt_.sample_ns == 0) {
+    // A full set that holds more is pulled at once; a hash that differs after a grace (deltas
+    // in flight make sets differ for a moment).
+    if (p.full && !applied_.includes(p.applied) && !pulling_) pull_from(from);
+    else mismatched_.try_emplace(from, now_);
+  }
+  if (counts(p) && m.digest != 0 && p.hash == set_hash() && !p.state_refused && !pulling_ && !state_.active &&
+      pending_lo_ == 0) {
+    if (m.digest == state_digest()) {
+      p.digest_mismatches = 0;
+    } else if (++p.digest_mismatches >= 2) {
+      p.digest_mismatches = 0;
+      ++stats_.divergences;
+      equivocation("replica " + from.to_string() +
+                   " holds the same deltas as this one but another state: pulling its whole state");
+      pull_from(from, true);
+    }
+  }
+}
+
+const PeerId* Replicator::next_probe_target() {
+  if (peers_.empty()) return nullptr;
+  // Now and then a peer believed gone is probed too: after a partition heals, that is how the
+  // two sides find each other again without anyone broadcasting.
+  const bool dead_turn = (++probes_ % 4) == 0;
+  for (const bool want_dead : {dead_turn, false}) {
+    auto it = peers_.upper_bound(probe_cursor_);
+    for (std::size_t i = 0; i < peers_.size(); ++i, ++it) {
+      if (it == peers_.end()) it = peers_.begin();
+      const Peer& p = it->second;
+      if (p.said_bye) continue;
+      if (want_dead ? p.status == Liveness::kDead : p.info.alive) {
+        probe_cursor_ = it->first;
+        return &it->first;
+      }
+    }
+    if (!want_dead) break;
+  }
+  return nullptr;
+}
+
+void Replicator::probe_tick() {
+  if (probe_sent_ns_ >= 0) {
+    auto it = peers_.find(probe_target_);
+    const std::int64_t waited = now_ - probe_sent_ns_;
+    if (it == peers_.end() || !it->second.info.alive) {
+      probe_sent_ns_ = -1;
+    } else if (waited >= opt_.probe_ns) {
+      probe_sent_ns_ = -1;
+      suspect(it->second);
+    } else if (!probe_indirect_ && waited >= opt_.probe_ns / 2) {
+      // Ask a few others to probe it: one lossy link must not make a live peer look gone.
+      probe_indirect_ = true;
+      std::vector<PeerId> helpers;
+      for (const auto& [id, q] : peers_)
+        if (q.info.alive && !(id == probe_target_) && q.status == Liveness::kAlive) helpers.push_back(id);
+      for (int k = 0; k < opt_.indirect_probes && !helpers.empty(); ++k) {
+        const std::size_t i = next_random(rng_) % helpers.size();
+        ++stats_.probes_indirect;
+        send_beat(Beat::kPingReq, helpers[i], probe_target_);
+        helpers[i] = helpers.back();
+        helpers.pop_back();
+      }
+    }
+  }
+  if (now_ < next_probe_ns_) return;
+  next_probe_ns_ = now_ + opt_.probe_ns;
+  if (probe_sent_ns_ >= 0) return;
+  const PeerId* target = next_probe_target();
+  if (target == nullptr) return;
+  const Peer& p = peers_.at(*target);
+  ++stats_.probes;
+  if (p.status == Liveness::kDead) {  // a gone peer: a ping tells it so; no suspicion follows
+    send_beat(Beat::kPing, *target);
+    return;
+  }
+  probe_target_ = *target;
+  probe_sent_ns_ = now_;
+  probe_indirect_ = false;
+  send_beat(Beat::kPing, *target);
+}
+
+void Replicator::gossip_tick() {
+  probe_tick();
+  // Suspicions this replica raised and nobody refuted: gone. Until then the suspect is pinged
+  // every period with the rumor, so that it can refute even when the gossip is slow to reach it.
+  const std::int64_t timeout = suspect_timeout();
+  for (auto& [id, p] : peers_) {
+    if (!p.my_suspicion || p.status != Liveness::kSuspect) continue;
+    if (now_ - p.suspect_since >= timeout) {
+      declare_dead(p);
+    } else if (p.told_dead_ns < 0 || now_ - p.told_dead_ns >= opt_.probe_ns) {
+      p.told_dead_ns = now_;
+      send_beat(Beat::kPing, id);
+    }
+  }
+  // Sets that differed after the grace: pull from one of them.
+  if (!pulling_ && opt_.sample_ns == 0) {
+    for (auto it = mismatched_.begin(); it != mismatched_.end();) {
+      auto p = peers_.find(it->first);
+      if (p == peers_.end() || !counts(p->second) || !behind(p->second)) {
+        it = mismatched_.erase(it);
+        continue;
+      }
+      if (now_ - it->second >= opt_.gap_grace_ns && !(it->first == last_failed_target_ && mismatched_.size() > 1)) {
+        pull_from(it->first);
+        mismatched_.erase(it);
+        break;
+      }
+      ++it;
+    }
+  }
+  if (!pulling_ && opt_.sample_ns > 0 && now_ >= next_sample_) {
+    for (const auto& [id, p] : peers_)
+      if (counts(p) && behind(p)) {
+        pull_from(id);
+        next_sample_ = now_ + opt_.sample_ns;
+        break;
+      }
+  }
+  if (!pulling_ && gap_pending_ && now_ - gap_since_ns_ >= opt_.gap_grace_ns) {
+    if (peer_alive(gap_peer_)) pull_from(gap_peer_);
+    gap_pending_ = false;
+  }
+  // Acknowledgements a claim waits for: asked of the peers that have not given them.
+  if (want_acks_seq_ > 0 && now_ >= next_ack_request_ns_) {
+    bool all = true;
+    for (const auto& [id, p] : peers_)
+      if (p.info.alive && p.your_seq < want_acks_seq_) {
+        all = false;
+        send_beat(Beat::kPing, id);
+      }
+    if (all) want_acks_seq_ = 0;
+    next_ack_request_ns_ = now_ + opt_.pull_first_timeout_ns;
+  }
+  // Offered sets this replica now holds all of: say so, once, and forget them.
+  for (auto& [id, p] : peers_) {
+    if (!p.full || !applied_.includes(p.applied)) continue;
+    if (p.info.alive) send_beat(Beat::kAck, id);
+    peer_ranges_ -= p.applied.range_count();
+    p.applied = crdt::CausalContext{};
+    p.full = false;
+  }
+  if (offering_ && now_ >= next_offer_ns_) {
+    next_offer_ns_ = now_ + opt_.pull_timeout_ns;
+    SummaryMsg m = beat(Beat::kFull, PeerId{});
+    m.applied = to_ranges(applied_);
+    queue(PeerId{}, std::move(m));
+  }
+  // Rediscovery: a replica that restarted in a partition, or two groups that forgot each other,
+  // are found again by a hello to everyone now and then: each period one replica in about
+  // (live peers + 1) sends one, and a replica alone always does. Members answer only a hello from
+  // a replica they did not know.
+  if (now_ >= next_rediscover_ns_) {
+    next_rediscover_ns_ = now_ + opt_.rediscover_ns;
+    if (next_random(rng_) % (live_peer_count() + 1) == 0) send_beat(Beat::kHello, PeerId{});
+  }
+  if (opt_.digest_every_ns > 0 && now_ >= next_digest_) {
+    next_digest_ = now_ + opt_.digest_every_ns;
+    digest_due_ = true;
+  }
+  // Peers gone for long are forgotten (bounded memory).
+  for (auto it = peers_.begin(); it != peers_.end();) {
+    Peer& p = it->second;
+    if (!p.info.alive && now_ - p.info.last_heard_ns > 60 * opt_.lease_ns) {
+      peer_ranges_ -= p.applied.range_count();
+      mismatched_.erase(it->first);
+      it = peers_.erase(it);
+    } else {
+      ++it;
+    }
+  }
+  if (now_ >= next_heartbeat_) {
+    trim_buffer_gossip();
+    next_heartbeat_ = now_ + opt_.heartbeat_ns;
+  }
+}
+
+void Replicator::trim_buffer_gossip() {
+  for (auto it = buffer_.begin(); it != buffer_.end();) {
+    bool drop;
+    if (it->origin == self_) {
+      drop = true;
+      for (const auto& [id, p] : peers_)
+        if (p.info.alive && p.your_seq < it->hi) {
+          drop = false;
+          break;
+        }
+      drop = drop && now_ - it->at_ns >= opt_.gap_grace_ns;
+    } else {
+      drop = now_ - it->at_ns >= opt_.relay_retain_ns;
+    }
+    if (!drop) {
+      ++it;
+      continue;
+    }
+    buffer_bytes_ -= it->bytes->size();
+    auto idx = buffer_index_.find(it->origin);
+    idx->second.erase(it->lo);
+    if (idx->second.empty()) buffer_index_.erase(idx);
+    it = buffer_.erase(it);
+  }
+}
+
+void Replicator::offer_all() {
+  if (!opt_.gossip) return announce();
+  offering_ = true;
+  next_offer_ns_ = now_;
+  gossip_tick();
+  send_queued();
+}
+
+void Replicator::want_acks(std::uint64_t seq) {
+  if (!opt_.gossip || seq <= want_acks_seq_) return;
+  want_acks_seq_ = seq;
+  next_ack_request_ns_ = now_ + opt_.gap_grace_ns;  // the claim's own delivery usually brings them
+}
+
+std::size_t Replicator::protocol_bytes() const {
+  // Estimates: a std::map node costs its value plus about 48 bytes; a string its capacity
+  // beyond the small-string buffer.
+  constexpr std::size_t kNode = 48;
+  std::size_t n = sizeof(*this);
+  for (const auto& [id, p] : peers_) {
+    n += kNode + sizeof(id) + sizeof(p) + (p.info.name.capacity() > 15 ? p.info.name.capacity() : 0);
+    n += p.applied.range_count() * (kNode + 16) + p.applied.replica_count() * (kNode + 32);
+  }
+  n += names_.size() * (kNode + 8 + 32);
+  n += seen_order_.capacity() * sizeof(seen_order_[0]);
+  for (const auto& [o, m] : seen_) n += kNode + sizeof(o) + m.size() * (kNode + sizeof(Seen));
+  n += rumors_.capacity() * sizeof(Spreading) + mismatched_.size() * (kNode + 24);
+  n += applied_.range_count() * (kNode + 16) + applied_.replica_count() * (kNode + 32);
+  return n;
+}
+
+}  // namespace quiver::agents
