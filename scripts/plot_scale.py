@@ -1,7 +1,8 @@
 #!/usr/bin/python3
 """Draws `quiver bench scale` JSON lines as log-log curves (PNG and SVG): bytes and messages per
-op per agent, and idle bytes per second per agent, against the number of agents, one curve per
-input file (e.g. today's protocol and a new one, side by side).
+op per agent, idle bytes per second per agent, protocol state per replica and the time to converge
+after a partition heals, against the number of agents, one curve per input file (e.g. today's
+protocol and a new one, side by side). A panel whose figure no input has is left out.
 
     build/quiver bench scale > scale.jsonl
     scripts/plot_scale.py scale.jsonl [LABEL=other.jsonl ...] -o docs/scale   # docs/scale.png, .svg
@@ -39,20 +40,27 @@ def main():
     ap.add_argument("inputs", nargs="+", help="FILE or LABEL=FILE (- for stdin)")
     ap.add_argument("-o", "--out", required=True, help="output path without extension")
     a = ap.parse_args()
-    panels = [("bytes_per_op_per_agent", "bytes per op per agent"),
-              ("messages_per_op_per_agent", "messages per op per agent"),
-              ("idle_bytes_per_s_per_agent", "idle bytes per second per agent")]
-    fig, axes = plt.subplots(1, len(panels), figsize=(16, 4.5))
+    panels = [("bytes_per_op_per_agent", "bytes per op per agent", None),
+              ("messages_per_op_per_agent", "messages per op per agent", None),
+              ("idle_bytes_per_s_per_agent", "idle bytes per second per agent", (1000, "target: 1 KB/s")),
+              ("protocol_bytes_max", "protocol state per replica (bytes, largest)", (65536, "target: 64 KB")),
+              ("heal_ms", "ms to converge after a partition heals", (2000, "target: 2 s"))]
+    inputs = []
     for spec in a.inputs:
         label, _, path = spec.rpartition("=")
-        rows = read_lines(path)
-        label = label or path
-        for ax, (key, _) in zip(axes, panels):
+        inputs.append((label or path, read_lines(path)))
+    panels = [p for p in panels if any(r.get(p[0], 0) > 0 for _, rows in inputs for r in rows)]
+    fig, axes = plt.subplots(1, len(panels), figsize=(5.2 * len(panels), 4.5), squeeze=False)
+    axes = axes[0]
+    for label, rows in inputs:
+        for ax, (key, _, _) in zip(axes, panels):
             points = [(r["agents"], r[key]) for r in rows if r.get(key, 0) > 0]
             if points:
                 ax.plot([p[0] for p in points], [p[1] for p in points], "o-", label=label)
-    axes[2].axhline(1000, ls="--", color="grey", label="target (issue 22): 1 KB/s")
-    for ax, (_, what) in zip(axes, panels):
+    for ax, (_, _, target) in zip(axes, panels):
+        if target:
+            ax.axhline(target[0], ls="--", color="grey", label=target[1] + " (issue 22)")
+    for ax, (_, what, _) in zip(axes, panels):
         ax.set_xscale("log", base=2)
         ax.set_yscale("log")
         ax.set_xlabel("agents")

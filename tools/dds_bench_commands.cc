@@ -11,6 +11,8 @@
 #include "commands.h"
 #include "dds_options.h"
 #include "quiver/tools/bench/dds_roles.h"
+#include "quiver/tools/bench/dds_scale_bench.h"
+#include "quiver/tools/bench/scale_roles.h"
 #include "quiver/tools/bench/tracking_bench.h"
 
 namespace quiver::tools {
@@ -27,12 +29,16 @@ struct BenchFlags {
   DdsFlags dds;
   bench::DdsBench dds_bench;
   bench::TrackingBench tracking;
+  bench::DdsScaleBench scale;
 };
 
 struct RoleFlags {
   DdsFlags dds;
   bench::DdsRole role;
   bool transport_only = false;  ///< DDS Security without signed deltas and permissions
+  long changes = 1000;          ///< scale roles
+  double rate = 10;
+  double idle_s = 10;
 };
 
 }  // namespace
@@ -92,6 +98,27 @@ void add_dds_bench_commands(CLI::App& app) {
     set_exit_code(bench::run_tracking_bench(run));
   });
 
+  bench::DdsScaleBench& sc = f->scale;
+  auto* dsc = bench->add_subcommand(
+      "dds-scale",
+      "N agent processes over DDS (issue 22): one writes a change every 1/rate s, the others receive it; CPU "
+      "per agent while changes flow and while idle; one more agent joins");
+  f->dds.add_to(dsc);
+  dsc->add_option("--agents", sc.agents, "the numbers of processes, e.g. --agents 2,8,32,100")
+      ->delimiter(',')
+      ->check(CLI::Range(2, 120))
+      ->capture_default_str();
+  dsc->add_option("--changes", sc.changes)->check(CLI::Range(1L, 10'000'000L))->capture_default_str();
+  dsc->add_option("--rate", sc.rate, "changes per second")->check(CLI::Range(0.1, 100000.0))->capture_default_str();
+  dsc->add_option("--idle", sc.idle_s, "seconds of idle time over which CPU is measured")
+      ->check(CLI::Range(1.0, 3600.0))
+      ->capture_default_str();
+  dsc->callback([f] {
+    bench::DdsScaleBench run = f->scale;
+    run.roles = {self_exe(), f->dds};
+    set_exit_code(bench::run_dds_scale_bench(run));
+  });
+
   auto r = std::make_shared<RoleFlags>();
   bench::DdsRole& o = r->role;
   auto* role = app.add_subcommand("bench-dds-role", "internal: one process of a DDS benchmark");
@@ -104,11 +131,20 @@ void add_dds_bench_commands(CLI::App& app) {
   role->add_option("--batch", o.batch)->check(CLI::Range(1, 100000));
   role->add_option("--latency-samples", o.latency_samples)->check(CLI::Range(0, 10'000'000));
   role->add_option("--join-nodes", o.join_nodes)->check(CLI::Range(0, 10'000'000));
-  role->add_option("--agents", o.agents)->check(CLI::Range(2, 100));
+  role->add_option("--agents", o.agents)->check(CLI::Range(2, 120));
   role->add_option("--seconds", o.seconds)->check(CLI::Range(0.1, 3600.0));
   role->add_flag("--transport-only", r->transport_only);
+  role->add_option("--changes", r->changes)->check(CLI::Range(1L, 10'000'000L));
+  role->add_option("--rate", r->rate)->check(CLI::Range(0.1, 100000.0));
+  role->add_option("--idle", r->idle_s)->check(CLI::Range(1.0, 3600.0));
   role->callback([r] {
     if (r->transport_only) r->dds.graph_security = false;
+    if (r->role.role.rfind("scale-", 0) == 0) {
+      bench::ScaleRole s{r->role.role, nullptr, r->role.id, r->role.agents, r->changes, r->rate, r->idle_s};
+      s.open = [dds = r->dds](agents::DdsReplicaOptions opts) { return dds.create_agent(std::move(opts)); };
+      set_exit_code(bench::run_scale_role(s));
+      return;
+    }
     bench::DdsRole run = r->role;
     run.open = [dds = r->dds](agents::DdsReplicaOptions opts) {
       return dds.create_agent(std::move(opts));

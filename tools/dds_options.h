@@ -24,6 +24,7 @@ struct DdsFlags : agents::ProcessFlags {
   /// A replica on the chosen domain and configuration; the other options come from `o`.
   Result<std::unique_ptr<agents::DdsReplica>> create_agent(agents::DdsReplicaOptions o) const {
     if (Status s = apply_to(o.dds); !s.ok()) return s.error();
+    apply_to(o.replicator);
     if (!security.empty())
       if (Status s = agents::enable_security(o, security); !s.ok()) return make_error(s.error().code, "--security: " + s.error().message);
     if (!graph_security) o.permissions = nullptr;

@@ -17,9 +17,18 @@ for n in 2 4; do
   echo "$line" | grep -q '"invariant_violations":0' || fail "$n agents: invariant violations"
   echo "$line" | grep -Eq '"bytes_per_op_per_agent":[1-9]' || fail "$n agents: no bytes per op per agent"
   echo "$line" | grep -Eq '"idle_bytes_per_s_per_agent":[1-9]' || fail "$n agents: no idle traffic measured"
+  echo "$line" | grep -q '"protocol":"gossip"' || fail "$n agents: not the gossip protocol by default"
+  echo "$line" | grep -q '"heal_converged":true' || fail "$n agents: did not converge after the heal"
+  echo "$line" | grep -Eq '"heal_ms":[1-9]' || fail "$n agents: no time to converge after the heal"
+  echo "$line" | grep -Eq '"protocol_bytes_max":[1-9]' || fail "$n agents: no protocol state measured"
 done
+"$q" bench scale --agents 4 --steps 100 --seed 3 --protocol all-to-all --no-heal > "$work/before.jsonl" ||
+  fail "quiver bench scale --protocol all-to-all exited $?"
+grep -q '"protocol":"all-to-all"' "$work/before.jsonl" || fail "--protocol all-to-all was not used"
+grep -q '"heal_ms"' "$work/before.jsonl" && fail "--no-heal still ran the heal"
 "$q" bench scale --agents 0 > /dev/null 2>&1 && fail "--agents 0 was accepted"
-/usr/bin/python3 "$src/scripts/plot_scale.py" "run=$work/scale.jsonl" -o "$work/scale" || fail "plot_scale.py exited $?"
+/usr/bin/python3 "$src/scripts/plot_scale.py" "run=$work/scale.jsonl" "before=$work/before.jsonl" -o "$work/scale" ||
+  fail "plot_scale.py exited $?"
 for ext in png svg; do
   [ -s "$work/scale.$ext" ] || fail "no scale.$ext"
 done

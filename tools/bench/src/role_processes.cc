@@ -16,6 +16,7 @@ std::vector<std::string> role_argv(const RoleCommand& c, const std::string& role
       "--domain",     std::to_string(dds.domain), "--dds-config",
       dds.dds_config, "--loss-permille",          std::to_string(dds.loss_permille)};
   if (!dds.security.empty()) argv.insert(argv.end(), {"--security", dds.security});
+  argv.insert(argv.end(), {"--membership", dds.membership});
   argv.insert(argv.end(), extra.begin(), extra.end());
   return argv;
 }

@@ -255,7 +255,8 @@ void Replicator::handle_gossip(const PeerId& from, Peer& p, const SummaryMsg& m)
   } else if (counts(p) && opt_.sample_ns == 0) {
     // A full set that holds more is pulled at once; a hash that differs after a grace (deltas
     // in flight make sets differ for a moment).
-    if (p.full && !applied_.includes(p.applied) && !pulling_) pull_from(from);
+    // An empty replica (a newcomer) has nothing in flight to wait for.
+    if (!pulling_ && ((p.full && !applied_.includes(p.applied)) || set_count() == 0)) pull_from(from);
     else mismatched_.try_emplace(from, now_);
   }
   if (counts(p) && m.digest != 0 && p.hash == set_hash() && !p.state_refused && !pulling_ && !state_.active &&

@@ -91,6 +91,12 @@ void ProcessFlags::add_dds(CLI::App* cmd) {
       ->capture_default_str();
   cmd->add_option("--loss-permille", loss_permille, "testing: Cyclone drops this share of sent packets")
       ->check(CLI::Range(0, 999));
+  cmd->add_option("--membership", membership,
+                  "all-to-all (every heartbeat, this replica's whole (origin, seq) set to every peer) or gossip "
+                  "(constant-size beats to one peer per period: the cost per agent does not grow with the number "
+                  "of agents; docs/protocol.md)")
+      ->check(CLI::IsMember({"all-to-all", "gossip"}))
+      ->capture_default_str();
   cmd->add_option("--security", security,
                   "DDS Security and graph-level permissions: the credentials directory of `quiver keys`; the "
                   "agent authenticates under its name, signs its deltas, and meets only agents of the same CA "
@@ -155,6 +161,7 @@ int run_process(Agent& agent, const ProcessFlags& f) {
   auto log = named_logger(agent.name());
   DdsReplicaOptions o;
   o.name = agent.name();
+  f.apply_to(o.replicator);
   if (Status s = f.apply_to(o.dds); !s.ok()) {
     log->error("{}", s.error().to_string());
     return 2;

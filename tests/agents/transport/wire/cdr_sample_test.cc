@@ -19,6 +19,28 @@
 namespace quiver::agents {
 namespace {
 
+// A gossip beat's size does not depend on how many replicas there are (docs/protocol.md gives
+// the formula): a fixed part, the name (sent to peers that do not know it yet) and 32 bytes per
+// piggybacked rumor.
+TEST(CdrSampleTest, AGossipBeatHasAConstantSize) {
+  auto size_of = [](const std::string& name, std::size_t rumors) {
+    SummaryMsg m;
+    m.name = name;
+    m.beat = Beat::kPing;
+    m.life = 1;
+    m.set_hash = 0x1234;
+    m.count = 1'000'000;
+    m.your_seq = 77;
+    m.rumors.assign(rumors, Rumor{PeerId{5, 1}, 2, Liveness::kSuspect});
+    return encode_cdr_sample(Sample{PeerId{1, 1}, PeerId{2, 1}, m}).bytes.size();
+  };
+  const std::size_t bare = size_of("", 0);
+  std::printf("[beat] bare %zu bytes, name 'agent17' %zu, 6 rumors %zu\n", bare, size_of("agent17", 0), size_of("", 6));
+  EXPECT_EQ(bare, 120u);
+  EXPECT_EQ(size_of("agent17", 0), bare + 8);
+  EXPECT_EQ(size_of("", 6), bare + 6 * 32);
+}
+
 std::vector<Sample> one_of_each(const PeerId& a, const PeerId& b) {
   graph::Graph g(a);
   std::vector<std::vector<std::uint8_t>> deltas;

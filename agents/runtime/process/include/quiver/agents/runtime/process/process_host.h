@@ -42,6 +42,9 @@ struct ProcessFlags {
   /// DDS Security credentials directory (`quiver keys`, docs/security.md); empty: unsecured.
   /// run_process() and DdsFlags authenticate as the agent's name (enable_security()).
   std::string security;
+  /// "all-to-all" (every heartbeat, the whole (origin, seq) set to every peer) or "gossip"
+  /// (ReplicatorOptions::gossip: constant-size beats to one peer per period; docs/protocol.md).
+  std::string membership = "all-to-all";
 
   /// --domain, --dds-config, --loss-permille (the DDS ones) on `cmd`.
   /// And --security. The options write into this object. @pre `cmd` is not null; this object
@@ -51,6 +54,8 @@ struct ProcessFlags {
   /// --durability.
   /// And --store-compact-mb. @pre as add_dds().
   void add_all(CLI::App* cmd);
+  /// The replicator options these flags choose (--membership) on `o`.
+  void apply_to(ReplicatorOptions& o) const { o.gossip = membership == "gossip"; }
   /// Sets the DDS configuration these flags choose (domain, source, loss) on `c`.
   /// For a `dds_config` that names a file, reads it as the XML. Security is not set here
   /// (enable_security()).
