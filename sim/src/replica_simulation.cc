@@ -273,6 +273,10 @@ void Simulation::add_stats(const Agent& a) {
   result_.deltas_applied += st.deltas_applied;
   result_.states_applied += st.states_applied;
   result_.rejected_samples += st.rejected;
+  result_.pulls += st.pulls_sent;
+  result_.suspicions += st.suspicions;
+  result_.refutations += st.refutations;
+  result_.declared_gone += st.declared_gone;
   if (a.guard) {
     result_.violations_seen += a.guard->violations_seen();
     result_.repairs += a.guard->repairs_made();

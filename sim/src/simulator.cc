@@ -38,6 +38,12 @@ std::string SimResult::to_json() const {
   j["digest"] = digest;
   j["messages"] = messages;
   j["bytes"] = bytes;
+  j["pulls"] = pulls;
+  if (suspicions + refutations + declared_gone > 0) {
+    j["suspicions"] = suspicions;
+    j["refutations"] = refutations;
+    j["declared_gone"] = declared_gone;
+  }
   for (const auto& [kind, mb] : by_kind)
     if (mb.first > 0) j["by_kind"][kind] = {{"messages", mb.first}, {"bytes", mb.second}};
   if (protocol_bytes_max > 0) {

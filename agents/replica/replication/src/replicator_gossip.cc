@@ -12,16 +12,6 @@
 
 namespace quiver::agents::inline replica {
 
-namespace {
-
-std::uint64_t next_random(std::uint64_t& s) {
-  s ^= s << 13;
-  s ^= s >> 7;
-  s ^= s << 17;
-  return s;
-}
-
-}  // namespace
 
 void Replicator::refresh_set_hash() const {
   if (hash_version_ == state_version_) return;
@@ -227,8 +217,13 @@ void Replicator::handle_gossip(const PeerId& from, Peer& p, const SummaryMsg& m)
 
   switch (m.beat) {
     case Beat::kHello:
-      // A newcomer (or one back): members that were already there answer, so that it learns of them.
-      if (was_new && started_ && now_ - started_ns_ >= opt_.probe_ns) send_beat(Beat::kAck, from);
+      // A replica new to us (a newcomer, one back, or one that started with us and whose hello
+      // we got but which may have missed ours) learns of us from our answer, named.
+      if (was_new && started_) {
+        SummaryMsg a = beat(Beat::kAck, from);
+        a.name = opt_.name;
+        queue(from, std::move(a));
+      }
       break;
     case Beat::kPing: send_beat(Beat::kAck, from, m.subject); break;
     case Beat::kPingReq: send_beat(Beat::kPing, m.subject, from); break;
@@ -310,7 +305,7 @@ void Replicator::probe_tick() {
       for (const auto& [id, q] : peers_)
         if (q.info.alive && !(id == probe_target_) && q.status == Liveness::kAlive) helpers.push_back(id);
       for (int k = 0; k < opt_.indirect_probes && !helpers.empty(); ++k) {
-        const std::size_t i = next_random(rng_) % helpers.size();
+        const std::size_t i = rng_.below(helpers.size());
         ++stats_.probes_indirect;
         send_beat(Beat::kPingReq, helpers[i], probe_target_);
         helpers[i] = helpers.back();
@@ -408,7 +403,7 @@ void Replicator::gossip_tick() {
   // a replica they did not know.
   if (now_ >= next_rediscover_ns_) {
     next_rediscover_ns_ = now_ + opt_.rediscover_ns;
-    if (next_random(rng_) % (live_peer_count() + 1) == 0) send_beat(Beat::kHello, PeerId{});
+    if (rng_.below(live_peer_count() + 1) == 0) send_beat(Beat::kHello, PeerId{});
   }
   if (opt_.digest_every_ns > 0 && now_ >= next_digest_) {
     next_digest_ = now_ + opt_.digest_every_ns;

@@ -19,10 +19,12 @@ void Replicator::start(std::int64_t now_ns) {
   started_ns_ = now_ns;
   next_heartbeat_ = now_ns + opt_.heartbeat_ns;
   if (opt_.gossip) {
-    rng_ = (self_.agent ^ (self_.incarnation * 0x9e3779b97f4a7c15ULL)) | 1;
+    rng_ = Rng(mix64(self_.agent) ^ self_.incarnation);
     // Probes start at a point of the period that depends on the replica, so they do not bunch.
-    next_rediscover_ns_ = now_ns + opt_.rediscover_ns;
-    next_probe_ns_ = now_ns + static_cast<std::int64_t>(rng_ % static_cast<std::uint64_t>(std::max<std::int64_t>(1, opt_.probe_ns)));
+    // Hellos to everyone come from one replica at a time, not all at the same instant.
+    next_rediscover_ns_ = now_ns + opt_.rediscover_ns +
+                          static_cast<std::int64_t>(rng_.below(static_cast<std::uint64_t>(std::max<std::int64_t>(1, opt_.rediscover_ns))));
+    next_probe_ns_ = now_ns + static_cast<std::int64_t>(rng_.below(static_cast<std::uint64_t>(std::max<std::int64_t>(1, opt_.probe_ns))));
     send_beat(Beat::kHello, PeerId{});
   } else {
     send_summary();

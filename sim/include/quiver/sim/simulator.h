@@ -121,6 +121,10 @@ struct SimResult {
   std::uint64_t deltas_applied = 0;
   std::uint64_t states_applied = 0;
   std::uint64_t rejected_samples = 0;
+  std::uint64_t pulls = 0;  ///< pulls sent by the replicas alive at the end
+  /// Gossip membership (ReplicatorOptions::gossip), summed over the replicas alive at the end:
+  /// suspicions raised, refuted, and peers declared gone.
+  std::uint64_t suspicions = 0, refutations = 0, declared_gone = 0;
   std::int64_t virtual_ms = 0;
   std::int64_t settle_ms = 0;  ///< from the end of faults to convergence
   std::size_t final_nodes = 0;

@@ -12,7 +12,7 @@ struct ScaleBench {
   std::vector<int> agents = {4, 8, 16, 32, 64, 128};  ///< the numbers of agents, in order
   int steps = 1000;        ///< workload steps (one random agent commits per step)
   std::uint64_t seed = 5;  ///< of the workload; one run per number of agents, all with it
-  double idle_s = 1.0;     ///< virtual seconds of idle time after each run, measured apart
+  double idle_s = 4.0;     ///< virtual seconds of idle time after each run, measured apart
   std::string protocol = "gossip";  ///< "gossip" or "all-to-all" (ReplicatorOptions::gossip)
   bool skip_heal = false;  ///< no second run with a partition until the end (heal_ms)
 };

@@ -53,6 +53,7 @@
 #include "quiver/graph/graph.h"
 #include "quiver/base/hash.h"
 #include "quiver/base/result.h"
+#include "quiver/base/rng.h"
 
 namespace quiver::agents::inline replica {
 
@@ -461,7 +462,7 @@ class Replicator {
   bool offering_ = false;
   std::int64_t next_offer_ns_ = 0;
   bool digest_due_ = false;
-  std::uint64_t rng_ = 0;
+  Rng rng_{0};  // seeded from the replica id at start(): deterministic, and apart for each replica
   std::int64_t applied_changed_ns_ = 0;
   mutable std::uint64_t hash_version_ = ~0ull, set_hash_ = 0, set_count_ = 0;
   std::map<PeerId, std::int64_t> mismatched_;  // peers whose last report showed what we lack
