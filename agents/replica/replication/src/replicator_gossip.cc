@@ -331,6 +331,11 @@ void Replicator::probe_tick() {
 }
 
 void Replicator::gossip_tick() {
+  if (hello_due_ && now_ >= next_hello_ns_) {
+    hello_due_ = false;
+    next_hello_ns_ = now_ + opt_.pull_first_timeout_ns;
+    send_beat(Beat::kHello, PeerId{});
+  }
   probe_tick();
   // Suspicions this replica raised and nobody refuted: gone. Until then the suspect is pinged
   // every period with the rumor, so that it can refute even when the gossip is slow to reach it.

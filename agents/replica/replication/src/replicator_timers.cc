@@ -33,8 +33,14 @@ void Replicator::start(std::int64_t now_ns) {
 }
 
 void Replicator::announce() {
-  if (opt_.gossip) send_beat(Beat::kHello, PeerId{});
-  else send_summary();
+  if (opt_.gossip) {
+    // Only a newcomer (or a replica that hears nobody) says hello again when its transport
+    // matches a new peer: members answer a hello from a replica new to them, so the others need
+    // not each tell everyone. At most one per pull_first_timeout_ns, the last one not dropped.
+    if (now_ - started_ns_ <= 10 * opt_.probe_ns || live_peer_count() == 0) hello_due_ = true;
+    return;
+  }
+  send_summary();
   send_queued();
 }
 

@@ -204,7 +204,9 @@ class Replicator {
   /// Says goodbye so that peers drop this replica at once instead of after the lease.
   /// Flushes coalesced deltas first. Owner thread only.
   void leave();
-  /// Sends a summary now (e.g. when the transport saw a newcomer appear). Owner thread only.
+  /// Sends a summary now (e.g. when the transport saw a newcomer appear). With gossip: a hello
+  /// to everyone at the next tick, and only from a replica that started within 10 probe periods
+  /// or hears nobody (members answer a newcomer's hello). Owner thread only.
   void announce();
   /// Offers this replica's whole (origin, seq) set to every peer, so that each pulls what it
   /// lacks and says when it holds all of it: what a clean stop does before it waits for
@@ -459,6 +461,8 @@ class Replicator {
   std::uint64_t want_acks_seq_ = 0;
   std::int64_t next_ack_request_ns_ = 0;
   std::int64_t next_rediscover_ns_ = 0;
+  bool hello_due_ = false;
+  std::int64_t next_hello_ns_ = 0;
   bool offering_ = false;
   std::int64_t next_offer_ns_ = 0;
   bool digest_due_ = false;
