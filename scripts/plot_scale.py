@@ -52,11 +52,11 @@ def main():
     panels = [p for p in panels if any(r.get(p[0], 0) > 0 for _, rows in inputs for r in rows)]
     fig, axes = plt.subplots(1, len(panels), figsize=(5.2 * len(panels), 4.5), squeeze=False)
     axes = axes[0]
-    for label, rows in inputs:
+    for k, (label, rows) in enumerate(inputs):
         for ax, (key, _, _) in zip(axes, panels):
             points = [(r["agents"], r[key]) for r in rows if r.get(key, 0) > 0]
-            if points:
-                ax.plot([p[0] for p in points], [p[1] for p in points], "o-", label=label)
+            if points:  # one colour per input in every panel
+                ax.plot([p[0] for p in points], [p[1] for p in points], "o-", color=f"C{k}", label=label)
     for ax, (_, _, target) in zip(axes, panels):
         if target:
             ax.axhline(target[0], ls="--", color="grey", label=target[1] + " (issue 22)")
