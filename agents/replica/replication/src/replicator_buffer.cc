@@ -19,13 +19,14 @@ void Replicator::remember(const PeerId& origin, std::uint64_t lo, std::uint64_t 
   }
 }
 
-void Replicator::evict_front() {
-  const Buffered& e = buffer_.front();
-  buffer_bytes_ -= e.bytes->size();
-  auto idx = buffer_index_.find(e.origin);
-  idx->second.erase(e.lo);
+void Replicator::evict_front() { erase_buffered(buffer_.begin()); }
+
+std::list<Replicator::Buffered>::iterator Replicator::erase_buffered(std::list<Buffered>::iterator it) {
+  buffer_bytes_ -= it->bytes->size();
+  auto idx = buffer_index_.find(it->origin);
+  idx->second.erase(it->lo);
   if (idx->second.empty()) buffer_index_.erase(idx);
-  buffer_.pop_front();
+  return buffer_.erase(it);
 }
 
 void Replicator::trim_buffer() {
@@ -37,11 +38,7 @@ void Replicator::trim_buffer() {
       ++it;
       continue;
     }
-    buffer_bytes_ -= it->bytes->size();
-    auto idx = buffer_index_.find(it->origin);
-    idx->second.erase(it->lo);
-    if (idx->second.empty()) buffer_index_.erase(idx);
-    it = buffer_.erase(it);
+    it = erase_buffered(it);
   }
 }
 

@@ -167,14 +167,7 @@ bool Replicator::behind(const Peer& p) const {
 void Replicator::handle_gossip(const PeerId& from, Peer& p, const SummaryMsg& m) {
   const bool was_new = !p.announced || p.status == Liveness::kDead;
   if (m.beat == Beat::kFull) {
-    crdt::CausalContext applied = to_context(m.applied);
-    const std::size_t total = peer_ranges_ - p.applied.range_count() + applied.range_count();
-    if (total > opt_.max_peer_ranges)
-      return reject(make_error(ErrorCode::kTooLarge, "summary from " + from.to_string() + ": " +
-                                                         std::to_string(applied.range_count()) +
-                                                         " ranges would exceed the peer table's limit"));
-    peer_ranges_ = total;
-    p.applied = std::move(applied);
+    if (!take_peer_set(from, p, to_context(m.applied))) return;
     p.full = true;
     p.full_hash = m.set_hash;
   }
@@ -331,6 +324,9 @@ void Replicator::probe_tick() {
 }
 
 void Replicator::gossip_tick() {
+  // The scans over every peer run at the heartbeat's pace, not every tick: their deadlines are
+  // a probe period or longer.
+  const bool sweep = now_ >= next_heartbeat_;
   if (hello_due_ && now_ >= next_hello_ns_) {
     hello_due_ = false;
     next_hello_ns_ = now_ + opt_.pull_first_timeout_ns;
@@ -341,6 +337,7 @@ void Replicator::gossip_tick() {
   // every period with the rumor, so that it can refute even when the gossip is slow to reach it.
   const std::int64_t timeout = suspect_timeout();
   for (auto& [id, p] : peers_) {
+    if (!sweep) break;
     if (!p.my_suspicion || p.status != Liveness::kSuspect) continue;
     if (now_ - p.suspect_since >= timeout) {
       declare_dead(p);
@@ -390,6 +387,7 @@ void Replicator::gossip_tick() {
   }
   // Offered sets this replica now holds all of: say so, once, and forget them.
   for (auto& [id, p] : peers_) {
+    if (!sweep) break;
     if (!p.full || !applied_.includes(p.applied)) continue;
     if (p.info.alive) send_beat(Beat::kAck, id);
     peer_ranges_ -= p.applied.range_count();
@@ -415,7 +413,7 @@ void Replicator::gossip_tick() {
     digest_due_ = true;
   }
   // Peers gone for long are forgotten (bounded memory).
-  for (auto it = peers_.begin(); it != peers_.end();) {
+  for (auto it = peers_.begin(); sweep && it != peers_.end();) {
     Peer& p = it->second;
     if (!p.info.alive && now_ - p.info.last_heard_ns > 60 * opt_.lease_ns) {
       peer_ranges_ -= p.applied.range_count();
@@ -425,7 +423,7 @@ void Replicator::gossip_tick() {
       ++it;
     }
   }
-  if (now_ >= next_heartbeat_) {
+  if (sweep) {
     trim_buffer_gossip();
     next_heartbeat_ = now_ + opt_.heartbeat_ns;
   }
@@ -445,15 +443,7 @@ void Replicator::trim_buffer_gossip() {
     } else {
       drop = now_ - it->at_ns >= opt_.relay_retain_ns;
     }
-    if (!drop) {
-      ++it;
-      continue;
-    }
-    buffer_bytes_ -= it->bytes->size();
-    auto idx = buffer_index_.find(it->origin);
-    idx->second.erase(it->lo);
-    if (idx->second.empty()) buffer_index_.erase(idx);
-    it = buffer_.erase(it);
+    it = drop ? erase_buffered(it) : std::next(it);
   }
 }
 

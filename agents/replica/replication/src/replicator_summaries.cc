@@ -51,16 +51,24 @@ void Replicator::check_digest(const PeerId& from, Peer& p, std::uint64_t digest)
   pull_from(from, true);
 }
 
+// A peer's whole (origin, seq) set, within the bound on all peers' ranges together.
+bool Replicator::take_peer_set(const PeerId& from, Peer& p, crdt::CausalContext applied) {
+  const std::size_t total = peer_ranges_ - p.applied.range_count() + applied.range_count();
+  if (total > opt_.max_peer_ranges) {
+    reject(make_error(ErrorCode::kTooLarge, "summary from " + from.to_string() + ": " +
+                                                std::to_string(applied.range_count()) +
+                                                " ranges would exceed the peer table's limit"));
+    return false;
+  }
+  peer_ranges_ = total;
+  p.applied = std::move(applied);
+  return true;
+}
+
 void Replicator::handle(const PeerId& from, const SummaryMsg& m) {
   Peer& p = peers_[from];
   if (opt_.gossip) return handle_gossip(from, p, m);
-  crdt::CausalContext applied = to_context(m.applied);
-  const std::size_t total = peer_ranges_ - p.applied.range_count() + applied.range_count();
-  if (total > opt_.max_peer_ranges)
-    return reject(make_error(ErrorCode::kTooLarge, "summary from " + from.to_string() + ": " +
-                                                       std::to_string(applied.range_count()) +
-                                                       " ranges would exceed the peer table's limit"));
-  peer_ranges_ = total;
+  if (!take_peer_set(from, p, to_context(m.applied))) return;
   const bool first = !p.announced;
   p.info.name = m.name;
   p.info.observer = m.observer;
@@ -68,7 +76,6 @@ void Replicator::handle(const PeerId& from, const SummaryMsg& m) {
   // a name that hashes to the id it came with: nobody can name another agent's changes.
   if (!m.name.empty() && fnv1a64(m.name) == from.agent && names_.size() < 4 * opt_.max_peers)
     names_.emplace(from.agent, m.name);
-  p.applied = std::move(applied);
   if (first) {
     p.announced = true;
     if (membership_cb_ && p.info.alive) membership_cb_(Membership::kJoined, p.info);

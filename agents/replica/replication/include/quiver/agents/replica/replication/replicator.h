@@ -396,6 +396,9 @@ class Replicator {
   std::int64_t suspect_timeout() const;
   void remember(const PeerId& origin, std::uint64_t lo, std::uint64_t hi, Bytes bytes, Bytes signature);
   void evict_front();
+  std::list<Buffered>::iterator erase_buffered(std::list<Buffered>::iterator it);
+  /// Stores `applied` as p's set; false (rejected, p unchanged) beyond max_peer_ranges.
+  bool take_peer_set(const PeerId& from, Peer& p, crdt::CausalContext applied);
   void trim_buffer();
   void queue(const PeerId& to, Message msg);
   void send_queued();
