@@ -6,6 +6,7 @@
 #include "quiver/tools/bench/crdt_bench.h"
 #include "quiver/tools/bench/load_bench.h"
 #include "quiver/tools/bench/scale_bench.h"
+#include "quiver/tools/bench/schedules_bench.h"
 
 namespace quiver::tools {
 
@@ -53,6 +54,24 @@ void add_bench_commands(CLI::App& app) {
       ->check(CLI::Range(0.05, 3600.0))
       ->capture_default_str();
   scale->callback([sc] { set_exit_code(bench::run_scale_bench(*sc)); });
+  auto sb = std::make_shared<bench::SchedulesBench>();
+  auto* sched = bench->add_subcommand(
+      "schedules",
+      "Many seeded fault schedules (loss, duplication, reordering, partitions, crashes and restarts) at one "
+      "number of agents in the simulator: how many converged, diverged or broke an invariant");
+  sched->add_option("--agents", sb->agents)->check(CLI::Range(1, 1000))->capture_default_str();
+  sched->add_option("--count", sb->count, "schedules (seeds --seed .. --seed+count-1)")
+      ->check(CLI::Range(1, 1'000'000))
+      ->capture_default_str();
+  sched->add_option("--seed", sb->seed)->check(CLI::NonNegativeNumber)->capture_default_str();
+  sched->add_option("--steps", sb->steps, "workload steps per schedule")->check(CLI::Range(1, 1'000'000))->capture_default_str();
+  sched->add_option("--max-loss", sb->max_loss, "the highest loss a schedule draws")
+      ->check(CLI::Range(0.0, 0.95))
+      ->capture_default_str();
+  sched->add_option("--protocol", sb->protocol, "gossip (the default) or all-to-all")
+      ->check(CLI::IsMember({"gossip", "all-to-all"}))
+      ->capture_default_str();
+  sched->callback([sb] { set_exit_code(bench::run_schedules_bench(*sb)); });
 }
 
 }  // namespace quiver::tools

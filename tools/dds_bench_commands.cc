@@ -39,6 +39,7 @@ struct RoleFlags {
   long changes = 1000;          ///< scale roles
   double rate = 10;
   double idle_s = 10;
+  double settle_s = 2;
 };
 
 }  // namespace
@@ -113,6 +114,13 @@ void add_dds_bench_commands(CLI::App& app) {
   dsc->add_option("--idle", sc.idle_s, "seconds of idle time over which CPU is measured")
       ->check(CLI::Range(1.0, 3600.0))
       ->capture_default_str();
+  dsc->add_option("--settle", sc.settle_s, "seconds the writer waits after every process joined, before writing")
+      ->check(CLI::Range(0.0, 3600.0))
+      ->capture_default_str();
+  dsc->add_option("--start-gap-ms", sc.start_gap_ms,
+                  "start the processes this many ms apart (many processes on few cores)")
+      ->check(CLI::Range(0, 60'000))
+      ->capture_default_str();
   dsc->callback([f] {
     bench::DdsScaleBench run = f->scale;
     run.roles = {self_exe(), f->dds};
@@ -137,10 +145,11 @@ void add_dds_bench_commands(CLI::App& app) {
   role->add_option("--changes", r->changes)->check(CLI::Range(1L, 10'000'000L));
   role->add_option("--rate", r->rate)->check(CLI::Range(0.1, 100000.0));
   role->add_option("--idle", r->idle_s)->check(CLI::Range(1.0, 3600.0));
+  role->add_option("--settle", r->settle_s)->check(CLI::Range(0.0, 3600.0));
   role->callback([r] {
     if (r->transport_only) r->dds.graph_security = false;
     if (r->role.role.rfind("scale-", 0) == 0) {
-      bench::ScaleRole s{r->role.role, nullptr, r->role.id, r->role.agents, r->changes, r->rate, r->idle_s};
+      bench::ScaleRole s{r->role.role, nullptr, r->role.id, r->role.agents, r->changes, r->rate, r->idle_s, r->settle_s};
       s.open = [dds = r->dds](agents::DdsReplicaOptions opts) { return dds.create_agent(std::move(opts)); };
       set_exit_code(bench::run_scale_role(s));
       return;

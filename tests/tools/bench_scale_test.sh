@@ -34,4 +34,12 @@ for ext in png svg; do
 done
 head -c 8 "$work/scale.png" | od -An -c | grep -q 'P   N   G' || fail "scale.png is not a PNG"
 grep -q '<svg' "$work/scale.svg" || fail "scale.svg is not an SVG"
-echo "bench_scale_test passed: 2 runs, both converged, plotted as PNG and SVG"
+# quiver bench schedules: seeded fault schedules at a fixed number of agents, each counted.
+"$q" bench schedules --agents 8 --count 4 --steps 60 --seed 41 > "$work/sched.jsonl" ||
+  fail "quiver bench schedules exited $?"
+cat "$work/sched.jsonl"
+grep -q '"schedules":4' "$work/sched.jsonl" || fail "schedules: not 4 run"
+grep -q '"converged":4' "$work/sched.jsonl" || fail "schedules: not all 4 converged"
+grep -q '"failed":0' "$work/sched.jsonl" || fail "schedules: one failed"
+grep -Eq '"packets_dropped":[1-9]' "$work/sched.jsonl" || fail "schedules: no fault injected"
+echo "bench_scale_test passed: 2 runs, both converged, plotted as PNG and SVG; 4 fault schedules converged"

@@ -19,16 +19,18 @@ namespace {
 
 json one_run(const DdsScaleBench& b, int n, bool& ok) {
   const std::vector<std::string> common = {"--agents", std::to_string(n), "--changes", std::to_string(b.changes),
-                                           "--rate", std::to_string(b.rate), "--idle", std::to_string(b.idle_s)};
+                                           "--rate", std::to_string(b.rate), "--idle", std::to_string(b.idle_s),
+                                           "--settle", std::to_string(b.settle_s)};
   json out{{"bench", "dds-scale"}, {"agents", n}, {"membership", b.roles.dds.membership},
            {"changes", b.changes}, {"rate", b.rate}};
-  auto members = spawn_roles(b.roles, "scale-member", n - 1, common);
+  auto members = spawn_roles(b.roles, "scale-member", n - 1, common, b.start_gap_ms);
   auto writer = Subprocess::spawn(role_argv(b.roles, "scale-writer", common));
   if (!members || !writer) {
     ok = false;
     return out;
   }
-  const int budget_ms = static_cast<int>((static_cast<double>(b.changes) / b.rate + b.idle_s + 400) * 1000);
+  const int budget_ms =
+      static_cast<int>((static_cast<double>(b.changes) / b.rate + b.idle_s + b.settle_s + 400) * 1000);
   auto w = read_json(*writer, "writer", budget_ms);
   std::vector<double> all, last;
   std::vector<double> last_of(static_cast<std::size_t>(b.changes), 0);

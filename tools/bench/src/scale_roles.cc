@@ -81,7 +81,8 @@ int writer(const ScaleRole& f) {
   const auto others = static_cast<std::size_t>(f.agents - 1);
   const bool all = a.spin_until([&] { return a.replicator().live_peer_count() >= others; }, 300 * kSec);
   const double ready_ms = static_cast<double>(monotonic_ns() - t_open) / 1e6;
-  a.spin_for(2 * kSec);  // the members' first pulls (the node) settle
+  // The members' first pulls (the node) settle, and so does the start of many processes.
+  a.spin_for(static_cast<std::int64_t>(f.settle_s * 1e9));
   const std::int64_t period = static_cast<std::int64_t>(kSec / f.rate);
   const std::int64_t c0 = cpu_ns(), t0 = monotonic_ns();
   std::int64_t next = t0;

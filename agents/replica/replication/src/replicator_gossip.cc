@@ -33,10 +33,13 @@ std::int64_t Replicator::suspect_timeout() const {
 
 SummaryMsg Replicator::beat(Beat b, const PeerId& to) {
   SummaryMsg m;
-  // The name goes to everyone in a hello, and in an addressed beat only to a peer whose name we
-  // do not know (then it likely does not know ours): it is most of a beat's variable size.
+  // The name goes to everyone in a hello, and in an addressed beat only to a peer we have not
+  // named ourselves to yet: it is most of a beat's variable size.
   const auto known = to.is_null() ? peers_.end() : peers_.find(to);
-  if (to.is_null() || known == peers_.end() || known->second.info.name.empty()) m.name = opt_.name;
+  if (to.is_null() || known == peers_.end() || !known->second.told_name || known->second.info.name.empty()) {
+    m.name = opt_.name;
+    if (known != peers_.end()) known->second.told_name = true;
+  }
   m.observer = opt_.observer;
   m.beat = b;
   m.life = life_;
@@ -212,7 +215,11 @@ void Replicator::handle_gossip(const PeerId& from, Peer& p, const SummaryMsg& m)
     case Beat::kHello:
       // A replica new to us (a newcomer, one back, or one that started with us and whose hello
       // we got but which may have missed ours) learns of us from our answer, named.
-      if (was_new && started_) {
+      // With hello_answers, each member answers with that many chances in (live peers): the
+      // transport introduces the others.
+      if (was_new && started_ &&
+          (opt_.hello_answers <= 0 ||
+           rng_.below(live_peer_count() + 1) < static_cast<std::uint64_t>(opt_.hello_answers))) {
         SummaryMsg a = beat(Beat::kAck, from);
         a.name = opt_.name;
         queue(from, std::move(a));
@@ -329,7 +336,7 @@ void Replicator::gossip_tick() {
   const bool sweep = now_ >= next_heartbeat_;
   if (hello_due_ && now_ >= next_hello_ns_) {
     hello_due_ = false;
-    next_hello_ns_ = now_ + opt_.pull_first_timeout_ns;
+    next_hello_ns_ = now_ + std::min(opt_.pull_first_timeout_ns << std::min(hellos_++, 6), opt_.rediscover_ns);
     send_beat(Beat::kHello, PeerId{});
   }
   probe_tick();
@@ -445,6 +452,15 @@ void Replicator::trim_buffer_gossip() {
     }
     it = drop ? erase_buffered(it) : std::next(it);
   }
+}
+
+void Replicator::introduce(const PeerId& peer) {
+  if (!opt_.gossip || peer == self_ || peer.is_null() || peers_.count(peer) > 0 || peers_.size() >= opt_.max_peers)
+    return;
+  Peer& p = peers_[peer];
+  p.info.id = peer;
+  p.info.alive = true;
+  p.info.last_heard_ns = now_;
 }
 
 void Replicator::offer_all() {

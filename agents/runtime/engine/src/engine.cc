@@ -186,6 +186,8 @@ void Engine::tick() {
   loop_->pump();
 }
 
+bool Engine::quiet() const { return !tasks_waiting() && (loop_ == nullptr || loop_->idle()); }
+
 bool Engine::tasks_waiting() const {
   std::lock_guard<std::mutex> lock(posted_mu_);
   return !posted_.empty();

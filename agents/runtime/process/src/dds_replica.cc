@@ -48,6 +48,16 @@ Result<std::unique_ptr<DdsReplica>> DdsReplica::create(DdsReplicaOptions options
   // Signed deltas: the commits of one round of the loop go out as one delta interval, one
   // signature (spin_once() flushes at its end), instead of one signature per commit.
   if (a->opt_.permissions) ro.coalesce = true;
+  // Gossip over DDS: the participant lease already reports a crashed or cut-off peer
+  // (on_peer_lost()), and DDS delivers every beat, addressed or not, to every participant (its
+  // filter drops it there), so each probe costs a packet at every process. Probes then serve
+  // anti-entropy and rediscovery only, and go no faster than the lease.
+  // DDS discovery introduces every peer (introduce()): a newcomer's hello needs only a few
+  // answers, not one from every member.
+  if (ro.gossip) {
+    ro.probe_ns = std::max(ro.probe_ns, a->opt_.dds.lease_ns);
+    if (ro.hello_answers == 0) ro.hello_answers = 3;
+  }
   a->replicator_ = std::make_unique<Replicator>(*a->graph_, *a->transport_, ro);
   if (a->store_) {
     a->replicator_->restore(applied);
@@ -66,6 +76,7 @@ Result<std::unique_ptr<DdsReplica>> DdsReplica::create(DdsReplicaOptions options
   const std::int64_t now = monotonic_ns();
   a->replicator_->start(now);
   a->next_tick_ = now + a->opt_.tick_ns;
+  a->last_activity_ns_ = now;
   return a;
 }
 
@@ -108,22 +119,35 @@ void DdsReplica::spin_once(std::int64_t max_wait_ns) {
   std::int64_t now = monotonic_ns();
   std::int64_t wait = std::min({max_wait_ns, next_tick_ - now, engine_->next_timer() - now});
   if (wait > 0 && !engine_->tasks_waiting()) transport_->wait(wait);
-  bool received = false;
+  bool received = false, busy = false;
   transport_->drain(
       [&](const Sample& s) {
         engine_->on_sample(s);
         received = true;
+        busy = busy || !std::holds_alternative<SummaryMsg>(s.message);
       },
       [&](const PeerId& p, bool gone) { replicator_->on_peer_lost(p, gone); });
   if (received) engine_->pump();
   // A newcomer matched: announce ourselves now so it does not wait for a heartbeat.
-  if (transport_->take_new_match()) replicator_->announce();
+  // With gossip, DDS discovery also introduces every peer (its participant carries its id).
+  if (transport_->take_new_match()) {
+    if (replicator_->options().gossip)
+      for (const PeerId& p : transport_->take_new_peers()) replicator_->introduce(p);
+    replicator_->announce();
+  }
   engine_->run_posted();
   engine_->run_timers();
   now = monotonic_ns();
   if (now >= next_tick_) {
     engine_->step();
-    next_tick_ = now + opt_.tick_ns;
+    if (busy || replicator_->last_seq() != last_seq_seen_ || !replicator_->idle() || !engine_->quiet()) {
+      last_activity_ns_ = now;
+      last_seq_seen_ = replicator_->last_seq();
+    }
+    const bool quiet = opt_.quiet_tick_ns > opt_.tick_ns && now - last_activity_ns_ >= opt_.quiet_after_ns;
+    next_tick_ = now + (quiet ? opt_.quiet_tick_ns : opt_.tick_ns);
+  } else if (busy) {
+    last_activity_ns_ = now;
   }
   replicator_->flush();  // coalesced commits (signed replicas) leave at the end of each round
 }

@@ -91,6 +91,11 @@ void ProcessFlags::add_dds(CLI::App* cmd) {
       ->capture_default_str();
   cmd->add_option("--loss-permille", loss_permille, "testing: Cyclone drops this share of sent packets")
       ->check(CLI::Range(0, 999));
+  cmd->add_option("--lease", lease_s,
+                  "DDS participant lease in seconds: a crashed or cut-off agent is noticed within it; each "
+                  "process receives a few discovery packets per peer per lease (longer for many processes)")
+      ->check(CLI::Range(0.05, 600.0))
+      ->capture_default_str();
   cmd->add_option("--membership", membership,
                   "all-to-all (every heartbeat, this replica's whole (origin, seq) set to every peer) or gossip "
                   "(constant-size beats to one peer per period: the cost per agent does not grow with the number "
@@ -141,6 +146,7 @@ void ProcessFlags::add_all(CLI::App* cmd) {
 Status ProcessFlags::apply_to(DdsConfig& c) const {
   c.domain = domain;
   c.xmit_loss_permille = loss_permille;
+  c.lease_ns = static_cast<std::int64_t>(lease_s * 1e9);
   if (dds_config == "loopback") {
     c.source = DdsConfig::Source::kLoopback;
   } else if (dds_config == "env") {
@@ -256,7 +262,9 @@ int run_process(Agent& agent, const ProcessFlags& f) {
   while (!g_stop.load()) {
     std::int64_t now = monotonic_ns();
     if (f.run_for_s > 0 && now - start > static_cast<std::int64_t>(f.run_for_s * 1e9)) break;
-    r.spin_once(10'000'000);
+    // The round itself decides how long it waits (its tick, timers, traffic); a signal's stop is
+    // seen within the quiet round.
+    r.spin_once(f.status_ms > 0 ? std::min<std::int64_t>(100'000'000, f.status_ms * 1'000'000LL) : 100'000'000);
     now = monotonic_ns();
     {
       std::lock_guard<std::mutex> lock(errors_mu);

@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cstdio>
 #include <cstdlib>
+#include <cstring>
 #include <map>
 #include <mutex>
 #include <set>
@@ -71,6 +72,16 @@ std::atomic<dds_domainid_t> g_next_private{0x4000};
 // Local ids (0..230) of private instances with DDS Security, under g_domains_mu.
 std::set<dds_domainid_t> g_secured_private;
 constexpr dds_domainid_t kMaxDomainId = 230;
+
+// A sample addressed to another replica never enters this participant's reader: Cyclone drops it
+// on its receive thread, so the owner thread does not wake for the beats, pulls and state chunks
+// peers address to each other (DDS delivers every sample of a topic to every reader of it).
+template <typename T>
+bool addressed_here(const void* sample, void* self) {
+  const quiver_wire_Replica& to = static_cast<const T*>(sample)->destination;
+  const PeerId& me = *static_cast<const PeerId*>(self);
+  return (to.agent == 0 && to.incarnation == 0) || (to.agent == me.agent && to.incarnation == me.incarnation);
+}
 
 }  // namespace
 
@@ -231,6 +242,7 @@ std::string loopback_config_xml(const DdsConfig& cfg) {
 
 struct DdsTransport::Impl {
   std::mutex send_mu;  // send() may come from a keeper thread too (DdsReplica::keep_alive())
+  PeerId self;  // the topic filters' argument: lives as long as the topics
   dds_domainid_t domain_id = 0;
   bool shared_domain = false;
   bool secured_private = false;  // domain_id is in g_secured_private
@@ -239,8 +251,10 @@ struct DdsTransport::Impl {
   // One topic, writer and reader per message kind, indexed by Kind.
   enum Kind { kSummary, kDelta, kPull, kState, kBye, kKinds };
   Entity topics[kKinds];
+  Entity reader_topics[kKinds];  // filtered (addressed_here) topic entities of the readers
   Entity writers[kKinds];
   Entity readers[kKinds];
+  Entity participants;  // the built-in participant topic (whose user data is a replica id)
   Entity waitset;
   Entity guard;
   std::uint32_t matched_seen = 0;
@@ -275,6 +289,7 @@ Result<std::unique_ptr<DdsTransport>> DdsTransport::create(const PeerId& self, c
   t->self_ = self;
   t->impl_ = std::make_unique<Impl>();
   Impl& d = *t->impl_;
+  d.self = self;
 
   std::string xml;
   switch (cfg.source) {
@@ -366,11 +381,18 @@ Result<std::unique_ptr<DdsTransport>> DdsTransport::create(const PeerId& self, c
   }
   d.participant = Entity(pp);
 
-  // Heartbeats: the latest per sender is all that matters.
+  // Heartbeats and gossip beats: best effort (the protocol sends newer ones and repeats what it
+  // asks for), so a beat costs one packet per reader and no acknowledgement traffic. The writer
+  // keeps the latest per sender; a reader keeps a few, since beats addressed to this replica
+  // (an answer, then a ping) may follow each other closely.
   Qos summary;
-  dds_qset_reliability(summary.q, DDS_RELIABILITY_RELIABLE, DDS_MSECS(10));
+  dds_qset_reliability(summary.q, DDS_RELIABILITY_BEST_EFFORT, 0);
   dds_qset_history(summary.q, DDS_HISTORY_KEEP_LAST, 1);
   dds_qset_ignorelocal(summary.q, DDS_IGNORELOCAL_PARTICIPANT);
+  Qos summary_reader;
+  dds_qset_reliability(summary_reader.q, DDS_RELIABILITY_BEST_EFFORT, 0);
+  dds_qset_history(summary_reader.q, DDS_HISTORY_KEEP_LAST, 8);
+  dds_qset_ignorelocal(summary_reader.q, DDS_IGNORELOCAL_PARTICIPANT);
   // Everything else must arrive or be recovered by the protocol.
   Qos reliable;
   dds_qset_reliability(reliable.q, DDS_RELIABILITY_RELIABLE, cfg.max_blocking_ns);
@@ -388,16 +410,36 @@ Result<std::unique_ptr<DdsTransport>> DdsTransport::create(const PeerId& self, c
     dds_entity_t tp = dds_create_topic(pp, &wire::descriptor(topic), topic_name(topic), nullptr, nullptr);
     if (tp < 0) return dds_error("DdsTransport: dds_create_topic" + what, tp);
     d.topics[i] = Entity(tp);
+    dds_topic_filter_arg_fn filter = nullptr;
+    switch (i) {
+      case Impl::kSummary: filter = addressed_here<quiver_wire_Summary>; break;
+      case Impl::kDelta: filter = addressed_here<quiver_wire_Delta>; break;
+      case Impl::kPull: filter = addressed_here<quiver_wire_Pull>; break;
+      case Impl::kState: filter = addressed_here<quiver_wire_StateChunk>; break;
+      default: break;
+    }
     const Qos& q = i == Impl::kSummary ? summary : reliable;
     dds_entity_t w = dds_create_writer(pp, tp, q.q, nullptr);
     if (w < 0) return dds_error("DdsTransport: dds_create_writer" + what, w);
     d.writers[i] = Entity(w);
     if (i == Impl::kDelta && !cfg.read_deltas) continue;
-    const Qos& rq = i != Impl::kSummary && cfg.best_effort_reader ? best_effort : q;
-    dds_entity_t r = dds_create_reader(pp, tp, rq.q, nullptr);
+    const Qos& rq = i == Impl::kSummary ? summary_reader : cfg.best_effort_reader ? best_effort : q;
+    // The reader gets a topic entity of its own: Cyclone applies a topic's filter to writes too.
+    dds_entity_t rtp = tp;
+    if (filter != nullptr) {
+      rtp = dds_create_topic(pp, &wire::descriptor(topic), topic_name(topic), nullptr, nullptr);
+      if (rtp < 0) return dds_error("DdsTransport: dds_create_topic" + what, rtp);
+      d.reader_topics[i] = Entity(rtp);
+      dds_set_topic_filter_and_arg(rtp, filter, &d.self);
+    }
+    dds_entity_t r = dds_create_reader(pp, rtp, rq.q, nullptr);
     if (r < 0) return dds_error("DdsTransport: dds_create_reader" + what, r);
     d.readers[i] = Entity(r);
   }
+
+  dds_entity_t prd = dds_create_reader(pp, DDS_BUILTIN_TOPIC_DCPSPARTICIPANT, nullptr, nullptr);
+  if (prd < 0) return dds_error("DdsTransport: dds_create_reader(DCPSParticipant)", prd);
+  d.participants = Entity(prd);
 
   dds_entity_t ws = dds_create_waitset(pp);
   if (ws < 0) return dds_error("DdsTransport: dds_create_waitset", ws);
@@ -456,6 +498,35 @@ bool DdsTransport::take_new_match() {
   bool fresh = st.total_count != impl_->matched_seen;
   impl_->matched_seen = st.total_count;
   return fresh;
+}
+
+std::vector<PeerId> DdsTransport::take_new_peers() {
+  std::vector<PeerId> out;
+  constexpr int kMax = 64;
+  void* samples[kMax];
+  dds_sample_info_t infos[kMax];
+  for (;;) {
+    for (auto& s : samples) s = nullptr;
+    const dds_return_t n = dds_take(impl_->participants.get(), samples, infos, kMax, kMax);
+    if (n <= 0) break;
+    for (int i = 0; i < n; ++i) {
+      if (!infos[i].valid_data || infos[i].instance_state != DDS_IST_ALIVE) continue;
+      const auto* p = static_cast<const dds_builtintopic_participant_t*>(samples[i]);
+      void* data = nullptr;
+      std::size_t size = 0;
+      // Untrusted: anything but exactly one replica id (another DDS application's participant,
+      // or a malformed one) is not a peer.
+      if (p->qos != nullptr && dds_qget_userdata(p->qos, &data, &size) && data != nullptr && size == sizeof(PeerId)) {
+        PeerId id;
+        std::memcpy(&id, data, sizeof id);
+        if (!(id == self_) && !id.is_null()) out.push_back(id);
+      }
+      dds_free(data);
+    }
+    dds_return_loan(impl_->participants.get(), samples, n);
+    if (n < kMax) break;
+  }
+  return out;
 }
 
 Status DdsTransport::set_deafmute(bool deaf, bool mute, std::int64_t reset_after_ns) {

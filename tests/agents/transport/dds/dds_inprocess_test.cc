@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <future>
+#include <set>
 #include <thread>
 
 #include "quiver/agents/transport/wire/cdr_sample.h"
@@ -140,6 +141,68 @@ TEST(DdsInProcessTest, SummaryDigestAndPullFlagsTravelInSamples) {
           EXPECT_EQ(p->to, b);
         }
     }
+}
+
+// DDS delivers every sample to every reader; a beat addressed to one replica must still reach
+// only that one's owner thread (the readers' topic filter drops it elsewhere), a beat to nobody
+// in particular reaches all, and each transport learns the others' replica ids from discovery.
+TEST(DdsInProcessTest, AddressedBeatsReachOnlyTheirAddresseeAndDiscoveryNamesThePeers) {
+  const PeerId ids[3] = {PeerId{0xa1, 1}, PeerId{0xb2, 1}, PeerId{0xc3, 1}};
+  std::vector<std::unique_ptr<DdsTransport>> t;
+  for (const PeerId& id : ids) {
+    DdsConfig c;
+    c.domain = test_domain(9);
+    c.own_domain_instance = true;
+    auto made = DdsTransport::create(id, c);
+    ASSERT_TRUE(made.ok()) << made.error().to_string();
+    t.push_back(std::move(*made));
+  }
+  std::vector<std::set<PeerId>> introduced(3);
+  std::vector<std::vector<Sample>> got(3);
+  auto pump = [&](std::int64_t ms) {
+    const std::int64_t end = monotonic_ns() + ms * kMs;
+    while (monotonic_ns() < end)
+      for (int i = 0; i < 3; ++i) {
+        t[i]->wait(2 * kMs);
+        t[i]->drain([&](const Sample& s) { got[i].push_back(s); }, [](const PeerId&, bool) {});
+        for (const PeerId& p : t[i]->take_new_peers()) introduced[i].insert(p);
+      }
+  };
+  // Discovery first: every transport names the two others, never itself.
+  const std::int64_t end = monotonic_ns() + 10'000 * kMs;
+  while (monotonic_ns() < end && !(introduced[0].size() == 2 && introduced[1].size() == 2 && introduced[2].size() == 2)) {
+    pump(20);
+    for (auto& tr : t) (void)tr->take_new_match();
+  }
+  for (int i = 0; i < 3; ++i) {
+    EXPECT_EQ(introduced[i].size(), 2u) << "transport " << i;
+    EXPECT_EQ(introduced[i].count(ids[i]), 0u);
+  }
+  pump(200);  // the readers and writers match too
+  for (auto& g : got) g.clear();
+  // A beat to b, repeated (best effort), and one to everyone.
+  SummaryMsg to_b;
+  to_b.name = "a";
+  to_b.beat = Beat::kPing;
+  SummaryMsg to_all = to_b;
+  to_all.beat = Beat::kHello;
+  for (int k = 0; k < 5; ++k) {
+    t[0]->send(Sample{ids[0], ids[1], to_b});
+    pump(20);
+  }
+  t[0]->send(Sample{ids[0], PeerId{}, to_all});
+  pump(300);
+  auto count = [&](int who, Beat b) {
+    int n = 0;
+    for (const Sample& s : got[who])
+      if (const auto* m = std::get_if<SummaryMsg>(&s.message); m != nullptr && m->beat == b) ++n;
+    return n;
+  };
+  EXPECT_GE(count(1, Beat::kPing), 1) << "the addressee got none of the beats addressed to it";
+  EXPECT_EQ(count(2, Beat::kPing), 0) << "a beat addressed to b reached c's thread";
+  EXPECT_EQ(count(1, Beat::kHello), 1);
+  EXPECT_EQ(count(2, Beat::kHello), 1);
+  for (const Sample& s : got[2]) EXPECT_TRUE(s.to.is_null() || s.to == ids[2]);
 }
 
 TEST(DdsInProcessTest, TwoAgentsReplicate) {

@@ -14,6 +14,8 @@ struct DdsScaleBench {
   long changes = 1000;                                 ///< changes the writer makes
   double rate = 10;                                    ///< per second
   double idle_s = 10;                                  ///< idle time over which CPU is measured
+  double settle_s = 2;                                 ///< the writer's wait after all joined
+  int start_gap_ms = 0;                                ///< between process starts
 };
 
 /// For each N: one JSON line with the membership protocol, the time until every process saw all

@@ -27,11 +27,13 @@ struct RoleCommand {
 std::vector<std::string> role_argv(const RoleCommand& c, const std::string& role,
                                    std::vector<std::string> extra);
 
-/// Starts `n` processes of one `role`, numbered by --id 0..n-1, each with `common` arguments.
+/// Starts `n` processes of one `role`, numbered by --id 0..n-1, each with `common` arguments,
+/// `gap_ms` apart.
 /// @returns them, or nullopt when one cannot be started (those already started are then killed).
 std::optional<std::vector<agents::Subprocess>> spawn_roles(const RoleCommand& c,
                                                            const std::string& role, int n,
-                                                           const std::vector<std::string>& common);
+                                                           const std::vector<std::string>& common,
+                                                           int gap_ms = 0);
 
 /// Reads `p`'s stdout until a line that is a JSON object, skipping any other line.
 /// @returns that object, or nullopt (logged, naming the `who` process) when no line comes within

@@ -17,6 +17,7 @@ struct ScaleRole {
   long changes = 1000;    ///< the writer's changes (one node's attributes each)
   double rate = 10;       ///< changes per second
   double idle_s = 10;     ///< idle time (nothing written) over which CPU is measured
+  double settle_s = 2;    ///< writer: waits this long after every member joined before writing
 };
 
 /// Runs `r.role` and prints its JSON line. @pre r.open is set.

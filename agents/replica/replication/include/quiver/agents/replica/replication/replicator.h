@@ -109,6 +109,10 @@ struct ReplicatorOptions {
   /// gossip: deltas of other origins leave the relay buffer after this long (own deltas once
   /// every live peer acknowledged them), whatever its byte bound would allow.
   std::int64_t relay_retain_ns = 2'000'000'000;
+  /// gossip: how many members answer a hello, on average (0: every member that did not know the
+  /// sender). A transport that introduces peers itself (introduce(), e.g. DDS discovery) needs
+  /// only a few: one answer tells a newcomer the hash of a set to pull.
+  int hello_answers = 0;
 };
 
 struct PeerInfo {
@@ -208,6 +212,11 @@ class Replicator {
   /// to everyone at the next tick, and only from a replica that started within 10 probe periods
   /// or hears nobody (members answer a newcomer's hello). Owner thread only.
   void announce();
+  /// gossip: the transport discovered `peer` (e.g. a DDS participant announcing its replica
+  /// id): it is known alive from now on (probed, and asked for acknowledgements), named when it
+  /// first talks. Ignored without gossip, for this replica, a known peer, or a full peer table.
+  /// Owner thread only.
+  void introduce(const PeerId& peer);
   /// Offers this replica's whole (origin, seq) set to every peer, so that each pulls what it
   /// lacks and says when it holds all of it: what a clean stop does before it waits for
   /// peers_hold_all(). Repeated every pull_timeout_ns until leave(). With all-to-all summaries
@@ -274,6 +283,13 @@ class Replicator {
   /// the relay buffer, whose bound is buffer_bytes), estimated from the containers' sizes.
   /// Owner thread only.
   std::size_t protocol_bytes() const;
+  /// True when no protocol work waits for a timer: no pull, gap, state transfer, set mismatch,
+  /// acknowledgement request, offer, hello or coalesced delta pending. A host may then call
+  /// tick() less often (heartbeats and probes keep their own periods). Owner thread only.
+  bool idle() const {
+    return !pulling_ && !gap_pending_ && !state_.active && mismatched_.empty() && want_acks_seq_ == 0 &&
+           !offering_ && !hello_due_ && pending_lo_ == 0 && !announce_soon_;
+  }
   /// @returns the protocol's counters. Owner thread only.
   const ReplicatorStats& stats() const { return stats_; }
   /// @returns the options it was built with (sample_ns as set_sample_ns() left it).
@@ -319,6 +335,7 @@ class Replicator {
     std::int64_t report_ns = -1;
     std::uint64_t your_seq = 0;  // it holds this replica's own 1..your_seq
     std::uint64_t covered = 0;   // the hash of our last offered set it holds all of
+    bool told_name = false;      // a beat of ours named us to it
   };
   // The state transfer answering our outstanding pull (one at a time).
   struct Reassembly {
@@ -466,6 +483,7 @@ class Replicator {
   std::int64_t next_rediscover_ns_ = 0;
   bool hello_due_ = false;
   std::int64_t next_hello_ns_ = 0;
+  int hellos_ = 0;  // hellos sent for new matches: each waits twice as long as the one before
   bool offering_ = false;
   std::int64_t next_offer_ns_ = 0;
   bool digest_due_ = false;

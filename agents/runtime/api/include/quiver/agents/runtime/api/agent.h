@@ -50,7 +50,9 @@ class Agent {
   /// joined to its peers (or alone after a short wait). On the host's thread, after the grammar
   /// and lock checks are installed.
   virtual void setup(AgentContext& ctx) = 0;
-  /// Called on every host tick (about every 10 ms), after timers and actions. Host's thread.
+  /// Called on every host tick, after timers and actions: about every 10 ms, and every 100 ms
+  /// while a process's replica has been quiet for half a second (DdsReplicaOptions::quiet_tick_ns;
+  /// use AgentContext::every() for a steady period). Host's thread.
   virtual void on_tick(AgentContext& ctx) {}
   /// Called once when the host stops (running actions have been cancelled). Host's thread.
   virtual void teardown(AgentContext& ctx) {}

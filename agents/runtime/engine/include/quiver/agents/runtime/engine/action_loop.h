@@ -58,6 +58,8 @@ class ActionLoop {
   void on_event(std::function<void(const ActionEvent&)> cb) { event_cb_ = std::move(cb); }
   /// @returns the runs in progress (waiting for a lock or started). Engine thread only.
   std::vector<Engine::RunView> runs() const;
+  /// True when no run is in progress. Engine thread only.
+  bool idle() const { return runs_.empty(); }
 
  private:
   struct Run {

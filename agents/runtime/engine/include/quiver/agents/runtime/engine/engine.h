@@ -139,6 +139,9 @@ class Engine final : public AgentContext {
   /// True when posted tasks wait (a driver should not sleep). Thread-safe. Tasks posted through
   /// Agent::post() are not counted.
   bool tasks_waiting() const;
+  /// True when no task is posted and no action run is in progress (waiting for a lock or
+  /// started): a host may then tick it less often. Engine thread only.
+  bool quiet() const;
   /// Called (from any thread) when a task is posted, so that a waiting driver wakes up.
   /// `wake` must be thread-safe. Engine thread only.
   /// @pre No other thread can post() yet (the callback is read without a lock).

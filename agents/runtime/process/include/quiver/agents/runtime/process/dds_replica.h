@@ -41,6 +41,12 @@ struct DdsReplicaOptions {
   DdsConfig dds;
   ReplicatorOptions replicator;    ///< name and observer are taken from above
   std::int64_t tick_ns = 10'000'000;  ///< the engine's round (replicator timers, the agent's turn)
+  /// The round while the replica is quiet: no delta, pull or state received, nothing committed,
+  /// no task posted, no action running and no protocol work pending for quiet_after_ns (beats
+  /// answered on arrival do not count). An idle agent then wakes 10 times a second instead of
+  /// 100 (0: always tick_ns).
+  std::int64_t quiet_tick_ns = 100'000'000;
+  std::int64_t quiet_after_ns = 500'000'000;
   /// The engine's options (the clock is the monotonic clock; the log is given by the host).
   EngineOptions engine;
   /// A durable store (docs/persistence.md): the replica is loaded from it on start and every
@@ -179,6 +185,8 @@ class DdsReplica {
   std::unique_ptr<Engine> engine_;
   std::unique_ptr<LivenessKeeper> keeper_;  // stopped before the engine and the transport
   std::int64_t next_tick_ = 0;
+  std::int64_t last_activity_ns_ = 0;  // the last round that was not quiet (spin_once())
+  std::uint64_t last_seq_seen_ = 0;    // the replica's own last sequence number then
   std::atomic<bool> stop_{false};
 };
 

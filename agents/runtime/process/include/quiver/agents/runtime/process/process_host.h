@@ -28,6 +28,10 @@ struct ProcessFlags {
   std::uint32_t domain = 0;
   std::string dds_config = "loopback";
   int loss_permille = 0;
+  /// The DDS participant lease (DdsConfig::lease_ns): a crashed or cut-off agent is noticed within
+  /// it, and every process receives a few discovery packets per peer per lease (docs/protocol.md,
+  /// "Over DDS": a longer lease for many processes on one host).
+  double lease_s = 1;
   std::string world;
   std::string world_text;  ///< a world given as text (when `world` names no file), e.g. embedded
   std::uint64_t seed = 1;
@@ -46,7 +50,7 @@ struct ProcessFlags {
   /// (ReplicatorOptions::gossip: constant-size beats to one peer per period; docs/protocol.md).
   std::string membership = "all-to-all";
 
-  /// --domain, --dds-config, --loss-permille (the DDS ones) on `cmd`.
+  /// --domain, --dds-config, --loss-permille, --lease, --membership (the DDS ones) on `cmd`.
   /// And --security. The options write into this object. @pre `cmd` is not null; this object
   ///      outlives the parse.
   void add_dds(CLI::App* cmd);

@@ -31,6 +31,7 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "quiver/agents/replica/replication/messages.h"
 #include "quiver/agents/replica/replication/transport.h"
@@ -147,6 +148,11 @@ class DdsTransport final : public Transport {
   /// appeared, so it is worth announcing ourselves now rather than at the next heartbeat.
   /// Owner thread only.
   bool take_new_match();
+  /// The replica ids of participants DDS discovered since the last call (each announces its id
+  /// in its participant's user data; this replica's own and malformed ones are left out): what
+  /// Replicator::introduce() takes, so that gossip replicas know every peer without hellos.
+  /// Owner thread only.
+  std::vector<PeerId> take_new_peers();
   /// Testing: the whole domain instance stops receiving (deaf) and/or sending (mute); both are
   /// reset after `reset_after_ns` (a negative value: never). Owner thread only.
   /// @returns kTimeout / kTransport if Cyclone refuses.
