@@ -146,8 +146,11 @@ void DdsReplica::spin_once(std::int64_t max_wait_ns) {
     }
     const bool quiet = opt_.quiet_tick_ns > opt_.tick_ns && now - last_activity_ns_ >= opt_.quiet_after_ns;
     next_tick_ = now + (quiet ? opt_.quiet_tick_ns : opt_.tick_ns);
-  } else if (busy) {
+  } else if (busy || replicator_->last_seq() != last_seq_seen_ || !replicator_->idle()) {
+    // Activity while the round waits its quiet period: the next round comes at the busy pace
+    // (gap pulls, pull timeouts and hellos wait for it).
     last_activity_ns_ = now;
+    next_tick_ = std::min(next_tick_, now + opt_.tick_ns);
   }
   replicator_->flush();  // coalesced commits (signed replicas) leave at the end of each round
 }
