@@ -118,11 +118,10 @@ void Replicator::hear_rumor(const Rumor& r) {
   auto it = peers_.find(r.peer);
   if (it == peers_.end()) {
     // A peer only heard of: known alive (it must acknowledge claims too), named when it talks.
-    if (r.status != Liveness::kAlive || peers_.size() >= opt_.max_peers) return;
-    it = peers_.try_emplace(r.peer).first;
-    it->second.info.id = r.peer;
-    it->second.info.alive = true;
-    it->second.info.last_heard_ns = now_;
+    if (r.status != Liveness::kAlive) return;
+    introduce(r.peer);
+    it = peers_.find(r.peer);
+    if (it == peers_.end()) return;  // the table is full
     it->second.life = r.life;
     spread(r);
     return;

@@ -138,15 +138,16 @@ void DdsReplica::spin_once(std::int64_t max_wait_ns) {
   engine_->run_posted();
   engine_->run_timers();
   now = monotonic_ns();
+  const auto active = [&] { return busy || replicator_->last_seq() != last_seq_seen_ || !replicator_->idle(); };
   if (now >= next_tick_) {
     engine_->step();
-    if (busy || replicator_->last_seq() != last_seq_seen_ || !replicator_->idle() || !engine_->quiet()) {
+    if (active() || !engine_->quiet()) {
       last_activity_ns_ = now;
       last_seq_seen_ = replicator_->last_seq();
     }
     const bool quiet = opt_.quiet_tick_ns > opt_.tick_ns && now - last_activity_ns_ >= opt_.quiet_after_ns;
     next_tick_ = now + (quiet ? opt_.quiet_tick_ns : opt_.tick_ns);
-  } else if (busy || replicator_->last_seq() != last_seq_seen_ || !replicator_->idle()) {
+  } else if (active()) {
     // Activity while the round waits its quiet period: the next round comes at the busy pace
     // (gap pulls, pull timeouts and hellos wait for it).
     last_activity_ns_ = now;

@@ -14,6 +14,7 @@
 #include <type_traits>
 #include <vector>
 
+#include "dds_log.h"
 #include "samples.h"
 
 namespace quiver::agents::inline transport {
@@ -83,63 +84,24 @@ bool addressed_here(const void* sample, void* self) {
   return (to.agent == 0 && to.incarnation == 0) || (to.agent == me.agent && to.incarnation == me.incarnation);
 }
 
-}  // namespace
-
-namespace {
-std::mutex g_log_mu;
-std::function<void(const std::string&)> g_log_sink;
-std::vector<std::string>* g_log_capture = nullptr;  // lines logged while a participant is created
-
-extern "C" void forward_dds_log(void*, const dds_log_data_t* d) {
-  std::string line(d->message, d->size);
-  while (!line.empty() && (line.back() == '\n' || line.back() == ' ')) line.pop_back();
-  std::lock_guard<std::mutex> lock(g_log_mu);
-  if (g_log_capture) g_log_capture->push_back(line);
-  if (g_log_sink) g_log_sink(line);
+// Takes every sample `reader` holds, in loans of up to 64, handing each to handle(sample, info).
+// @returns how many were taken.
+template <typename F>
+std::uint64_t take_each(dds_entity_t reader, F&& handle) {
+  constexpr int kMax = 64;
+  void* samples[kMax];
+  dds_sample_info_t infos[kMax];
+  std::uint64_t taken = 0;
+  for (;;) {
+    for (auto& s : samples) s = nullptr;
+    const dds_return_t n = dds_take(reader, samples, infos, kMax, kMax);
+    if (n <= 0) return taken;
+    taken += static_cast<std::uint64_t>(n);
+    for (int i = 0; i < n; ++i) handle(samples[i], infos[i]);
+    dds_return_loan(reader, samples, n);
+    if (n < kMax) return taken;
+  }
 }
-
-/// Collects Cyclone's log lines while it lives (one at a time: secured participants are created
-/// one after the other), so that a refused participant's error can say why. Without a routed
-/// sink the lines would have gone to stderr: they go there after all unless taken().
-class LogCapture {
- public:
-  // dds_set_log_sink is called without g_log_mu held: Cyclone holds its own log lock while it
-  // calls the sink, which takes g_log_mu.
-  LogCapture() : serial_(g_capture_mu) {
-    {
-      std::lock_guard<std::mutex> lock(g_log_mu);
-      g_log_capture = &lines_;
-      routed_ = static_cast<bool>(g_log_sink);
-    }
-    if (!routed_) dds_set_log_sink(forward_dds_log, nullptr);
-  }
-  ~LogCapture() {
-    bool unroute = false;
-    {
-      std::lock_guard<std::mutex> lock(g_log_mu);
-      g_log_capture = nullptr;
-      unroute = !routed_ && !g_log_sink;
-    }
-    if (unroute) dds_set_log_sink(nullptr, nullptr);
-    if (!routed_ && !taken_)
-      for (const std::string& l : lines_) std::fprintf(stderr, "%s\n", l.c_str());
-  }
-  /// The lines so far, joined; they are then not printed.
-  std::string take() {
-    std::lock_guard<std::mutex> lock(g_log_mu);
-    taken_ = true;
-    std::string out;
-    for (const std::string& l : lines_) out += (out.empty() ? "" : " | ") + l;
-    return out;
-  }
-
- private:
-  static inline std::mutex g_capture_mu;
-  std::lock_guard<std::mutex> serial_;
-  std::vector<std::string> lines_;
-  bool routed_ = false;
-  bool taken_ = false;
-};
 
 const char* const kPlugins[][2] = {
     // property prefix, library: init and finalize are the plugins' standard entry points
@@ -190,17 +152,6 @@ Status set_security_qos(dds_qos_t* q, const security::DdsSecurityFiles& f) {
   }
   if (!f.crl.empty()) dds_qset_prop(q, "org.eclipse.cyclonedds.sec.auth.crl", ("file:" + f.crl).c_str());
   return {};
-}
-
-void route_dds_log(std::function<void(const std::string&)> sink) {
-  bool routed = false;
-  {
-    std::lock_guard<std::mutex> lock(g_log_mu);
-    g_log_sink = std::move(sink);
-    routed = g_log_sink || g_log_capture;
-  }
-  if (routed) dds_set_log_sink(forward_dds_log, nullptr);
-  else dds_set_log_sink(nullptr, nullptr);
 }
 
 std::string dds_security_plugin_dir() {
@@ -502,30 +453,20 @@ bool DdsTransport::take_new_match() {
 
 std::vector<PeerId> DdsTransport::take_new_peers() {
   std::vector<PeerId> out;
-  constexpr int kMax = 64;
-  void* samples[kMax];
-  dds_sample_info_t infos[kMax];
-  for (;;) {
-    for (auto& s : samples) s = nullptr;
-    const dds_return_t n = dds_take(impl_->participants.get(), samples, infos, kMax, kMax);
-    if (n <= 0) break;
-    for (int i = 0; i < n; ++i) {
-      if (!infos[i].valid_data || infos[i].instance_state != DDS_IST_ALIVE) continue;
-      const auto* p = static_cast<const dds_builtintopic_participant_t*>(samples[i]);
-      void* data = nullptr;
-      std::size_t size = 0;
-      // Untrusted: anything but exactly one replica id (another DDS application's participant,
-      // or a malformed one) is not a peer.
-      if (p->qos != nullptr && dds_qget_userdata(p->qos, &data, &size) && data != nullptr && size == sizeof(PeerId)) {
-        PeerId id;
-        std::memcpy(&id, data, sizeof id);
-        if (!(id == self_) && !id.is_null()) out.push_back(id);
-      }
-      dds_free(data);
+  take_each(impl_->participants.get(), [&](void* sample, const dds_sample_info_t& info) {
+    if (!info.valid_data || info.instance_state != DDS_IST_ALIVE) return;
+    const auto* p = static_cast<const dds_builtintopic_participant_t*>(sample);
+    void* data = nullptr;
+    std::size_t size = 0;
+    // Untrusted: anything but exactly one replica id (another DDS application's participant, or
+    // a malformed one) is not a peer.
+    if (p->qos != nullptr && dds_qget_userdata(p->qos, &data, &size) && data != nullptr && size == sizeof(PeerId)) {
+      PeerId id;
+      std::memcpy(&id, data, sizeof id);
+      if (!(id == self_) && !id.is_null()) out.push_back(id);
     }
-    dds_return_loan(impl_->participants.get(), samples, n);
-    if (n < kMax) break;
-  }
+    dds_free(data);
+  });
   return out;
 }
 
@@ -549,9 +490,6 @@ void DdsTransport::drain(const std::function<void(const Sample&)>& on_sample,
   bool triggered = false;
   dds_read_guardcondition(d.guard.get(), &triggered);
   if (triggered) dds_set_guardcondition(d.guard.get(), false);
-  constexpr int kMax = 64;
-  void* samples[kMax];
-  dds_sample_info_t infos[kMax];
   const PeerId self = self_;
   auto for_us = [&](const PeerId& to) { return to.is_null() || to == self; };
 
@@ -560,15 +498,7 @@ void DdsTransport::drain(const std::function<void(const Sample&)>& on_sample,
     if (!d.all_triggered &&
         std::find(d.triggered.begin(), d.triggered.end(), static_cast<dds_attach_t>(r.get())) == d.triggered.end())
       return;
-    for (;;) {
-      for (auto& s : samples) s = nullptr;
-      dds_return_t n = dds_take(r.get(), samples, infos, kMax, kMax);
-      if (n <= 0) return;
-      stats_.samples_taken += static_cast<std::uint64_t>(n);
-      for (int i = 0; i < n; ++i) handle(samples[i], infos[i]);
-      dds_return_loan(r.get(), samples, n);
-      if (n < kMax) return;
-    }
+    stats_.samples_taken += take_each(r.get(), handle);
   };
 
   take_all(d.readers[Impl::kSummary], [&](void* p, const dds_sample_info_t& info) {
