@@ -93,7 +93,12 @@ void AgentHost::boot(int i) {
   net_.set_address(i, s.graph->replica());
   agents::ReplicatorOptions ro = opt_.replicator;
   ro.name = s.spec.name;
+  // The network introduces peers as DDS discovery does: a hello then needs only a few answers.
+  if (ro.gossip && ro.hello_answers == 0) ro.hello_answers = 3;
   s.replicator = std::make_unique<agents::Replicator>(*s.graph, net_.endpoint(i), ro);
+  net_.discover(i, {s.graph->replica(), ro.name, ro.observer}, [this, i](const agents::PeerCard& c) {
+    if (auto& t = agents_[static_cast<std::size_t>(i)]; t->replicator) t->replicator->introduce(c);
+  });
   // The engine runs this replica now, and its agent once it is set up (the same loop as a process).
   agents::EngineOptions eo;
   eo.seed = opt_.seed ^ fnv1a64(s.spec.name) ^ static_cast<std::uint64_t>(inc);

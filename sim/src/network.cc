@@ -95,6 +95,20 @@ void VirtualNetwork::transmit(int from, int to, std::shared_ptr<const agents::Cd
       if (d != from) one(d);
 }
 
+void VirtualNetwork::discover(int node, agents::PeerCard card, Introducer introduce) {
+  Node& n = nodes_[node];
+  n.card = std::move(card);
+  n.introduce = std::move(introduce);
+  if (!n.up || !n.introduce) return;
+  for (int d = 0; d < size(); ++d) {
+    Node& o = nodes_[d];
+    if (d == node || !o.up || o.group != n.group || !o.introduce) continue;
+    o.introduce(n.card);
+    n.introduce(o.card);
+    stats_.introductions += 2;
+  }
+}
+
 void VirtualNetwork::run_until(std::int64_t t_end) {
   while (!queue_.empty() && queue_.top().t <= t_end) {
     Event e = queue_.top();

@@ -86,6 +86,7 @@ SimResult Simulation::run() {
   result_.messages = net_.stats().messages;
   result_.bytes = net_.stats().bytes;
   result_.dropped = net_.stats().dropped;
+  result_.introductions = net_.stats().introductions;
   result_.retransmitted = net_.stats().retransmitted;
   result_.duplicated = net_.stats().duplicated;
   for (std::size_t k = 0; k < agents::kDdsTopicCount; ++k) {
@@ -168,7 +169,12 @@ void Simulation::boot(int i) {
   net_.set_address(i, a.graph->replica());
   agents::ReplicatorOptions opt = cfg_.replicator;
   opt.name = "agent" + std::to_string(i);
+  // The network introduces peers as DDS discovery does: a hello then needs only a few answers.
+  if (opt.gossip && opt.hello_answers == 0) opt.hello_answers = 3;
   a.replicator = std::make_unique<agents::Replicator>(*a.graph, net_.endpoint(i), opt);
+  net_.discover(i, {a.graph->replica(), opt.name, opt.observer}, [this, i](const agents::PeerCard& c) {
+    if (agents_[i].replicator) agents_[i].replicator->introduce(c);
+  });
   net_.set_receiver(i, [this, i](const agents::CdrSample& sample, std::int64_t) {
     Agent& t = agents_[i];
     auto decoded = agents::decode_cdr_sample(sample.topic, sample.bytes);

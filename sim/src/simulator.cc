@@ -51,6 +51,7 @@ std::string SimResult::to_json() const {
     j["protocol_bytes_mean"] = protocol_bytes_mean;
   }
   j["dropped"] = dropped;
+  if (introductions > 0) j["introductions"] = introductions;
   j["retransmitted"] = retransmitted;
   j["duplicated"] = duplicated;
   j["ops"] = ops;

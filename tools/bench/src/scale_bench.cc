@@ -46,6 +46,8 @@ int run_scale_bench(const ScaleBench& b) {
                                       (static_cast<double>(std::max<std::uint64_t>(1, r.ops)) * std::max(1, n - 1)),
                                   1)},
                         {"protocol_bytes_max", r.protocol_bytes_max},
+                        // Peers the network's discovery introduced (DDS's own traffic): not in `bytes`.
+                        {"introductions", r.introductions},
                         {"protocol_bytes_mean", r.protocol_bytes_mean},
                         {"converged", r.converged},
                         {"invariant_violations", r.invariant_violations},

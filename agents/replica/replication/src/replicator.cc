@@ -153,6 +153,7 @@ void Replicator::on_sample(const Sample& s, std::int64_t now_ns) {
   if (Status st = validate(s, opt_.limits); !st.ok()) return reject(st.error());
   ++stats_.samples_received;
   if (heard_from(s.from) == nullptr) return;
+  addressed_ = !s.to.is_null();
   std::visit([&](const auto& msg) { handle(s.from, msg); }, s.message);
   if (announce_soon_) {
     announce_soon_ = false;

@@ -119,7 +119,7 @@ void Replicator::hear_rumor(const Rumor& r) {
   if (it == peers_.end()) {
     // A peer only heard of: known alive (it must acknowledge claims too), named when it talks.
     if (r.status != Liveness::kAlive) return;
-    introduce(r.peer);
+    introduce(PeerCard{r.peer, {}, false});
     it = peers_.find(r.peer);
     if (it == peers_.end()) return;  // the table is full
     it->second.life = r.life;
@@ -216,9 +216,10 @@ void Replicator::handle_gossip(const PeerId& from, Peer& p, const SummaryMsg& m)
       // we got but which may have missed ours) learns of us from our answer, named.
       // With hello_answers, each member answers with that many chances in (live peers): the
       // transport introduces the others.
-      if (was_new && started_ &&
-          (opt_.hello_answers <= 0 ||
-           rng_.below(live_peer_count() + 1) < static_cast<std::uint64_t>(opt_.hello_answers))) {
+      // A hello addressed to this replica always gets its answer.
+      if (started_ && (addressed_ || (was_new && (opt_.hello_answers <= 0 ||
+                                                  rng_.below(live_peer_count() + 1) <
+                                                      static_cast<std::uint64_t>(opt_.hello_answers))))) {
         SummaryMsg a = beat(Beat::kAck, from);
         a.name = opt_.name;
         queue(from, std::move(a));
@@ -336,7 +337,7 @@ void Replicator::gossip_tick() {
   if (hello_due_ && now_ >= next_hello_ns_) {
     hello_due_ = false;
     next_hello_ns_ = now_ + std::min(opt_.pull_first_timeout_ns << std::min(hellos_++, 6), opt_.rediscover_ns);
-    send_beat(Beat::kHello, PeerId{});
+    say_hello();
   }
   probe_tick();
   // Suspicions this replica raised and nobody refuted: gone. Until then the suspect is pinged
@@ -453,13 +454,48 @@ void Replicator::trim_buffer_gossip() {
   }
 }
 
-void Replicator::introduce(const PeerId& peer) {
-  if (!opt_.gossip || peer == self_ || peer.is_null() || peers_.count(peer) > 0 || peers_.size() >= opt_.max_peers)
+void Replicator::introduce(const PeerCard& card) {
+  const PeerId& peer = card.id;
+  if (!opt_.gossip || peer == self_ || peer.is_null()) return;
+  auto it = peers_.find(peer);
+  if (it == peers_.end()) {
+    if (peers_.size() >= opt_.max_peers) return;
+    it = peers_.try_emplace(peer).first;
+    Peer& p = it->second;
+    p.info.id = peer;
+    p.info.alive = true;
+    p.info.last_heard_ns = now_;
+    // A new incarnation of an agent means the old one is gone.
+    for (auto& [id, other] : peers_)
+      if (other.info.alive && id.agent == peer.agent && id.incarnation < peer.incarnation) mark_left(other);
+  }
+  Peer& p = it->second;
+  // Named only by a name that hashes to its id: nobody can name another agent.
+  if (p.announced || card.name.empty() || card.name.size() > opt_.limits.max_name_bytes ||
+      fnv1a64(card.name) != peer.agent)
     return;
-  Peer& p = peers_[peer];
-  p.info.id = peer;
-  p.info.alive = true;
-  p.info.last_heard_ns = now_;
+  p.info.name = card.name;
+  p.info.observer = card.observer;
+  p.announced = true;
+  if (names_.size() < 4 * opt_.max_peers) names_.emplace(peer.agent, card.name);
+  if (membership_cb_ && p.info.alive) membership_cb_(Membership::kJoined, p.info);
+}
+
+// A replica whose transport introduces peers (hello_answers) says hello to a few live ones, each
+// of which answers with its set's hash and count; one alone, or without introductions, says it
+// to everyone.
+void Replicator::say_hello() {
+  std::vector<PeerId> live;
+  if (opt_.hello_answers > 0)
+    for (const auto& [id, p] : peers_)
+      if (p.info.alive && !p.said_bye) live.push_back(id);
+  if (live.empty()) return send_beat(Beat::kHello, PeerId{});
+  for (int k = 0; k < opt_.hello_answers && !live.empty(); ++k) {
+    const std::size_t i = rng_.below(live.size());
+    send_beat(Beat::kHello, live[i]);
+    live[i] = live.back();
+    live.pop_back();
+  }
 }
 
 void Replicator::offer_all() {

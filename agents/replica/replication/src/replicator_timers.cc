@@ -25,7 +25,7 @@ void Replicator::start(std::int64_t now_ns) {
     next_rediscover_ns_ = now_ns + opt_.rediscover_ns +
                           static_cast<std::int64_t>(rng_.below(static_cast<std::uint64_t>(std::max<std::int64_t>(1, opt_.rediscover_ns))));
     next_probe_ns_ = now_ns + static_cast<std::int64_t>(rng_.below(static_cast<std::uint64_t>(std::max<std::int64_t>(1, opt_.probe_ns))));
-    send_beat(Beat::kHello, PeerId{});
+    say_hello();
   } else {
     send_summary();
   }

@@ -39,6 +39,8 @@ Result<std::unique_ptr<DdsReplica>> DdsReplica::create(DdsReplicaOptions options
   }
   // A sampling observer pulls what changed: it subscribes to no delta, so nobody sends it any.
   if (a->opt_.replicator.sample_ns > 0) a->opt_.dds.read_deltas = false;
+  a->opt_.dds.name = a->opt_.name;
+  a->opt_.dds.observer = a->opt_.observer;
   auto t = DdsTransport::create(id, a->opt_.dds);
   if (!t.ok()) return t.error();
   a->transport_ = std::move(*t);
@@ -132,7 +134,7 @@ void DdsReplica::spin_once(std::int64_t max_wait_ns) {
   // With gossip, DDS discovery also introduces every peer (its participant carries its id).
   if (transport_->take_new_match()) {
     if (replicator_->options().gossip)
-      for (const PeerId& p : transport_->take_new_peers()) replicator_->introduce(p);
+      for (const PeerCard& p : transport_->take_new_peers()) replicator_->introduce(p);
     replicator_->announce();
   }
   engine_->run_posted();

@@ -312,8 +312,13 @@ Result<std::unique_ptr<DdsTransport>> DdsTransport::create(const PeerId& self, c
     d.shared_domain = true;
   }
 
+  // User data: the replica id, a role byte (1: observer) and the name (take_new_peers()).
+  std::vector<unsigned char> card(sizeof self + 1 + cfg.name.size());
+  std::memcpy(card.data(), &self, sizeof self);
+  card[sizeof self] = cfg.observer ? 1 : 0;
+  std::memcpy(card.data() + sizeof self + 1, cfg.name.data(), cfg.name.size());
   Qos pqos;
-  dds_qset_userdata(pqos.q, &self, sizeof self);
+  dds_qset_userdata(pqos.q, card.data(), card.size());
   dds_entity_t pp = 0;
   if (cfg.security) {
     if (Status s = set_security_qos(pqos.q, *cfg.security); !s.ok()) return s.error();
@@ -451,19 +456,24 @@ bool DdsTransport::take_new_match() {
   return fresh;
 }
 
-std::vector<PeerId> DdsTransport::take_new_peers() {
-  std::vector<PeerId> out;
+std::vector<PeerCard> DdsTransport::take_new_peers() {
+  std::vector<PeerCard> out;
   take_each(impl_->participants.get(), [&](void* sample, const dds_sample_info_t& info) {
     if (!info.valid_data || info.instance_state != DDS_IST_ALIVE) return;
     const auto* p = static_cast<const dds_builtintopic_participant_t*>(sample);
     void* data = nullptr;
     std::size_t size = 0;
-    // Untrusted: anything but exactly one replica id (another DDS application's participant, or
-    // a malformed one) is not a peer.
-    if (p->qos != nullptr && dds_qget_userdata(p->qos, &data, &size) && data != nullptr && size == sizeof(PeerId)) {
-      PeerId id;
-      std::memcpy(&id, data, sizeof id);
-      if (!(id == self_) && !id.is_null()) out.push_back(id);
+    // Untrusted: anything but a replica id, a role byte and a name of bounded length (another
+    // DDS application's participant, or a malformed one) is not a peer.
+    constexpr std::size_t kHead = sizeof(PeerId) + 1, kMaxName = 1024;
+    if (p->qos != nullptr && dds_qget_userdata(p->qos, &data, &size) && data != nullptr && size >= kHead &&
+        size <= kHead + kMaxName) {
+      const auto* bytes = static_cast<const unsigned char*>(data);
+      PeerCard card;
+      std::memcpy(&card.id, bytes, sizeof card.id);
+      card.observer = bytes[sizeof(PeerId)] == 1;
+      card.name.assign(reinterpret_cast<const char*>(bytes) + kHead, size - kHead);
+      if (!(card.id == self_) && !card.id.is_null() && bytes[sizeof(PeerId)] <= 1) out.push_back(std::move(card));
     }
     dds_free(data);
   });

@@ -42,6 +42,9 @@ struct NetworkStats {
   std::uint64_t dropped = 0;        ///< packets lost: to loss, to a partition or to a host down
   std::uint64_t retransmitted = 0;  ///< of those, reliable samples sent again (they arrive late)
   std::uint64_t duplicated = 0;
+  /// Peers introduced by discovery (discover()): what DDS discovery (SPDP) tells, counted apart
+  /// from Quiver's messages and bytes, as Cyclone's own traffic is over DDS.
+  std::uint64_t introductions = 0;
   /// messages and bytes by topic (agents::DdsTopic order: summary, delta, pull, state, bye)
   std::array<std::uint64_t, agents::kDdsTopicCount> topic_messages{}, topic_bytes{};
 };
@@ -67,6 +70,11 @@ class VirtualNetwork {
   void set_receiver(int node, Receiver r) { nodes_[node].receiver = std::move(r); }
   /// The replica id samples addressed to `node` carry (unicast), while it is up.
   void set_address(int node, const agents::PeerId& id) { nodes_[node].address = id; }
+  /// Discovery, as DDS's participant discovery does it: `node` announces `card` (its replica id,
+  /// name and role), and `introduce` is how it learns of the others. It is introduced at once to
+  /// every node up in its group that announced itself, and they to it.
+  using Introducer = std::function<void(const agents::PeerCard& card)>;
+  void discover(int node, agents::PeerCard card, Introducer introduce);
   /// A transport for `node`: each sample it sends is serialized once and carried to the others.
   agents::Transport& endpoint(int node);
 
@@ -104,6 +112,8 @@ class VirtualNetwork {
     bool up = false;  // until the simulation starts it
     int group = 0;
     agents::PeerId address;
+    agents::PeerCard card;
+    Introducer introduce;
     Receiver receiver;
     std::unique_ptr<Endpoint> endpoint;
   };

@@ -113,6 +113,8 @@ struct SimResult {
   /// Replicator::protocol_bytes() at the end: the largest of any replica, and the mean.
   std::size_t protocol_bytes_max = 0, protocol_bytes_mean = 0;
   std::uint64_t dropped = 0;
+  /// Peers introduced by the network's discovery (VirtualNetwork::discover()), not in `messages`.
+  std::uint64_t introductions = 0;
   std::uint64_t retransmitted = 0;  ///< reliable samples whose packet was lost and sent again
   std::uint64_t duplicated = 0;
   std::uint64_t ops = 0;  ///< changes committed by the workload

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <deque>
 #include <map>
+#include <set>
 
 #include "quiver/graph/codec.h"
 #include "test_net.h"
@@ -230,6 +231,66 @@ TEST(ReplicatorTest, MembershipJoinLeaseAndGoodbye) {
   net.nodes[b].rep->leave();
   net.pump();
   EXPECT_EQ(net.nodes[a].rep->live_peer_count(), 0u);
+}
+
+// Discovery introduces peers (gossip): a name that hashes to the id names the peer at once, any
+// other is ignored, and a newcomer that knows live peers says hello to hello_answers of them,
+// each addressed, instead of to everyone; an addressed hello is always answered, named.
+TEST(ReplicatorTest, IntroducedPeersAreNamedAndGreetedOneByOne) {
+  struct Recorder : Transport {
+    std::vector<Sample> sent;
+    void send(const Sample& s) override { sent.push_back(s); }
+  } out;
+  Graph g(ReplicaId{fnv1a64("newcomer"), 1});
+  ReplicatorOptions opt;
+  opt.name = "newcomer";
+  opt.gossip = true;
+  opt.hello_answers = 2;
+  Replicator r(g, out, opt);
+  std::vector<std::pair<Membership, PeerInfo>> events;
+  r.on_membership([&](Membership m, const PeerInfo& p) { events.emplace_back(m, p); });
+  const char* names[] = {"planner", "speech", "arm", "camera", "viewer"};
+  for (const char* n : names) r.introduce(PeerCard{PeerId{fnv1a64(n), 7}, n, std::string(n) == "viewer"});
+  // A card whose name is not its id's: known alive, but not named by it.
+  const PeerId impostor{fnv1a64("mallory"), 1};
+  r.introduce(PeerCard{impostor, "planner", false});
+  EXPECT_EQ(r.live_peer_count(), 6u);
+  ASSERT_EQ(events.size(), 5u);
+  for (std::size_t i = 0; i < events.size(); ++i) {
+    EXPECT_EQ(events[i].first, Membership::kJoined);
+    EXPECT_EQ(events[i].second.name, names[i]);
+    EXPECT_EQ(events[i].second.observer, i == 4);
+  }
+  r.start(0);
+  ASSERT_EQ(out.sent.size(), 2u);
+  std::set<PeerId> greeted;
+  for (const Sample& s : out.sent) {
+    ASSERT_FALSE(s.to.is_null()) << "a hello to everyone";
+    const auto* m = std::get_if<SummaryMsg>(&s.message);
+    ASSERT_NE(m, nullptr);
+    EXPECT_EQ(m->beat, Beat::kHello);
+    EXPECT_EQ(m->name, "newcomer");
+    greeted.insert(s.to);
+  }
+  EXPECT_EQ(greeted.size(), 2u);
+  // A member answers an addressed hello even though it knew the sender already.
+  out.sent.clear();
+  Graph g2(ReplicaId{fnv1a64("planner"), 7});
+  opt.name = "planner";
+  Replicator member(g2, out, opt);
+  member.introduce(PeerCard{g.replica(), "newcomer", false});
+  member.start(0);
+  out.sent.clear();
+  SummaryMsg hello;
+  hello.beat = Beat::kHello;
+  hello.name = "newcomer";
+  member.on_sample(Sample{g.replica(), g2.replica(), hello}, 1'000'000);
+  ASSERT_EQ(out.sent.size(), 1u);
+  EXPECT_EQ(out.sent[0].to, g.replica());
+  const auto* answer = std::get_if<SummaryMsg>(&out.sent[0].message);
+  ASSERT_NE(answer, nullptr);
+  EXPECT_EQ(answer->beat, Beat::kAck);
+  EXPECT_EQ(answer->name, "planner");
 }
 
 // Bytes that are no sample of their topic (replaces the packet codec's malformed-frame test: the

@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <future>
+#include <map>
 #include <set>
 #include <thread>
 
@@ -148,16 +149,19 @@ TEST(DdsInProcessTest, SummaryDigestAndPullFlagsTravelInSamples) {
 // in particular reaches all, and each transport learns the others' replica ids from discovery.
 TEST(DdsInProcessTest, AddressedBeatsReachOnlyTheirAddresseeAndDiscoveryNamesThePeers) {
   const PeerId ids[3] = {PeerId{0xa1, 1}, PeerId{0xb2, 1}, PeerId{0xc3, 1}};
+  const std::string names[3] = {"planner", "speech", "viewer"};
   std::vector<std::unique_ptr<DdsTransport>> t;
-  for (const PeerId& id : ids) {
+  for (int i = 0; i < 3; ++i) {
     DdsConfig c;
     c.domain = test_domain(9);
     c.own_domain_instance = true;
-    auto made = DdsTransport::create(id, c);
+    c.name = names[i];
+    c.observer = i == 2;
+    auto made = DdsTransport::create(ids[i], c);
     ASSERT_TRUE(made.ok()) << made.error().to_string();
     t.push_back(std::move(*made));
   }
-  std::vector<std::set<PeerId>> introduced(3);
+  std::vector<std::map<PeerId, PeerCard>> introduced(3);
   std::vector<std::vector<Sample>> got(3);
   auto pump = [&](std::int64_t ms) {
     const std::int64_t end = monotonic_ns() + ms * kMs;
@@ -165,7 +169,7 @@ TEST(DdsInProcessTest, AddressedBeatsReachOnlyTheirAddresseeAndDiscoveryNamesThe
       for (int i = 0; i < 3; ++i) {
         t[i]->wait(2 * kMs);
         t[i]->drain([&](const Sample& s) { got[i].push_back(s); }, [](const PeerId&, bool) {});
-        for (const PeerId& p : t[i]->take_new_peers()) introduced[i].insert(p);
+        for (const PeerCard& p : t[i]->take_new_peers()) introduced[i][p.id] = p;
       }
   };
   // Discovery first: every transport names the two others, never itself.
@@ -177,6 +181,14 @@ TEST(DdsInProcessTest, AddressedBeatsReachOnlyTheirAddresseeAndDiscoveryNamesThe
   for (int i = 0; i < 3; ++i) {
     EXPECT_EQ(introduced[i].size(), 2u) << "transport " << i;
     EXPECT_EQ(introduced[i].count(ids[i]), 0u);
+    // Each card carries the name and role its participant announced.
+    for (int j = 0; j < 3; ++j) {
+      if (j == i) continue;
+      auto it = introduced[i].find(ids[j]);
+      ASSERT_NE(it, introduced[i].end()) << "transport " << i << " never heard of " << names[j];
+      EXPECT_EQ(it->second.name, names[j]);
+      EXPECT_EQ(it->second.observer, j == 2);
+    }
   }
   pump(200);  // the readers and writers match too
   for (auto& g : got) g.clear();

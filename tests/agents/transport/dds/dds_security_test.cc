@@ -277,7 +277,9 @@ TEST_F(DdsSecurityTest, AnAuthenticatedAgentWritingOutsideItsPermissionsIsRefuse
     ASSERT_TRUE(tx.set(robot, "speaking", graph::Value(false)).ok());
     ASSERT_TRUE(tx.commit().ok());
   }
-  ASSERT_TRUE(spin_until(all, [&] { return intruder->graph().has_node(robot) && panel->graph().has_node(robot); }, 10000));
+  ASSERT_TRUE(spin_until(all, [&] {
+    return intruder->graph().has_node(robot) && panel->graph().has_node(robot) && unsigned_agent->graph().has_node(robot);
+  }, 10000));
   {
     auto tx = intruder->graph().begin();
     ASSERT_TRUE(tx.set(robot, "battery", graph::Value(0.5)).ok());  // allowed: the control

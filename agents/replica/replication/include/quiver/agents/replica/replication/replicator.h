@@ -111,7 +111,9 @@ struct ReplicatorOptions {
   std::int64_t relay_retain_ns = 2'000'000'000;
   /// gossip: how many members answer a hello, on average (0: every member that did not know the
   /// sender). A transport that introduces peers itself (introduce(), e.g. DDS discovery) needs
-  /// only a few: one answer tells a newcomer the hash of a set to pull.
+  /// only a few: one answer tells a newcomer the hash of a set to pull. With a value above 0 a
+  /// replica that knows live peers says hello to that many of them, chosen at random, instead of
+  /// to everyone; each answers.
   int hello_answers = 0;
 };
 
@@ -209,14 +211,16 @@ class Replicator {
   /// Flushes coalesced deltas first. Owner thread only.
   void leave();
   /// Sends a summary now (e.g. when the transport saw a newcomer appear). With gossip: a hello
-  /// to everyone at the next tick, and only from a replica that started within 10 probe periods
-  /// or hears nobody (members answer a newcomer's hello). Owner thread only.
+  /// at the next tick, and only from a replica that started within 10 probe periods or hears
+  /// nobody (members answer a newcomer's hello). Owner thread only.
   void announce();
-  /// gossip: the transport discovered `peer` (e.g. a DDS participant announcing its replica
-  /// id): it is known alive from now on (probed, and asked for acknowledgements), named when it
-  /// first talks. Ignored without gossip, for this replica, a known peer, or a full peer table.
+  /// gossip: the transport discovered a peer (e.g. a DDS participant announcing its replica id
+  /// and name): it is known alive from now on (probed, and asked for acknowledgements). A name
+  /// that hashes to its id names it at once (Membership::kJoined); any other name is ignored and
+  /// the peer is named when it first talks. An older incarnation of the same agent is gone.
+  /// Ignored without gossip, for this replica, or a full peer table; a known peer is only named.
   /// Owner thread only.
-  void introduce(const PeerId& peer);
+  void introduce(const PeerCard& card);
   /// Offers this replica's whole (origin, seq) set to every peer, so that each pulls what it
   /// lacks and says when it holds all of it: what a clean stop does before it waits for
   /// peers_hold_all(). Repeated every pull_timeout_ns until leave(). With all-to-all summaries
@@ -398,6 +402,7 @@ class Replicator {
   // Gossip (replicator_gossip.cc).
   SummaryMsg beat(Beat b, const PeerId& to);
   void send_beat(Beat b, const PeerId& to, const PeerId& subject = {});
+  void say_hello();
   void handle_gossip(const PeerId& from, Peer& p, const SummaryMsg& m);
   void hear_rumor(const Rumor& r);
   void spread(const Rumor& r);
@@ -485,6 +490,7 @@ class Replicator {
   std::int64_t next_hello_ns_ = 0;
   int hellos_ = 0;  // hellos sent for new matches: each waits twice as long as the one before
   bool offering_ = false;
+  bool addressed_ = false;  // the sample being handled was addressed to this replica
   std::int64_t next_offer_ns_ = 0;
   bool digest_due_ = false;
   Rng rng_{0};  // seeded from the replica id at start(): deterministic, and apart for each replica

@@ -5,6 +5,7 @@
 
 #include <cstdint>
 #include <span>
+#include <string>
 
 #include "quiver/crdt/dot.h"
 
@@ -14,6 +15,15 @@ namespace quiver::agents::inline replica {
 using PeerId = crdt::ReplicaId;
 
 struct Sample;
+
+/// What a transport's own discovery says of a peer (over DDS, its participant's user data; in
+/// the simulator, its network): the replica id, and the name and role it announces. Untrusted:
+/// Replicator::introduce() takes the name only if it hashes to the id.
+struct PeerCard {
+  PeerId id;
+  std::string name;
+  bool observer = false;
+};
 
 /// Best-effort delivery of samples (one protocol message each): one may be lost, duplicated,
 /// delayed or reordered; the protocol recovers. Every transport carries a sample as the CDR

@@ -50,6 +50,10 @@ struct DdsConfig {
   Source source = Source::kLoopback;
   std::string xml;
   std::uint32_t domain = 0;                    ///< the DDS domain id agents meet in
+  /// The agent's name and role, announced with its replica id in the participant's user data:
+  /// what take_new_peers() gives the others.
+  std::string name;
+  bool observer = false;
   std::int64_t lease_ns = 1'000'000'000;       ///< participant lease (crash detection time)
   int xmit_loss_permille = 0;                  ///< testing: Cyclone drops this share of sent packets
   bool own_domain_instance = false;            ///< a private Cyclone instance (threads, sockets) for this transport
@@ -148,11 +152,12 @@ class DdsTransport final : public Transport {
   /// appeared, so it is worth announcing ourselves now rather than at the next heartbeat.
   /// Owner thread only.
   bool take_new_match();
-  /// The replica ids of participants DDS discovered since the last call (each announces its id
-  /// in its participant's user data; this replica's own and malformed ones are left out): what
+  /// The peers DDS discovered since the last call: each participant announces its replica id,
+  /// role and name in its user data (DdsConfig::name). This replica's own and malformed ones are
+  /// left out; a name is passed on as announced (Replicator::introduce() checks it). What
   /// Replicator::introduce() takes, so that gossip replicas know every peer without hellos.
   /// Owner thread only.
-  std::vector<PeerId> take_new_peers();
+  std::vector<PeerCard> take_new_peers();
   /// Testing: the whole domain instance stops receiving (deaf) and/or sending (mute); both are
   /// reset after `reset_after_ns` (a negative value: never). Owner thread only.
   /// @returns kTimeout / kTransport if Cyclone refuses.
