@@ -33,10 +33,11 @@ std::int64_t Replicator::suspect_timeout() const {
 
 SummaryMsg Replicator::beat(Beat b, const PeerId& to) {
   SummaryMsg m;
-  // The name goes to everyone in a hello, and in an addressed beat only to a peer we have not
-  // named ourselves to yet: it is most of a beat's variable size.
+  // The name goes in every hello, and in another beat only to a peer we have not named ourselves
+  // to yet: it is most of a beat's variable size.
   const auto known = to.is_null() ? peers_.end() : peers_.find(to);
-  if (to.is_null() || known == peers_.end() || !known->second.told_name || known->second.info.name.empty()) {
+  if (b == Beat::kHello || to.is_null() || known == peers_.end() || !known->second.told_name ||
+      known->second.info.name.empty()) {
     m.name = opt_.name;
     if (known != peers_.end()) known->second.told_name = true;
   }
@@ -50,7 +51,10 @@ SummaryMsg Replicator::beat(Beat b, const PeerId& to) {
     if (auto it = peers_.find(to); it != peers_.end() && it->second.full && applied_.includes(it->second.applied))
       m.covered = it->second.full_hash;
   }
-  if (digest_due_ && pending_lo_ == 0) {
+  // The state digest goes to the peers in turn (next_digest_target()), one a period: the first
+  // beat after it fell due to whoever came first would reach the same peer every period when
+  // the probes keep step with it, and a divergence with the others would never show.
+  if (digest_due_ && pending_lo_ == 0 && !to.is_null() && to == digest_to_) {
     m.digest = state_digest();
     digest_due_ = false;
   }
@@ -273,6 +277,9 @@ const PeerId* Replicator::next_probe_target() {
   // Now and then a peer believed gone is probed too: after a partition heals, that is how the
   // two sides find each other again without anyone broadcasting.
   const bool dead_turn = (++probes_ % 4) == 0;
+  // A live turn while the digest is due probes the peer whose turn it is to get it.
+  if (!dead_turn && digest_due_)
+    if (auto it = peers_.find(digest_to_); it != peers_.end() && it->second.info.alive) return &it->first;
   for (const bool want_dead : {dead_turn, false}) {
     auto it = peers_.upper_bound(probe_cursor_);
     for (std::size_t i = 0; i < peers_.size(); ++i, ++it) {
@@ -285,6 +292,20 @@ const PeerId* Replicator::next_probe_target() {
       }
     }
     if (!want_dead) break;
+  }
+  return nullptr;
+}
+
+// The peer the digest goes to this period: the next live one after the last, round-robin.
+const PeerId* Replicator::next_digest_target() {
+  auto it = peers_.upper_bound(digest_to_);
+  for (std::size_t i = 0; i < peers_.size(); ++i, ++it) {
+    if (it == peers_.end()) it = peers_.begin();
+    const Peer& p = it->second;
+    if (p.info.alive && !p.said_bye && p.status == Liveness::kAlive) {
+      digest_to_ = it->first;
+      return &it->first;
+    }
   }
   return nullptr;
 }
@@ -417,7 +438,7 @@ void Replicator::gossip_tick() {
   }
   if (opt_.digest_every_ns > 0 && now_ >= next_digest_) {
     next_digest_ = now_ + opt_.digest_every_ns;
-    digest_due_ = true;
+    digest_due_ = next_digest_target() != nullptr;
   }
   // Peers gone for long are forgotten (bounded memory).
   for (auto it = peers_.begin(); sweep && it != peers_.end();) {
@@ -477,6 +498,9 @@ void Replicator::introduce(const PeerCard& card) {
   p.info.name = card.name;
   p.info.observer = card.observer;
   p.announced = true;
+  // Discovery goes both ways (each participant's card reaches the others): the peer has our
+  // name from ours, and our beats to it need not carry it.
+  p.told_name = true;
   if (names_.size() < 4 * opt_.max_peers) names_.emplace(peer.agent, card.name);
   if (membership_cb_ && p.info.alive) membership_cb_(Membership::kJoined, p.info);
 }

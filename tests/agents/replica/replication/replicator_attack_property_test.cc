@@ -41,9 +41,10 @@ struct Victim {
 };
 
 struct Schedule {
-  explicit Schedule(std::uint64_t seed) : rng(seed) {}
+  Schedule(std::uint64_t seed, bool gossip) : rng(seed) { opt.gossip = gossip; }
 
   Rng rng;
+  ReplicatorOptions opt;
   Net net;
   std::map<PeerId, Victim> victims;
   sim::Churn churn;
@@ -139,7 +140,7 @@ struct Schedule {
   }
 
   void run() {
-    for (int i = 0; i < 3; ++i) net.add(static_cast<std::uint64_t>(i + 1));
+    for (int i = 0; i < 3; ++i) net.add(static_cast<std::uint64_t>(i + 1), opt);
     net.pump();
     const std::int64_t step = 10'000'000;  // 10 ms of virtual time
     for (int t = 0; t < 600; ++t) {        // 6 s of churn and attack
@@ -171,7 +172,15 @@ std::uint64_t env_or(const char* name, std::uint64_t fallback) {
   return v ? std::strtoull(v, nullptr, 10) : fallback;
 }
 
-TEST(ReplicatorAttackPropertyTest, EveryScheduleConvergesAfterTheAttack) {
+// Both membership protocols: gossip and all-to-all (QUIVER_PROTOCOL=gossip or all-to-all
+// replays one).
+class ReplicatorAttackPropertyTest : public ::testing::TestWithParam<bool> {};
+
+TEST_P(ReplicatorAttackPropertyTest, EveryScheduleConvergesAfterTheAttack) {
+  const bool gossip = GetParam();
+  const char* protocol = gossip ? "gossip" : "all-to-all";
+  if (const char* only_protocol = std::getenv("QUIVER_PROTOCOL"); only_protocol && protocol != std::string(only_protocol))
+    GTEST_SKIP() << "QUIVER_PROTOCOL=" << only_protocol;
   const std::uint64_t only = env_or("QUIVER_SEED", 0);
   const std::uint64_t count = only ? 1 : env_or("QUIVER_SCHEDULES", 200);
   const std::uint64_t base = 0x5eed'0000;
@@ -179,7 +188,7 @@ TEST(ReplicatorAttackPropertyTest, EveryScheduleConvergesAfterTheAttack) {
   std::uint64_t equivocations = 0, divergences = 0;
   for (std::uint64_t k = 0; k < count && failures < 3; ++k) {
     const std::uint64_t seed = only ? only : base + k;
-    Schedule s(seed);
+    Schedule s(seed, gossip);
     s.run();
     const auto digest = s.net.nodes[0].g->digest();
     bool same = true;
@@ -190,7 +199,7 @@ TEST(ReplicatorAttackPropertyTest, EveryScheduleConvergesAfterTheAttack) {
     }
     if (s.storm) {
       ++failures;
-      ADD_FAILURE() << "schedule with seed " << seed << ": the replicas kept sending after the attack stopped ("
+      ADD_FAILURE() << protocol << " schedule with seed " << seed << ": the replicas kept sending after the attack stopped ("
                     << Schedule::kMaxQuietFrames << " frames in the quiet phase; replay: QUIVER_SEED=" << seed << ")";
       continue;
     }
@@ -218,15 +227,18 @@ TEST(ReplicatorAttackPropertyTest, EveryScheduleConvergesAfterTheAttack) {
         if (std::getenv("QUIVER_TRACE"))
           for (const Error& e : n.errors) detail += "\n    " + e.message;
       }
-      ADD_FAILURE() << "schedule with seed " << seed << " did not converge (replay: QUIVER_SEED=" << seed
-                    << "):" << detail;
+      ADD_FAILURE() << protocol << " schedule with seed " << seed << " did not converge (replay: QUIVER_PROTOCOL="
+                    << protocol << " QUIVER_SEED=" << seed << "):" << detail;
     }
   }
-  std::printf("[attack] %llu schedules from seed %llu: %llu equivocations seen, %llu divergences repaired\n",
-              static_cast<unsigned long long>(count), static_cast<unsigned long long>(only ? only : base),
+  std::printf("[attack, %s] %llu schedules from seed %llu: %llu equivocations seen, %llu divergences repaired\n",
+              protocol, static_cast<unsigned long long>(count), static_cast<unsigned long long>(only ? only : base),
               static_cast<unsigned long long>(equivocations), static_cast<unsigned long long>(divergences));
   EXPECT_GT(equivocations, 0u) << "the attacks reached the replicas";
 }
+
+INSTANTIATE_TEST_SUITE_P(Protocols, ReplicatorAttackPropertyTest, ::testing::Values(true, false),
+                         [](const ::testing::TestParamInfo<bool>& i) { return i.param ? "Gossip" : "AllToAll"; });
 
 }  // namespace
 }  // namespace quiver::agents

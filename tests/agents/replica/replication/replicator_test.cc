@@ -212,9 +212,13 @@ TEST(ReplicatorTest, LostStateChunksAreRetried) {
   EXPECT_GE(net.nodes[b].rep->stats().states_applied, 1u);
 }
 
-TEST(ReplicatorTest, MembershipJoinLeaseAndGoodbye) {
+// A crash is noticed by the lease (all-to-all summaries) or by probes and an unrefuted suspicion
+// (gossip, its probes scaled like the lease); a clean stop at once by either.
+void membership_join_lease_and_goodbye(bool gossip) {
   ReplicatorOptions opt;
   opt.lease_ns = 300'000'000;
+  opt.gossip = gossip;
+  opt.probe_ns = 100'000'000;
   Net net;
   int a = net.add(1, opt), b = net.add(2, opt), c = net.add(3, opt);
   net.advance(100'000'000);
@@ -232,6 +236,9 @@ TEST(ReplicatorTest, MembershipJoinLeaseAndGoodbye) {
   net.pump();
   EXPECT_EQ(net.nodes[a].rep->live_peer_count(), 0u);
 }
+
+TEST(ReplicatorTest, MembershipJoinLeaseAndGoodbyeAllToAll) { membership_join_lease_and_goodbye(false); }
+TEST(ReplicatorTest, MembershipJoinProbesAndGoodbyeGossip) { membership_join_lease_and_goodbye(true); }
 
 // Discovery introduces peers (gossip): a name that hashes to the id names the peer at once, any
 // other is ignored, and a newcomer that knows live peers says hello to hello_answers of them,

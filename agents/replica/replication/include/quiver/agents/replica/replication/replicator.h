@@ -412,6 +412,7 @@ class Replicator {
   void probe_tick();
   void trim_buffer_gossip();
   const PeerId* next_probe_target();
+  const PeerId* next_digest_target();
   void refresh_set_hash() const;
   std::uint64_t set_hash() const { refresh_set_hash(); return set_hash_; }
   std::uint64_t set_count() const { refresh_set_hash(); return set_count_; }
@@ -493,6 +494,7 @@ class Replicator {
   bool addressed_ = false;  // the sample being handled was addressed to this replica
   std::int64_t next_offer_ns_ = 0;
   bool digest_due_ = false;
+  PeerId digest_to_;  // the peer the digest goes to this period (next_digest_target())
   Rng rng_{0};  // seeded from the replica id at start(): deterministic, and apart for each replica
   std::int64_t applied_changed_ns_ = 0;
   mutable std::uint64_t hash_version_ = ~0ull, set_hash_ = 0, set_count_ = 0;
