@@ -211,8 +211,13 @@ void Replicator::handle_gossip(const PeerId& from, Peer& p, const SummaryMsg& m)
     p.report_ns = now_;
   }
   p.your_seq = std::max(p.your_seq, m.your_seq);
+  if (addressed_ && counts(p) && !p.info.observer) repair_own(from, p, m.your_seq);
   if (m.covered != 0) p.covered = m.covered;
+  const std::uint64_t life_before = life_;
   for (const Rumor& r : m.rumors) hear_rumor(r);
+  // Told it is suspected or gone: the refutation goes back to the teller at once, not with the
+  // next probe (after a partition heals, each side would otherwise wait a probe turn per step).
+  if (life_ > life_before) send_beat(Beat::kAck, from);
 
   switch (m.beat) {
     case Beat::kHello:
@@ -269,6 +274,43 @@ void Replicator::handle_gossip(const PeerId& from, Peer& p, const SummaryMsg& m)
                    " holds the same deltas as this one but another state: pulling its whole state");
       pull_from(from, true);
     }
+  }
+}
+
+// A beat from `to` says it holds our own deltas 1..your_seq only. What we published after that
+// more than a grace ago (lost, or sent while a partition cut it off) goes to it again from the
+// relay buffer; when the buffer no longer holds the first of them, our whole set does (a kFull
+// beat), and it pulls what it lacks. Hashes and counts alone miss such a gap while both replicas
+// keep changing: each new change makes the sets differ again for a moment.
+void Replicator::repair_own(const PeerId& to, Peer& p, std::uint64_t your_seq) {
+  const std::uint64_t published = pending_lo_ != 0 ? pending_lo_ - 1 : seq_;
+  if (your_seq >= published || (p.repaired_ns >= 0 && now_ - p.repaired_ns < opt_.pull_first_timeout_ns)) return;
+  std::vector<const Buffered*> entries;
+  bool covered = false;
+  if (auto idx = buffer_index_.find(self_); idx != buffer_index_.end()) {
+    auto it = idx->second.upper_bound(your_seq + 1);
+    if (it != idx->second.begin()) {
+      const Buffered& first = *std::prev(it)->second;
+      covered = first.hi > your_seq;
+      if (covered) it = std::prev(it);
+    }
+    for (; covered && it != idx->second.end(); ++it) {
+      const Buffered& e = *it->second;
+      if (now_ - e.at_ns < opt_.gap_grace_ns) break;  // still in flight, most likely
+      entries.push_back(&e);
+    }
+  }
+  if (covered && entries.empty()) return;  // the first missing delta was sent just now
+  p.repaired_ns = now_;
+  if (!covered) {
+    SummaryMsg m = beat(Beat::kFull, to);
+    m.applied = to_ranges(applied_);
+    queue(to, std::move(m));
+    return;
+  }
+  for (const Buffered* e : entries) {
+    queue(to, DeltaMsg{e->origin, e->lo, e->hi, e->bytes, e->signature});
+    ++stats_.deltas_relayed;
   }
 }
 

@@ -64,7 +64,9 @@ std::vector<PeerInfo> Replicator::peers() const {
   std::vector<PeerInfo> out;
   for (const auto& [id, p] : peers_) {
     out.push_back(p.info);
-    out.back().suspect = p.suspect_until > now_;
+    // Gossip: a peer some replica failed to probe is suspect until it refutes (or is declared
+    // gone): what a lease running out tells with all-to-all summaries, but sooner.
+    out.back().suspect = p.suspect_until > now_ || (opt_.gossip && p.status == Liveness::kSuspect);
   }
   return out;
 }

@@ -55,10 +55,14 @@ Result<std::unique_ptr<DdsReplica>> DdsReplica::create(DdsReplicaOptions options
   // filter drops it there), so each probe costs a packet at every process. Probes then serve
   // anti-entropy and rediscovery only, and go no faster than the lease.
   // DDS discovery introduces every peer (introduce()): a newcomer's hello needs only a few
-  // answers, not one from every member.
+  // answers, not one from every member. Not with DDS Security: the participants DDS discovers
+  // include ones that never authenticate (they can exchange no sample with this one), and a
+  // peer that cannot answer would hold up every lock claim until probes declared it gone; a
+  // secured replica learns its peers from authenticated samples only (hellos to everyone).
+  a->introductions_ = ro.gossip && !a->opt_.dds.security;
   if (ro.gossip) {
     ro.probe_ns = std::max(ro.probe_ns, a->opt_.dds.lease_ns);
-    if (ro.hello_answers == 0) ro.hello_answers = 3;
+    if (a->introductions_ && ro.hello_answers == 0) ro.hello_answers = 3;
   }
   a->replicator_ = std::make_unique<Replicator>(*a->graph_, *a->transport_, ro);
   if (a->store_) {
@@ -131,10 +135,11 @@ void DdsReplica::spin_once(std::int64_t max_wait_ns) {
       [&](const PeerId& p, bool gone) { replicator_->on_peer_lost(p, gone); });
   if (received) engine_->pump();
   // A newcomer matched: announce ourselves now so it does not wait for a heartbeat.
-  // With gossip, DDS discovery also introduces every peer (its participant carries its id).
+  // With gossip, DDS discovery also introduces every peer (its participant carries its id and
+  // name), unless the replica is secured (create()).
   if (transport_->take_new_match()) {
-    if (replicator_->options().gossip)
-      for (const PeerCard& p : transport_->take_new_peers()) replicator_->introduce(p);
+    for (const PeerCard& p : transport_->take_new_peers())
+      if (introductions_) replicator_->introduce(p);
     replicator_->announce();
   }
   engine_->run_posted();

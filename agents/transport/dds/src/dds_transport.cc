@@ -73,6 +73,8 @@ std::atomic<dds_domainid_t> g_next_private{0x4000};
 // Local ids (0..230) of private instances with DDS Security, under g_domains_mu.
 std::set<dds_domainid_t> g_secured_private;
 constexpr dds_domainid_t kMaxDomainId = 230;
+// The role byte of a participant's card (its user data; take_new_peers()).
+constexpr unsigned kCardObserver = 1, kCardSecured = 2;
 
 // A sample addressed to another replica never enters this participant's reader: Cyclone drops it
 // on its receive thread, so the owner thread does not wake for the beats, pulls and state chunks
@@ -197,6 +199,7 @@ struct DdsTransport::Impl {
   dds_domainid_t domain_id = 0;
   bool shared_domain = false;
   bool secured_private = false;  // domain_id is in g_secured_private
+  bool secured = false;          // the participant runs DDS Security
   Entity private_domain;
   Entity participant;
   // One topic, writer and reader per message kind, indexed by Kind.
@@ -241,6 +244,7 @@ Result<std::unique_ptr<DdsTransport>> DdsTransport::create(const PeerId& self, c
   t->impl_ = std::make_unique<Impl>();
   Impl& d = *t->impl_;
   d.self = self;
+  d.secured = cfg.security.has_value();
 
   std::string xml;
   switch (cfg.source) {
@@ -312,10 +316,11 @@ Result<std::unique_ptr<DdsTransport>> DdsTransport::create(const PeerId& self, c
     d.shared_domain = true;
   }
 
-  // User data: the replica id, a role byte (1: observer) and the name (take_new_peers()).
+  // User data: the replica id, a role byte (1: observer, 2: secured) and the name
+  // (take_new_peers()).
   std::vector<unsigned char> card(sizeof self + 1 + cfg.name.size());
   std::memcpy(card.data(), &self, sizeof self);
-  card[sizeof self] = cfg.observer ? 1 : 0;
+  card[sizeof self] = static_cast<unsigned char>((cfg.observer ? kCardObserver : 0) | (cfg.security ? kCardSecured : 0));
   std::memcpy(card.data() + sizeof self + 1, cfg.name.data(), cfg.name.size());
   Qos pqos;
   dds_qset_userdata(pqos.q, card.data(), card.size());
@@ -471,9 +476,14 @@ std::vector<PeerCard> DdsTransport::take_new_peers() {
       const auto* bytes = static_cast<const unsigned char*>(data);
       PeerCard card;
       std::memcpy(&card.id, bytes, sizeof card.id);
-      card.observer = bytes[sizeof(PeerId)] == 1;
+      const unsigned role = bytes[sizeof(PeerId)];
+      card.observer = (role & kCardObserver) != 0;
       card.name.assign(reinterpret_cast<const char*>(bytes) + kHead, size - kHead);
-      if (!(card.id == self_) && !card.id.is_null() && bytes[sizeof(PeerId)] <= 1) out.push_back(std::move(card));
+      // A secured participant and an unsecured one exchange no sample: not peers of each other.
+      const bool secured = (role & kCardSecured) != 0;
+      if (!(card.id == self_) && !card.id.is_null() && role <= (kCardObserver | kCardSecured) &&
+          secured == impl_->secured)
+        out.push_back(std::move(card));
     }
     dds_free(data);
   });

@@ -95,7 +95,8 @@ struct ReplicatorOptions {
   /// probes and suspicion), membership news rides on the beats, and the (origin, seq) sets are
   /// compared by hash and count, exchanged only when they differ. A transport that delivers
   /// unicast samples to their destination only (the simulator's network) makes each replica's
-  /// cost independent of the number of replicas.
+  /// cost independent of the number of replicas. Off (the default for now, docs/protocol.md):
+  /// all-to-all summaries (every heartbeat, the whole (origin, seq) set to every peer).
   bool gossip = false;
   std::int64_t probe_ns = 250'000'000;       ///< gossip: one probe per period
   int indirect_probes = 3;                    ///< gossip: peers asked to probe an unanswering one
@@ -340,6 +341,7 @@ class Replicator {
     std::uint64_t your_seq = 0;  // it holds this replica's own 1..your_seq
     std::uint64_t covered = 0;   // the hash of our last offered set it holds all of
     bool told_name = false;      // a beat of ours named us to it
+    std::int64_t repaired_ns = -1;  // our own deltas it lacked were last sent again then (repair_own())
   };
   // The state transfer answering our outstanding pull (one at a time).
   struct Reassembly {
@@ -403,6 +405,7 @@ class Replicator {
   SummaryMsg beat(Beat b, const PeerId& to);
   void send_beat(Beat b, const PeerId& to, const PeerId& subject = {});
   void say_hello();
+  void repair_own(const PeerId& to, Peer& p, std::uint64_t your_seq);
   void handle_gossip(const PeerId& from, Peer& p, const SummaryMsg& m);
   void hear_rumor(const Rumor& r);
   void spread(const Rumor& r);

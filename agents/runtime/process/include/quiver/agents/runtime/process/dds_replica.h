@@ -186,6 +186,7 @@ class DdsReplica {
   std::unique_ptr<LivenessKeeper> keeper_;  // stopped before the engine and the transport
   std::int64_t next_tick_ = 0;
   std::int64_t last_activity_ns_ = 0;  // the last round that was not quiet (spin_once())
+  bool introductions_ = false;        // DDS discovery introduces peers (gossip, unsecured)
   std::uint64_t last_seq_seen_ = 0;    // the replica's own last sequence number then
   std::atomic<bool> stop_{false};
 };

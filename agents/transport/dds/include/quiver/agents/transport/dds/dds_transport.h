@@ -153,8 +153,9 @@ class DdsTransport final : public Transport {
   /// Owner thread only.
   bool take_new_match();
   /// The peers DDS discovered since the last call: each participant announces its replica id,
-  /// role and name in its user data (DdsConfig::name). This replica's own and malformed ones are
-  /// left out; a name is passed on as announced (Replicator::introduce() checks it). What
+  /// role (observer, secured) and name in its user data (DdsConfig::name). This replica's own,
+  /// malformed ones, and those secured when this one is not (or the reverse: they exchange no
+  /// sample) are left out; a name is passed on as announced (Replicator::introduce() checks it). What
   /// Replicator::introduce() takes, so that gossip replicas know every peer without hellos.
   /// Owner thread only.
   std::vector<PeerCard> take_new_peers();
