@@ -157,8 +157,9 @@ TEST(PermissionsTest, EveryReplicaRefusesADeltaItsOriginMayNotMakeAndTheyStayEqu
     ASSERT_TRUE(tx.set(robot, "speaking", Value(true)).ok());
     ASSERT_TRUE(tx.commit().ok()) << "its own check is off";
   }
-  // Gossip sends the state digest to one peer per second, in turn, and a replica pulls a whole
-  // state after two differing digests in a row from one peer: about 4 s with two peers.
+  // Long enough for gossip too, which sends the state digest to one peer per second, in turn (a
+  // replica pulls a whole state after two differing digests in a row from one peer: about 4 s
+  // with two peers).
   t.net.advance(5'000'000'000);
   for (int i : {t.speech, t.panel}) {
     EXPECT_EQ(*t.g(i).get<bool>(robot, "speaking"), false) << "refused at replica " << i;
