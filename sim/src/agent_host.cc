@@ -93,8 +93,7 @@ void AgentHost::boot(int i) {
   net_.set_address(i, s.graph->replica());
   agents::ReplicatorOptions ro = opt_.replicator;
   ro.name = s.spec.name;
-  // The network introduces peers as DDS discovery does: a hello then needs only a few answers.
-  if (ro.gossip && ro.hello_answers == 0) ro.hello_answers = 3;
+  // The network introduces peers as DDS discovery does (a hello then needs only a few answers).
   s.replicator = std::make_unique<agents::Replicator>(*s.graph, net_.endpoint(i), ro);
   net_.discover(i, {s.graph->replica(), ro.name, ro.observer}, [this, i](const agents::PeerCard& c) {
     if (auto& t = agents_[static_cast<std::size_t>(i)]; t->replicator) t->replicator->introduce(c);

@@ -169,8 +169,7 @@ void Simulation::boot(int i) {
   net_.set_address(i, a.graph->replica());
   agents::ReplicatorOptions opt = cfg_.replicator;
   opt.name = "agent" + std::to_string(i);
-  // The network introduces peers as DDS discovery does: a hello then needs only a few answers.
-  if (opt.gossip && opt.hello_answers == 0) opt.hello_answers = 3;
+  // The network introduces peers as DDS discovery does (a hello then needs only a few answers).
   a.replicator = std::make_unique<agents::Replicator>(*a.graph, net_.endpoint(i), opt);
   net_.discover(i, {a.graph->replica(), opt.name, opt.observer}, [this, i](const agents::PeerCard& c) {
     if (agents_[i].replicator) agents_[i].replicator->introduce(c);

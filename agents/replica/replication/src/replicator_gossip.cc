@@ -79,6 +79,12 @@ void Replicator::send_beat(Beat b, const PeerId& to, const PeerId& subject) {
   queue(to, std::move(m));
 }
 
+void Replicator::send_full(const PeerId& to) {
+  SummaryMsg m = beat(Beat::kFull, to);
+  m.applied = to_ranges(applied_);
+  queue(to, std::move(m));
+}
+
 void Replicator::spread(const Rumor& r) {
   const int repeats =
       opt_.rumor_repeats * std::max(1, static_cast<int>(std::bit_width(static_cast<std::uint64_t>(peers_.size()) + 1)));
@@ -123,10 +129,9 @@ void Replicator::hear_rumor(const Rumor& r) {
   if (it == peers_.end()) {
     // A peer only heard of: known alive (it must acknowledge claims too), named when it talks.
     if (r.status != Liveness::kAlive) return;
-    introduce(PeerCard{r.peer, {}, false});
-    it = peers_.find(r.peer);
-    if (it == peers_.end()) return;  // the table is full
-    it->second.life = r.life;
+    Peer* p = add_peer(r.peer);
+    if (p == nullptr) return;  // the table is full
+    p->life = r.life;
     spread(r);
     return;
   }
@@ -199,8 +204,7 @@ void Replicator::handle_gossip(const PeerId& from, Peer& p, const SummaryMsg& m)
   const bool first = !p.announced && (!m.name.empty() || m.beat == Beat::kHello);
   if (!m.name.empty()) p.info.name = m.name;
   p.info.observer = m.observer;
-  if (!m.name.empty() && fnv1a64(m.name) == from.agent && names_.size() < 4 * opt_.max_peers)
-    names_.emplace(from.agent, m.name);
+  remember_name(from, m.name);
   if (first) {
     p.announced = true;
     if (membership_cb_ && p.info.alive) membership_cb_(Membership::kJoined, p.info);
@@ -226,9 +230,9 @@ void Replicator::handle_gossip(const PeerId& from, Peer& p, const SummaryMsg& m)
       // With hello_answers, each member answers with that many chances in (live peers): the
       // transport introduces the others.
       // A hello addressed to this replica always gets its answer.
-      if (started_ && (addressed_ || (was_new && (opt_.hello_answers <= 0 ||
+      if (started_ && (addressed_ || (was_new && (hello_answers() <= 0 ||
                                                   rng_.below(live_peer_count() + 1) <
-                                                      static_cast<std::uint64_t>(opt_.hello_answers))))) {
+                                                      static_cast<std::uint64_t>(hello_answers()))))) {
         SummaryMsg a = beat(Beat::kAck, from);
         a.name = opt_.name;
         queue(from, std::move(a));
@@ -302,12 +306,7 @@ void Replicator::repair_own(const PeerId& to, Peer& p, std::uint64_t your_seq) {
   }
   if (covered && entries.empty()) return;  // the first missing delta was sent just now
   p.repaired_ns = now_;
-  if (!covered) {
-    SummaryMsg m = beat(Beat::kFull, to);
-    m.applied = to_ranges(applied_);
-    queue(to, std::move(m));
-    return;
-  }
+  if (!covered) return send_full(to);
   for (const Buffered* e : entries) {
     queue(to, DeltaMsg{e->origin, e->lo, e->hi, e->bytes, e->signature});
     ++stats_.deltas_relayed;
@@ -466,9 +465,7 @@ void Replicator::gossip_tick() {
   }
   if (offering_ && now_ >= next_offer_ns_) {
     next_offer_ns_ = now_ + opt_.pull_timeout_ns;
-    SummaryMsg m = beat(Beat::kFull, PeerId{});
-    m.applied = to_ranges(applied_);
-    queue(PeerId{}, std::move(m));
+    send_full(PeerId{});
   }
   // Rediscovery: a replica that restarted in a partition, or two groups that forgot each other,
   // are found again by a hello to everyone now and then: each period one replica in about

@@ -10,43 +10,41 @@ namespace quiver::agents::inline replica {
 void Replicator::introduce(const PeerCard& card) {
   const PeerId& peer = card.id;
   if (!opt_.gossip || peer == self_ || peer.is_null()) return;
-  auto it = peers_.find(peer);
-  if (it == peers_.end()) {
-    if (peers_.size() >= opt_.max_peers) return;
-    it = peers_.try_emplace(peer).first;
-    Peer& p = it->second;
-    p.info.id = peer;
-    p.info.alive = true;
-    p.info.last_heard_ns = now_;
-    // A new incarnation of an agent means the old one is gone.
-    for (auto& [id, other] : peers_)
-      if (other.info.alive && id.agent == peer.agent && id.incarnation < peer.incarnation) mark_left(other);
-  }
-  Peer& p = it->second;
+  introduced_ = true;
+  Peer* p = add_peer(peer);
   // Named only by a name that hashes to its id: nobody can name another agent.
-  if (p.announced || card.name.empty() || card.name.size() > opt_.limits.max_name_bytes ||
-      fnv1a64(card.name) != peer.agent)
+  if (p == nullptr || p->announced || card.name.size() > opt_.limits.max_name_bytes || !remember_name(peer, card.name))
     return;
-  p.info.name = card.name;
-  p.info.observer = card.observer;
-  p.announced = true;
+  p->info.name = card.name;
+  p->info.observer = card.observer;
+  p->announced = true;
   // Discovery goes both ways (each participant's card reaches the others): the peer has our
   // name from ours, and our beats to it need not carry it.
-  p.told_name = true;
-  if (names_.size() < 4 * opt_.max_peers) names_.emplace(peer.agent, card.name);
-  if (membership_cb_ && p.info.alive) membership_cb_(Membership::kJoined, p.info);
+  p->told_name = true;
+  if (membership_cb_ && p->info.alive) membership_cb_(Membership::kJoined, p->info);
 }
 
-// A replica whose transport introduces peers (hello_answers) says hello to a few live ones, each
+Replicator::Peer* Replicator::add_peer(const PeerId& peer) {
+  if (auto it = peers_.find(peer); it != peers_.end()) return &it->second;
+  if (peers_.size() >= opt_.max_peers) return nullptr;
+  Peer& p = peers_[peer];
+  p.info.id = peer;
+  p.info.alive = true;
+  p.info.last_heard_ns = now_;
+  retire_older_incarnations(peer);
+  return &p;
+}
+
+// A replica whose transport introduces peers (hello_answers()) says hello to a few live ones, each
 // of which answers with its set's hash and count; one alone, or without introductions, says it
 // to everyone.
 void Replicator::say_hello() {
   std::vector<PeerId> live;
-  if (opt_.hello_answers > 0)
+  if (hello_answers() > 0)
     for (const auto& [id, p] : peers_)
       if (p.info.alive && !p.said_bye) live.push_back(id);
   if (live.empty()) return send_beat(Beat::kHello, PeerId{});
-  for (int k = 0; k < opt_.hello_answers && !live.empty(); ++k) {
+  for (int k = 0; k < hello_answers() && !live.empty(); ++k) {
     const std::size_t i = rng_.below(live.size());
     send_beat(Beat::kHello, live[i]);
     live[i] = live.back();

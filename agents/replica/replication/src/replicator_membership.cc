@@ -36,10 +36,7 @@ Replicator::Peer* Replicator::heard_from(const PeerId& from) {
   // Gossip: a peer declared gone comes back only when it refutes (a higher life, handle_gossip()).
   if (!p.info.alive && !(opt_.gossip && p.status == Liveness::kDead)) {
     p.info.alive = true;
-    // A new incarnation of an agent means the old one is gone.
-    for (auto& [id, other] : peers_)
-      if (other.info.alive && id.agent == from.agent && !(id == from) && id.incarnation < from.incarnation)
-        mark_left(other);
+    retire_older_incarnations(from);
     if (membership_cb_ && p.announced) membership_cb_(Membership::kJoined, p.info);
   }
   return &p;
@@ -58,6 +55,20 @@ void Replicator::on_peer_lost(const PeerId& peer, bool gone) {
   if (it == peers_.end()) return;
   mark_left(it->second);
   if (gone) it->second.said_bye = true;
+}
+
+// A new incarnation of an agent means the old one is gone.
+void Replicator::retire_older_incarnations(const PeerId& peer) {
+  for (auto& [id, other] : peers_)
+    if (other.info.alive && id.agent == peer.agent && id.incarnation < peer.incarnation) mark_left(other);
+}
+
+// Remembered past the peer's departure (deltas it made keep arriving through others), but only
+// a name that hashes to the id it came with: nobody can name another agent's changes.
+bool Replicator::remember_name(const PeerId& from, const std::string& name) {
+  if (name.empty() || fnv1a64(name) != from.agent) return false;
+  if (names_.size() < 4 * opt_.max_peers) names_.emplace(from.agent, name);
+  return true;
 }
 
 std::vector<PeerInfo> Replicator::peers() const {

@@ -72,10 +72,7 @@ void Replicator::handle(const PeerId& from, const SummaryMsg& m) {
   const bool first = !p.announced;
   p.info.name = m.name;
   p.info.observer = m.observer;
-  // Remembered past the peer's departure (deltas it made keep arriving through others), but only
-  // a name that hashes to the id it came with: nobody can name another agent's changes.
-  if (!m.name.empty() && fnv1a64(m.name) == from.agent && names_.size() < 4 * opt_.max_peers)
-    names_.emplace(from.agent, m.name);
+  remember_name(from, m.name);
   if (first) {
     p.announced = true;
     if (membership_cb_ && p.info.alive) membership_cb_(Membership::kJoined, p.info);

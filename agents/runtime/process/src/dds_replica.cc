@@ -60,10 +60,7 @@ Result<std::unique_ptr<DdsReplica>> DdsReplica::create(DdsReplicaOptions options
   // peer that cannot answer would hold up every lock claim until probes declared it gone; a
   // secured replica learns its peers from authenticated samples only (hellos to everyone).
   a->introductions_ = ro.gossip && !a->opt_.dds.security;
-  if (ro.gossip) {
-    ro.probe_ns = std::max(ro.probe_ns, a->opt_.dds.lease_ns);
-    if (a->introductions_ && ro.hello_answers == 0) ro.hello_answers = 3;
-  }
+  if (ro.gossip) ro.probe_ns = std::max(ro.probe_ns, a->opt_.dds.lease_ns);
   a->replicator_ = std::make_unique<Replicator>(*a->graph_, *a->transport_, ro);
   if (a->store_) {
     a->replicator_->restore(applied);

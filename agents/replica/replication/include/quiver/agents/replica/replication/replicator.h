@@ -111,10 +111,10 @@ struct ReplicatorOptions {
   /// every live peer acknowledged them), whatever its byte bound would allow.
   std::int64_t relay_retain_ns = 2'000'000'000;
   /// gossip: how many members answer a hello, on average (0: every member that did not know the
-  /// sender). A transport that introduces peers itself (introduce(), e.g. DDS discovery) needs
-  /// only a few: one answer tells a newcomer the hash of a set to pull. With a value above 0 a
-  /// replica that knows live peers says hello to that many of them, chosen at random, instead of
-  /// to everyone; each answers.
+  /// sender, or 3 once the transport introduced a peer). A transport that introduces peers itself
+  /// (introduce(), e.g. DDS discovery) needs only a few: one answer tells a newcomer the hash of a
+  /// set to pull. Then a replica that knows live peers says hello to that many of them, chosen
+  /// at random, instead of to everyone; each answers.
   int hello_answers = 0;
 };
 
@@ -404,7 +404,18 @@ class Replicator {
   // Gossip (replicator_gossip.cc).
   SummaryMsg beat(Beat b, const PeerId& to);
   void send_beat(Beat b, const PeerId& to, const PeerId& subject = {});
+  /// A kFull beat: this replica's whole (origin, seq) set, to `to` (null: everyone).
+  void send_full(const PeerId& to);
   void say_hello();
+  /// ReplicatorOptions::hello_answers, or 3 once a transport introduced a peer (0: everyone).
+  int hello_answers() const { return opt_.hello_answers > 0 ? opt_.hello_answers : introduced_ ? 3 : 0; }
+  /// A peer known to exist (introduced, or rumored alive): alive from now on; an older incarnation
+  /// of its agent is gone. Null when the table is full.
+  Peer* add_peer(const PeerId& peer);
+  void retire_older_incarnations(const PeerId& peer);
+  /// Remembers `name` for `from`'s agent (bounded) if it hashes to the agent's id.
+  /// @returns whether it does.
+  bool remember_name(const PeerId& from, const std::string& name);
   void repair_own(const PeerId& to, Peer& p, std::uint64_t your_seq);
   void handle_gossip(const PeerId& from, Peer& p, const SummaryMsg& m);
   void hear_rumor(const Rumor& r);
@@ -495,6 +506,7 @@ class Replicator {
   int hellos_ = 0;  // hellos sent for new matches: each waits twice as long as the one before
   bool offering_ = false;
   bool addressed_ = false;  // the sample being handled was addressed to this replica
+  bool introduced_ = false;  // the transport introduced a peer (hello_answers())
   std::int64_t next_offer_ns_ = 0;
   bool digest_due_ = false;
   PeerId digest_to_;  // the peer the digest goes to this period (next_digest_target())
