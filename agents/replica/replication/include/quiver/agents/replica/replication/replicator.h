@@ -95,9 +95,9 @@ struct ReplicatorOptions {
   /// probes and suspicion), membership news rides on the beats, and the (origin, seq) sets are
   /// compared by hash and count, exchanged only when they differ. A transport that delivers
   /// unicast samples to their destination only (the simulator's network) makes each replica's
-  /// cost independent of the number of replicas. Off (the default for now, docs/protocol.md):
-  /// all-to-all summaries (every heartbeat, the whole (origin, seq) set to every peer).
-  bool gossip = false;
+  /// cost independent of the number of replicas. The default; off: all-to-all summaries (every
+  /// heartbeat, the whole (origin, seq) set to every peer; docs/protocol.md).
+  bool gossip = true;
   std::int64_t probe_ns = 250'000'000;       ///< gossip: one probe per period
   int indirect_probes = 3;                    ///< gossip: peers asked to probe an unanswering one
   /// gossip: a peer suspected this long without refuting is declared gone (0: max(lease_ns, 3 probe_ns)).

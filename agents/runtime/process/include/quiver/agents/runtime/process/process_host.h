@@ -46,10 +46,10 @@ struct ProcessFlags {
   /// DDS Security credentials directory (`quiver keys`, docs/security.md); empty: unsecured.
   /// run_process() and DdsFlags authenticate as the agent's name (enable_security()).
   std::string security;
-  /// "all-to-all" (the default for now: every heartbeat, the whole (origin, seq) set to every
-  /// peer) or "gossip" (ReplicatorOptions::gossip: constant-size beats to one peer per period;
-  /// docs/protocol.md).
-  std::string membership = "all-to-all";
+  /// "gossip" (the default; ReplicatorOptions::gossip: constant-size beats to one peer per
+  /// period; docs/protocol.md) or "all-to-all" (every heartbeat, the whole (origin, seq) set to
+  /// every peer).
+  std::string membership = "gossip";
 
   /// --domain, --dds-config, --loss-permille, --lease, --membership (the DDS ones) on `cmd`.
   /// And --security. The options write into this object. @pre `cmd` is not null; this object
