@@ -49,6 +49,7 @@ void build_app(CLI::App& app) {
   add_kinematics_commands(app);  // adds to `bench`: after add_bench_commands
   add_interop_commands(app);
   add_agent_commands(app);
+  add_gateway_command(app);
   add_dds_bench_commands(app);
   add_agents_bench_commands(app);
   add_barthel_commands(app);

@@ -13,6 +13,8 @@ void add_bench_commands(CLI::App& app);
 /// lookup, import-urdf, bench transforms, bench scene (needs add_bench_commands first).
 void add_kinematics_commands(CLI::App& app);
 void add_agent_commands(CLI::App& app);
+/// gateway (a robot team).
+void add_gateway_command(CLI::App& app);
 void add_dds_bench_commands(CLI::App& app);
 void add_agents_bench_commands(CLI::App& app);
 /// run ROLE, scenario barthel.

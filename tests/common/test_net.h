@@ -2,6 +2,8 @@
 // A hand-driven network of replicators for protocol tests: samples (their CDR bytes, exactly what
 // DDS ships) wait in a queue until the test delivers them, drops them, or advances time.
 
+#include <gtest/gtest.h>
+
 #include <deque>
 #include <functional>
 #include <memory>
@@ -80,6 +82,15 @@ struct Net {
     }
   }
 };
+// Commits one node of type "thing" named `name` on `g` (a local change to replicate).
+inline graph::NodeId add_node(Graph& g, const std::string& name) {
+  auto tx = g.begin();
+  auto id = tx.create_node("thing", name);
+  EXPECT_TRUE(id.ok());
+  EXPECT_TRUE(tx.commit().ok());
+  return *id;
+}
+
 inline void Port::send(const Sample& e) {
   CdrSample f = encode_cdr_sample(e);
   if (e.to.is_null()) {

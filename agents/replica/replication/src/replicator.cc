@@ -115,8 +115,10 @@ Result<bool> Replicator::seed(const graph::GraphDelta& d) {
   if (journal_ != nullptr) journal_->remote(d.origin, d.seq_lo, d.seq_hi, *bytes);
   record(d.origin, d.seq_lo, d.seq_hi, digest_of(*bytes));
   remember(d.origin, d.seq_lo, d.seq_hi, bytes, nullptr);
-  queue(PeerId{}, DeltaMsg{d.origin, d.seq_lo, d.seq_hi, std::move(bytes), nullptr});
+  DeltaMsg m{d.origin, d.seq_lo, d.seq_hi, std::move(bytes), nullptr};
+  queue(PeerId{}, m);
   send_queued();
+  joined(&m);
   return true;
 }
 

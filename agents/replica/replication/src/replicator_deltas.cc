@@ -67,6 +67,7 @@ void Replicator::apply_delta(const PeerId& from, const DeltaMsg& m, std::uint64_
     gap_since_ns_ = now_;
     gap_peer_ = from;
   }
+  joined(&m);
 }
 
 void Replicator::handle(const PeerId& from, const DeltaMsg& m) {
@@ -100,6 +101,7 @@ bool Replicator::admitted(const PeerId& from, const DeltaMsg& m, std::uint64_t d
   remember(m.origin, m.lo, m.hi, m.payload, m.signature);
   queue(PeerId{}, DeltaMsg{m.origin, m.lo, m.hi, m.payload, m.signature});
   reject(s.error());
+  joined(&m);
   return false;
 }
 
@@ -147,6 +149,7 @@ void Replicator::equivocate(const PeerId& from, const DeltaMsg& m, std::uint64_t
     return;
   }
   queue(PeerId{}, DeltaMsg{m.origin, m.lo, m.hi, m.payload, m.signature});
+  joined(&m);
   if (first_other) {
     auto idx = buffer_index_.find(m.origin);
     if (idx != buffer_index_.end())

@@ -170,6 +170,10 @@ bool Replicator::behind(const Peer& p) const {
   if (!opt_.gossip) return !applied_.includes(p.applied);  // its last summary holds more
   if (p.full && !applied_.includes(p.applied)) return true;
   if (p.report_ns < 0 || p.hash == set_hash()) return false;
+  // It holds more changes of origins other than this replica than this replica does: at least
+  // one of them is missing here. Unlike the counts, this holds while this replica keeps changing
+  // (its own changes in flight to the peer make the peer's count lag).
+  if (p.others > set_count() - std::min(set_count(), applied_.contiguous(self_))) return true;
   // Its set differs: it may hold what we lack if it holds more, or as many but others, and
   // nothing changed here since it said so (a delta in flight makes sets differ for a moment).
   return p.count > set_count() || (p.count == set_count() && p.report_ns >= applied_changed_ns_);
@@ -213,6 +217,9 @@ void Replicator::handle_gossip(const PeerId& from, Peer& p, const SummaryMsg& m)
     p.hash = m.set_hash;
     p.count = m.count;
     p.report_ns = now_;
+    // An addressed beat says how many of our own changes it holds (your_seq): the rest of its
+    // count are other origins' (0: unknown).
+    p.others = addressed_ ? m.count - std::min(m.count, m.your_seq) : 0;
   }
   p.your_seq = std::max(p.your_seq, m.your_seq);
   if (addressed_ && counts(p) && !p.info.observer) repair_own(from, p, m.your_seq);

@@ -172,6 +172,7 @@ void Replicator::handle(const PeerId& from, const StateMsg& m) {
     const double wait_s = static_cast<double>(all.size()) / static_cast<double>(opt_.sample_bytes_per_s);
     next_sample_ = std::max(next_sample_, now_ + static_cast<std::int64_t>(wait_s * 1e9));
   }
+  joined(nullptr);
 }
 
 }  // namespace quiver::agents

@@ -14,8 +14,8 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
-#include "quiver/agents/replica/replication/error_limiter.h"
 #include "quiver/agents/runtime/process/logging.h"
+#include "quiver/agents/runtime/process/replica_reports.h"
 #include "quiver/agents/runtime/engine/engine.h"
 #include "quiver/agents/runtime/process/security_setup.h"
 #include "quiver/graph/world_file.h"
@@ -73,6 +73,13 @@ nlohmann::json status(Agent& agent, DdsReplica& r, const Engine& rt) {
 }  // namespace
 
 void request_stop() { g_stop.store(true); }
+
+bool stop_requested() { return g_stop.load(); }
+
+void stop_on_signals() {
+  g_stop.store(false);
+  install_signal_handlers();
+}
 
 long resident_kb() {
   long pages = 0, resident = 0;
@@ -162,34 +169,36 @@ Status ProcessFlags::apply_to(DdsConfig& c) const {
   return {};
 }
 
-int run_process(Agent& agent, const ProcessFlags& f) {
-  g_stop.store(false);  // a stop requested for an earlier run in this process is not this run's
-  auto log = named_logger(agent.name());
+Result<DdsReplicaOptions> replica_options(const std::string& name, const ProcessFlags& f) {
   DdsReplicaOptions o;
-  o.name = agent.name();
+  o.name = name;
   f.apply_to(o.replicator);
-  if (Status s = f.apply_to(o.dds); !s.ok()) {
-    log->error("{}", s.error().to_string());
-    return 2;
-  }
+  if (Status s = f.apply_to(o.dds); !s.ok()) return s.error();
   if (!f.security.empty())
-    if (Status s = enable_security(o, f.security); !s.ok()) {
-      log->error("--security: {}", s.error().to_string());
-      return 2;
-    }
+    if (Status s = enable_security(o, f.security); !s.ok())
+      return make_error(s.error().code, "--security: " + s.error().message);
   if (!f.store.empty()) {
     StoreOptions so;
     so.dir = f.store;
     auto d = parse_durability(f.durability);
-    if (!d.ok()) {
-      log->error("--durability: {}", d.error().to_string());
-      return 2;
-    }
+    if (!d.ok()) return make_error(d.error().code, "--durability: " + d.error().message);
     so.durability = *d;
     so.compact_log_bytes = static_cast<std::size_t>(f.store_compact_mb * (1 << 20));
     o.store = so;
   }
   o.engine.seed = f.seed;  // mixed with the incarnation by DdsReplica::create()
+  return o;
+}
+
+int run_process(Agent& agent, const ProcessFlags& f) {
+  g_stop.store(false);  // a stop requested for an earlier run in this process is not this run's
+  auto log = named_logger(agent.name());
+  auto options = replica_options(agent.name(), f);
+  if (!options.ok()) {
+    log->error("{}", options.error().to_string());
+    return 2;
+  }
+  DdsReplicaOptions& o = *options;
   o.engine.log = [&](std::string_view line) { log->info("{}", line); };
   auto created = DdsReplica::create(o);
   if (!created.ok()) {
@@ -207,23 +216,11 @@ int run_process(Agent& agent, const ProcessFlags& f) {
               s->opening().records, s->opening().snapshot_bytes,
               s->opening().created ? "new store, new" : s->opening().incarnation_kept ? "kept its" : "a new");
   install_signal_handlers();
-  // A hostile peer can cause thousands of bad packets (and invented peers) a second: one line
-  // per kind, then a count every few seconds. Cyclone's own warnings come from its threads.
-  std::mutex errors_mu;
-  ErrorLimiter errors([&](const std::string& line) { log->warn("rejected: {}", line); });
-  auto report = [&](const Error& e) {
-    std::lock_guard<std::mutex> lock(errors_mu);
-    errors.report(e, monotonic_ns());
-  };
-  r.replicator().on_error(report);
-  ErrorLimiter membership([&](const std::string& line) { log->info("{}", line); }, 5'000'000'000, 8);
-  r.replicator().on_membership([&](Membership m, const PeerInfo& p) {
-    const char* what = m == Membership::kJoined ? "joined" : "left";
-    membership.report(what, std::string(what) + ": " + p.name + " (" + p.id.to_string() + ")", monotonic_ns());
-  });
-  route_dds_log([&](const std::string& line) { report(make_error(ErrorCode::kTransport, "DDS: " + line)); });
+  ReplicaReports reports(log);
+  reports.attach(r.replicator());
+  route_dds_log([&](const std::string& line) { reports.report(make_error(ErrorCode::kTransport, "DDS: " + line)); });
   struct Unroute {
-    ~Unroute() { route_dds_log(nullptr); }  // before `errors` goes, on every return
+    ~Unroute() { route_dds_log(nullptr); }  // before `reports` goes, on every return
   } unroute;
   log->info("replica {} on DDS domain {} ({})", r.id().to_string(), f.domain, f.dds_config);
   if (!f.world.empty() || !f.world_text.empty()) {
@@ -266,11 +263,7 @@ int run_process(Agent& agent, const ProcessFlags& f) {
     // seen within the quiet round.
     r.spin_once(f.status_ms > 0 ? std::min<std::int64_t>(100'000'000, f.status_ms * 1'000'000LL) : 100'000'000);
     now = monotonic_ns();
-    {
-      std::lock_guard<std::mutex> lock(errors_mu);
-      errors.tick(now);
-    }
-    membership.tick(now);
+    reports.tick(now);
     if (f.status_ms > 0 && now >= next_status) {
       std::cout << status(agent, r, rt).dump() << std::endl;
       next_status = now + f.status_ms * 1'000'000LL;

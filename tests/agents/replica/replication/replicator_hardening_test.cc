@@ -20,14 +20,6 @@ using graph::Value;
 
 const PeerId kRogue{0xbad, 1};
 
-graph::NodeId add_node(Graph& g, const std::string& name) {
-  auto tx = g.begin();
-  auto id = tx.create_node("thing", name);
-  EXPECT_TRUE(id.ok());
-  EXPECT_TRUE(tx.commit().ok());
-  return *id;
-}
-
 // Sends `m` to node `to` as if from `from`, through the one entry point every transport uses
 // once it has decoded a sample (Replicator::on_sample).
 void inject(Net& net, int to, const PeerId& from, Message m) {

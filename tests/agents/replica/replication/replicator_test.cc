@@ -6,8 +6,10 @@
 #include <deque>
 #include <map>
 #include <set>
+#include <variant>
 
 #include "quiver/graph/codec.h"
+#include "quiver/graph/world_file.h"
 #include "test_net.h"
 
 namespace quiver::agents {
@@ -17,14 +19,6 @@ using graph::Graph;
 using graph::ReplicaId;
 using graph::Symbol;
 using graph::Value;
-
-graph::NodeId add_node(Graph& g, const std::string& name) {
-  auto tx = g.begin();
-  auto id = tx.create_node("thing", name);
-  EXPECT_TRUE(id.ok());
-  EXPECT_TRUE(tx.commit().ok());
-  return *id;
-}
 
 TEST(ReplicatorTest, DeltasReachEveryPeer) {
   Net net;
@@ -243,6 +237,46 @@ TEST(ReplicatorTest, MembershipJoinProbesAndGoodbyeGossip) { membership_join_lea
 // Discovery introduces peers (gossip): a name that hashes to the id names the peer at once, any
 // other is ignored, and a newcomer that knows live peers says hello to hello_answers of them,
 // each addressed, instead of to everyone; an addressed hello is always answered, named.
+// Gossip compares sets by hash and count. A newcomer that commits all the time is always a
+// change or so ahead of what its peer reports back, so the counts alone never show that the peer
+// holds something the newcomer lacks (found by store_state_transfer_crash_test: a joiner writing
+// 200 times a second never pulled the 60,000-node world). The peer's addressed beats say how many
+// of the newcomer's own changes they count; the rest shows it.
+TEST(ReplicatorTest, ANewcomerThatKeepsCommittingStillPullsWhatOnlyItsPeerHeld) {
+  Net net;
+  const int a = net.add(1);
+  // A world seeded under an origin of its own (as `quiver agent --world` does): no peer repairs
+  // it as its own change.
+  auto world = graph::world_seed(R"({"quiver_world": 1, "nodes": [{"name": "world", "type": "thing"}]})", "test");
+  ASSERT_TRUE(world.ok()) << world.error().to_string();
+  ASSERT_TRUE(net.nodes[a].rep->seed(world->delta).ok());
+  net.advance(100'000'000);
+  const int b = net.add(2);
+  add_node(*net.nodes[b].g, "b-first");
+  add_node(*net.nodes[b].g, "b-second");
+  // b's changes reach a one round late, and b commits just after each of a's beats: whenever b
+  // compares sets, a reports as many changes as b holds, and b changed since.
+  std::vector<Packet> held;
+  net.drop = [&](const Packet& p) {
+    if (p.from != b || p.to != a || !std::holds_alternative<DeltaMsg>(p.decoded().message)) return false;
+    held.push_back(p);
+    return true;
+  };
+  int rounds = 0;
+  for (; rounds < 500 && !net.nodes[b].g->find_node("world"); ++rounds) {
+    net.now += 10'000'000;
+    for (auto& n : net.nodes) n.rep->tick(net.now);
+    net.pump();
+    for (const Packet& p : held) deliver_cdr_sample(*net.nodes[a].rep, p.sample.topic, p.sample.bytes, net.now);
+    held.clear();
+    net.nodes[b].rep->tick(net.now + 1);
+    add_node(*net.nodes[b].g, "b" + std::to_string(rounds));
+    net.pump();
+  }
+  EXPECT_TRUE(net.nodes[b].g->find_node("world").has_value()) << "after " << rounds << " rounds of 10 ms";
+  EXPECT_GE(net.nodes[b].rep->stats().pulls_sent, 1u);
+}
+
 TEST(ReplicatorTest, IntroducedPeersAreNamedAndGreetedOneByOne) {
   struct Recorder : Transport {
     std::vector<Sample> sent;

@@ -208,6 +208,24 @@ class Replicator {
   /// @pre `d` is a kDelta fragment as graph::world_seed() or graph::decode() builds it: it is
   ///      joined without further checks.
   Result<bool> seed(const graph::GraphDelta& d);
+  /// Gateways (bridge.h): calls `cb` after each join of something received or seeded, with the
+  /// delta as it came (applied, refused by the Admission, or an equivocation's second payload),
+  /// or with null after a state transfer. Called inside the join: `cb` must not call back into
+  /// this replicator (it queues the work). Replaces the previous callback. Owner thread only.
+  void on_joined(std::function<void(const DeltaMsg*)> cb) { joined_cb_ = std::move(cb); }
+  /// Gateways: joins a delta that another replica of this process received, unchanged (origin,
+  /// interval, payload and signature), with every check a received delta gets (duplicate,
+  /// equivocation, decoding, admission), and publishes it at once if it was new here.
+  /// @returns true if it was new here; kInvalidArgument for a null or own origin, an empty
+  ///          interval or no payload. Owner thread only.
+  Result<bool> relay(const DeltaMsg& m);
+  /// Gateways: joins `fragment`, what another replica of this process holds beyond this one,
+  /// computed just now as other.graph().state_diff(graph().context()), with that replica's whole
+  /// (origin, seq) set `applied` (never a state received from the network: its context would
+  /// remove what this graph holds and the sender did not send). Then the peers learn the new set
+  /// (gossip: the whole set offered; else the next summary). Owner thread only.
+  /// @returns kPermissionDenied if the Admission refuses it (nothing joined).
+  Status adopt_state(const graph::GraphDelta& fragment, const crdt::CausalContext& applied);
   /// Says goodbye so that peers drop this replica at once instead of after the lease.
   /// Flushes coalesced deltas first. Owner thread only.
   void leave();
@@ -337,6 +355,7 @@ class Replicator {
     std::int64_t suspect_since = 0;
     std::int64_t told_dead_ns = -1;
     std::uint64_t hash = 0, count = 0;  // its last reported (origin, seq) set: hash and size
+    std::uint64_t others = 0;  // of that count, other origins' than ours (from an addressed beat; 0: unknown)
     std::int64_t report_ns = -1;
     std::uint64_t your_seq = 0;  // it holds this replica's own 1..your_seq
     std::uint64_t covered = 0;   // the hash of our last offered set it holds all of
@@ -382,6 +401,9 @@ class Replicator {
   const Seen* recorded(const PeerId& origin, std::uint64_t lo) const;
   Seen* recorded(const PeerId& origin, std::uint64_t lo) {
     return const_cast<Seen*>(static_cast<const Replicator*>(this)->recorded(origin, lo));
+  }
+  void joined(const DeltaMsg* m) {
+    if (joined_cb_) joined_cb_(m);
   }
   void equivocation(const std::string& what);
   void equivocate(const PeerId& from, const DeltaMsg& m, std::uint64_t digest, const std::string& what);
@@ -523,6 +545,7 @@ class Replicator {
   ReplicatorStats stats_;
   std::function<void(Membership, const PeerInfo&)> membership_cb_;
   std::function<void(const Error&)> error_cb_;
+  std::function<void(const DeltaMsg*)> joined_cb_;
 };
 
 }  // namespace quiver::agents

@@ -68,6 +68,11 @@ struct ProcessFlags {
   Status apply_to(DdsConfig& c) const;
 };
 
+/// The replica options the flags choose for an agent named `name`: DDS configuration, membership,
+/// security credentials, store, seed. @returns them, or the error of the flag that is wrong
+/// (an unreadable --dds-config file, --security, --durability), naming it.
+Result<DdsReplicaOptions> replica_options(const std::string& name, const ProcessFlags& flags);
+
 /// Runs `agent` as this process's agent until SIGINT/SIGTERM or `flags.run_for_s`. Prints a JSON
 /// status line on stdout every `flags.status_ms` (and one at the end). @returns the exit status:
 /// 0, or 2 when it could not start (the reason on stderr).
@@ -84,6 +89,12 @@ int run_process(Agent& agent, int argc, char** argv);
 /// teardown() called). Thread-safe and async-signal-safe; e.g. for an agent whose code failed. A
 /// call before run_process() starts is forgotten (each run starts unstopped).
 void request_stop();
+
+/// For a process's own main loop (e.g. a gateway's): forgets an earlier stop request and makes
+/// SIGINT and SIGTERM request one. Process-wide; call it from the main thread.
+void stop_on_signals();
+/// @returns whether a stop was requested (a signal, or request_stop()). Thread-safe.
+bool stop_requested();
 
 /// Resident memory of this process in KiB (Linux; 0 elsewhere).
 /// @returns that size, or 0 if /proc/self/statm cannot be read. Thread-safe.

@@ -98,6 +98,20 @@ inline constexpr std::size_t kMaxSampleBytes = SampleLimits{}.max_payload_bytes 
 /// @returns the Cyclone XML text.
 std::string loopback_config_xml(const DdsConfig& cfg);
 
+/// A domain on a real network (a robot team's, docs/teams.md): explicit opt-in, unicast only.
+struct NetworkDomain {
+  std::string address;             ///< this host's address on that network: the only interface used
+  std::vector<std::string> peers;  ///< the addresses discovery is sent to (every host of the network)
+  std::string tag;                 ///< Cyclone's discovery tag: participants with another never match
+  int max_participant_index = 4;   ///< participants per host (and one more)
+};
+
+/// The embedded configuration for a domain on a network: `net`'s interface and peers, multicast
+/// off, never routed; lease, loss and external domain id from `cfg` as loopback_config_xml().
+/// Pure and thread-safe. @pre `net`'s addresses and tag are checked (no XML in them).
+/// @returns the Cyclone XML text.
+std::string network_config_xml(const NetworkDomain& net, const DdsConfig& cfg);
+
 /// Sends Cyclone DDS's own log lines (warnings about malformed packets, samples that fail to
 /// deserialize, ...) to `sink` instead of stderr, process-wide; null restores stderr. `sink` runs
 /// on Cyclone's threads: it must be thread-safe and quick. This call is thread-safe.

@@ -1,0 +1,72 @@
+#!/usr/bin/env bash
+# Two robots on a team network, each a network namespace of its own (tests/common/netns.sh): on
+# each, an agent that stays (X-a2), short-lived writers, and the gateway (`quiver gateway`: the
+# robot's loopback domain 0 and the team domain 7 on its veth). Checks:
+#  1. a change made on robot A reaches robot B's agent, through both gateways;
+#  2. with the team link cut at the bridge, both robots write: each robot converges on its own;
+#  3. after the link is back, every replica (both agents, both sides of both gateways) holds one
+#     state, with no equivocation, divergence or rejected sample.
+# Usage: gateway_netns_test.sh QUIVER   (exit 77: skipped without root, see netns.sh)
+set -uo pipefail
+QUIVER=$1
+. "$(dirname "$0")/../../../common/netns.sh"
+netns_require
+WORK=$(mktemp -d)
+trap 'netns_cleanup; [ -n "${QUIVER_KEEP:-}" ] && echo "kept $WORK" || rm -rf "$WORK"' EXIT
+netns_up A B || { echo "FAIL: could not build the namespaces"; exit 1; }
+cat >"$WORK/team.json" <<JSON
+{"team": "$NS_TAG", "domain": 7, "lease_s": 1,
+ "robots": [{"name": "A", "address": "${NETNS_ADDR[A]}"}, {"name": "B", "address": "${NETNS_ADDR[B]}"}]}
+JSON
+fail() {
+  echo "FAIL: $*"
+  for f in "$WORK"/*.log; do echo "--- $f"; grep -v '^{' "$f" | tail -8 | cut -c1-300; last_of "$f" | cut -c1-400; done
+  exit 1
+}
+last_of() { grep '^{' "$1" | tail -1; }
+field() { last_of "$WORK/$1.log" | grep -o "\"$2\":[^,}]*" | head -1 | cut -d: -f2 | tr -d '"'; }  # NAME KEY
+wait_until() {  # TIMEOUT_S CMD...: polls every 100 ms
+  local i; for ((i = 0; i < $1 * 10; ++i)); do "${@:2}" 2>/dev/null && return 0; sleep 0.1; done; return 1
+}
+digests() { for n in A-a2 B-a2 A-gw B-gw; do field $n digest; done; field A-gw team_digest; field B-gw team_digest; }
+converged() { local d; d=$(digests); [ "$(grep -c . <<<"$d")" = 6 ] && [ "$(sort -u <<<"$d" | wc -l)" = 1 ]; }
+alone() { [ "$(field A-a2 digest)" = "$(field A-gw digest)" ] && [ "$(field B-a2 digest)" = "$(field B-gw digest)" ]; }
+team_peers() { [ "$(field A-gw team_peers)" = "$1" ] && [ "$(field B-gw team_peers)" = "$1" ]; }
+writer() {  # ROBOT NAME: changes for 2 s, hands over and exits; sets $started
+  netns_run "$1" "$WORK/$2.log" "$QUIVER" agent --name "$2" --domain 0 --churn-hz 20 --churn-for 2 \
+    --run-for 3 --status-ms 100
+}
+for r in A B; do
+  netns_run $r "$WORK/$r-gw.log" "$QUIVER" gateway --robot $r --name $r-gw --team "$WORK/team.json" --domain 0 --status-ms 100
+  netns_run $r "$WORK/$r-a2.log" "$QUIVER" agent --name $r-a2 --domain 0 --status-ms 100
+done
+wait_until 15 team_peers 1 || fail "the gateways did not meet on the team network"
+echo "the gateways met on the team network"
+
+# 1. A change on A reaches B.
+writer A A-a1; w=$started
+wait "$w"
+wait_until 15 converged || fail "A's changes did not reach B: $(digests | tr '\n' ' ')"
+[ "$(field B-a2 nodes)" -gt 0 ] || fail "B holds no node"
+echo "1. robot A's changes reached robot B: $(field B-a2 nodes) nodes, $(field A-gw deltas_to_team) deltas crossed"
+
+# 2. The team link is cut: both robots write; each converges on its own; the robots differ.
+netns_cut A
+wait_until 10 team_peers 0 || fail "the gateways did not notice the cut"
+writer A A-p; wa=$started; writer B B-p; wb=$started
+wait "$wa" "$wb"
+wait_until 10 alone || fail "a robot did not converge on its own while cut off: $(digests | tr '\n' ' ')"
+[ "$(field A-a2 digest)" != "$(field B-a2 digest)" ] || fail "the robots did not differ while cut off"
+echo "2. cut off, each robot converged on its own"
+
+# 3. The link is back: everything converges.
+t0=$(date +%s%N)
+netns_heal A
+wait_until 30 converged || fail "no convergence after the heal: $(digests | tr '\n' ' ')"
+echo "3. converged $(( ($(date +%s%N) - t0) / 1000000 )) ms after the heal; team network bytes sent by A: $(netns_tx_bytes A), B: $(netns_tx_bytes B)"
+for n in A-a2 B-a2 A-gw B-gw; do
+  for k in equivocations divergences rejected; do
+    [ "$(field $n $k)" = 0 ] || fail "$n: $k = $(field $n $k)"
+  done
+done
+echo PASS
