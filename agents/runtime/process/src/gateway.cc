@@ -60,6 +60,12 @@ void GatewayFlags::add(CLI::App* cmd) {
                   "on a clean stop, keep replicating up to this long until the peers on both sides hold all it holds")
       ->check(CLI::Range(0.0, 60.0))
       ->capture_default_str();
+  cmd->add_option("--store", robot_side.store,
+                  "keep both replicas in this directory (DIR/robot and DIR/team, LMDB): a restarted gateway "
+                  "reloads them and pulls only what it missed (docs/persistence.md)");
+  cmd->add_option("--durability", robot_side.durability, "with --store: none, batch or always (as `quiver agent`)")
+      ->check(CLI::IsMember({"none", "batch", "always"}))
+      ->capture_default_str();
   cmd->add_flag("--print-team-config", print_team_config, "print the team domain's Cyclone XML and exit");
 }
 
@@ -71,8 +77,13 @@ int run_gateway(const GatewayFlags& f) {
     log->error("{}", team_file.error().to_string());
     return 2;
   }
-  auto robot_options = replica_options(name, f.robot_side);
-  auto team_options = replica_options(name + ".team", f.robot_side);
+  ProcessFlags robot_flags = f.robot_side, team_flags = f.robot_side;
+  if (!f.robot_side.store.empty()) {
+    robot_flags.store = f.robot_side.store + "/robot";
+    team_flags.store = f.robot_side.store + "/team";
+  }
+  auto robot_options = replica_options(name, robot_flags);
+  auto team_options = replica_options(name + ".team", team_flags);
   if (!robot_options.ok() || !team_options.ok()) {
     log->error("{}", (robot_options.ok() ? team_options.error() : robot_options.error()).to_string());
     return 2;
@@ -109,6 +120,10 @@ int run_gateway(const GatewayFlags& f) {
   }
   DdsReplica& r = **robot;
   DdsReplica& t = **team;
+  for (DdsReplica* x : {&r, &t})
+    if (x->store_recovery())
+      log->error("{}: the store was set aside and the replica starts empty, to be filled by its peers",
+                 x->store_recovery()->to_string());
   stop_on_signals();
   ReplicaReports robot_reports(log), team_reports(log, "team: ");
   robot_reports.attach(r.replicator());

@@ -18,7 +18,7 @@ namespace quiver::agents::inline runtime {
 
 struct GatewayFlags {
   /// The robot side: --domain, --dds-config, --loss-permille, --lease, --membership, --security,
-  /// and --status-ms, --run-for, --hand-over.
+  /// and --status-ms, --run-for, --hand-over, --store (DIR/robot and DIR/team), --durability.
   ProcessFlags robot_side;
   std::string robot;      ///< this robot's name in the team file
   std::string team_file;  ///< team.h
