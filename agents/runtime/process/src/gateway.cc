@@ -5,6 +5,7 @@
 #include <nlohmann/json.hpp>
 
 #include "quiver/agents/replica/replication/bridge.h"
+#include "quiver/agents/replica/security/keys.h"
 #include "quiver/agents/runtime/process/logging.h"
 #include "quiver/agents/runtime/process/replica_reports.h"
 #include "quiver/agents/runtime/process/team.h"
@@ -49,6 +50,9 @@ void GatewayFlags::add(CLI::App* cmd) {
       ->required();
   cmd->add_option("--name", name, "the gateway's agent name (default ROBOT-gateway; its team replica adds .team)");
   robot_side.add_dds(cmd);
+  cmd->add_option("--team-security", team_security,
+                  "DDS Security on the team domain: the team CA's `quiver keys` directory, with credentials for "
+                  "NAME.team; hosts without them read and write nothing there (docs/teams.md)");
   cmd->add_option("--team-loss-permille", team_loss_permille,
                   "testing: Cyclone drops this share of the packets the team replica sends")
       ->check(CLI::Range(0, 999));
@@ -78,6 +82,7 @@ int run_gateway(const GatewayFlags& f) {
     return 2;
   }
   ProcessFlags robot_flags = f.robot_side, team_flags = f.robot_side;
+  team_flags.security.clear();  // the robot's credentials are not the team's
   if (!f.robot_side.store.empty()) {
     robot_flags.store = f.robot_side.store + "/robot";
     team_flags.store = f.robot_side.store + "/team";
@@ -89,6 +94,14 @@ int run_gateway(const GatewayFlags& f) {
     return 2;
   }
   team_options->dds.xmit_loss_permille = f.team_loss_permille;
+  if (!f.team_security.empty()) {
+    auto files = security::agent_files(f.team_security, team_options->name);
+    if (!files.ok()) {
+      log->error("--team-security: {}", files.error().to_string());
+      return 2;
+    }
+    team_options->dds.security = *files;
+  }
   auto team_dds = team_dds_config(*team_file, f.robot, team_options->dds);
   if (!team_dds.ok()) {
     log->error("--robot: {}", team_dds.error().to_string());

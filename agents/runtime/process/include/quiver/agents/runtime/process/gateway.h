@@ -23,6 +23,10 @@ struct GatewayFlags {
   std::string robot;      ///< this robot's name in the team file
   std::string team_file;  ///< team.h
   std::string name;       ///< the gateway's agent name (default ROBOT-gateway); its team replica adds ".team"
+  /// DDS Security on the team domain: a `quiver keys` directory of the team's CA holding the
+  /// credentials of NAME.team (authentication, encryption and access control; the graph-level
+  /// permissions of --security stay on the robot side). Empty: an unsecured team domain.
+  std::string team_security;
   int team_loss_permille = 0;     ///< testing: Cyclone drops this share of what the team replica sends
   bool print_team_config = false;  ///< print the team domain's Cyclone XML and exit
   /// Adds the flags to `cmd`. @pre this object outlives the parse.

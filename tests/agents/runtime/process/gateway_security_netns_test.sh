@@ -1,0 +1,74 @@
+#!/usr/bin/env bash
+# DDS Security on the team domain (docs/teams.md): robots A and B hold the team CA's credentials
+# for their gateways (`quiver gateway --team-security DIR`); a change made on A reaches B. Host C,
+# on the same team network and listed in the team file, is an intruder: first without any
+# credentials, then with credentials of another CA. Either way, its gateway meets no other
+# gateway, nothing its robot writes reaches A or B, and nothing of A's or B's reaches it.
+# Usage: gateway_security_netns_test.sh QUIVER   (exit 77: skipped without root, see netns.sh)
+set -uo pipefail
+QUIVER=$1
+. "$(dirname "$0")/../../../common/netns.sh"
+netns_require
+WORK=$(mktemp -d)
+trap 'netns_cleanup; [ -n "${QUIVER_KEEP:-}" ] && echo "kept $WORK" || rm -rf "$WORK"' EXIT
+netns_up A B C || { echo "FAIL: could not build the namespaces"; exit 1; }
+cat >"$WORK/team.json" <<JSON
+{"team": "$NS_TAG", "domain": 7, "lease_s": 1,
+ "robots": [{"name": "A", "address": "${NETNS_ADDR[A]}"}, {"name": "B", "address": "${NETNS_ADDR[B]}"},
+            {"name": "C", "address": "${NETNS_ADDR[C]}"}]}
+JSON
+fail() {
+  echo "FAIL: $*"
+  for f in "$WORK"/*.log; do echo "--- $f"; grep -v '^{' "$f" | tail -8 | cut -c1-300; last_of "$f" | cut -c1-400; done
+  exit 1
+}
+last_of() { grep '^{' "$1" | tail -1; }
+field() { last_of "$WORK/$1.log" | grep -o "\"$2\":[^,}]*" | head -1 | cut -d: -f2 | tr -d '"'; }  # NAME KEY
+wait_until() {  # TIMEOUT_S CMD...: polls every 100 ms
+  local i; for ((i = 0; i < $1 * 10; ++i)); do "${@:2}" 2>/dev/null && return 0; sleep 0.1; done; return 1
+}
+"$QUIVER" keys init "$WORK/team-keys" >/dev/null || fail "keys init"
+"$QUIVER" keys init "$WORK/other-keys" >/dev/null || fail "keys init (another CA)"
+for r in A B; do "$QUIVER" keys add-agent "$r-gw.team" --dir "$WORK/team-keys" >/dev/null || fail "keys add-agent"; done
+"$QUIVER" keys add-agent "C-gw.team" --dir "$WORK/other-keys" >/dev/null || fail "keys add-agent (another CA)"
+gateway() {  # ROBOT [--team-security DIR]; sets $started
+  local r=$1; shift
+  netns_run "$r" "$WORK/$r-gw.log" "$QUIVER" gateway --robot "$r" --name "$r-gw" --team "$WORK/team.json" --domain 0 \
+    --status-ms 100 "$@"
+}
+writer() {  # ROBOT NAME: changes for 2 s, hands over and exits; sets $started
+  netns_run "$1" "$WORK/$2.log" "$QUIVER" agent --name "$2" --domain 0 --churn-hz 20 --churn-for 2 \
+    --run-for 3 --status-ms 100
+}
+same() { [ -n "$(field "$1" "$2")" ] && [ "$(field "$1" "$2")" = "$(field "$3" "$4")" ]; }
+team_peers() { [ "$(field "$1-gw" team_peers)" = "$2" ]; }
+for r in A B; do
+  gateway $r --team-security "$WORK/team-keys"
+  netns_run $r "$WORK/$r-a2.log" "$QUIVER" agent --name "$r-a2" --domain 0 --status-ms 100
+done
+netns_run C "$WORK/C-a2.log" "$QUIVER" agent --name C-a2 --domain 0 --status-ms 100
+wait_until 20 team_peers A 1 || fail "the secured gateways did not meet on the team network"
+writer A A-w1; w=$started
+wait "$w"
+wait_until 15 same A-a2 digest B-a2 digest || fail "A's changes did not reach B over the secured team domain"
+echo "1. a change crossed the secured team domain: $(field B-a2 nodes) nodes on B"
+
+intruder() {  # WHAT [--team-security DIR]: C's gateway joins as WHAT, C writes; nobody hears it
+  local what=$1; shift
+  gateway C "$@"; local g=$started
+  writer C "C-w-$what"; local w=$started
+  wait "$w"
+  sleep 3  # a lease and more for discovery to have happened if it could
+  [ "$(field C-gw team_peers)" = 0 ] || fail "$what: the intruder's gateway met $(field C-gw team_peers) gateways"
+  [ "$(field A-gw team_peers)" = 1 ] && [ "$(field B-gw team_peers)" = 1 ] ||
+    fail "$what: A and B count $(field A-gw team_peers) and $(field B-gw team_peers) team peers"
+  same A-a2 digest B-a2 digest || fail "$what: A and B differ"
+  ! same A-a2 digest C-a2 digest || fail "$what: C's changes reached A (or A's reached C)"
+  [ "$(field C-gw deltas_to_team)" -gt 0 ] || fail "$what: C's gateway sent nothing to the team (the check would be empty)"
+  [ "$(field C-gw deltas_to_robot)" = 0 ] || fail "$what: C's gateway received $(field C-gw deltas_to_robot) deltas"
+  kill -TERM "$g"; wait "$g"
+  echo "2. an intruder $what: met nobody, its $(field C-gw deltas_to_team) deltas reached nobody, it received none"
+}
+intruder "without credentials"
+intruder "with another CA's credentials" --team-security "$WORK/other-keys"
+echo PASS
