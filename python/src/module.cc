@@ -5,7 +5,7 @@
 PYBIND11_MODULE(quiver, m) {
   using namespace quiver::python;
   m.doc() = "Quiver: a replicated world-model graph (nodes, edges, attributes, an RT tree) over Cyclone DDS";
-  m.attr("__version__") = "0.1.0";
+  m.attr("__version__") = QUIVER_VERSION;
   py::module_::import("numpy");
   bind_errors(m);
   bind_values(m);

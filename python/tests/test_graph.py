@@ -71,3 +71,11 @@ def test_two_standalone_replicas_merge_to_the_same_state(world):
     world.merge(other.state())
     assert world.get("robot", "battery") == 0.5
     assert world.digest() == other.digest()
+
+
+def test_version_is_the_projects():
+    import pathlib
+    import re
+    top = pathlib.Path(__file__).resolve().parents[2] / "CMakeLists.txt"
+    version = re.search(r"project\(quiver VERSION ([0-9.]+)", top.read_text()).group(1)
+    assert quiver.__version__ == version

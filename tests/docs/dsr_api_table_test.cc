@@ -9,6 +9,8 @@
 
 #include "quiver/agents/runtime/process/dds_replica.h"
 #include "quiver/agents/runtime/engine/engine.h"
+#include "quiver/agents/runtime/process/process_host.h"
+#include "quiver/interop/dsr.h"
 #include "quiver/graph/world_file.h"
 #include "quiver/kinematics/eigen_pose.h"
 #include "quiver/kinematics/frames.h"
@@ -43,6 +45,13 @@ using graph::Value;
   rep.cancel(t);                                      // 34
   rep.spin();                                         // 35 app.exec()
   rep.stop();                                         // 35
+  agents::request_stop();                             // 35 (an agent process)
+}
+
+// Rows that read or write files: compiled, never called.
+[[maybe_unused]] void file_rows(Graph& g) {
+  (void)interop::export_dsr_file(g, "world.json");    // 31 write_to_json_file (DSR's JSON)
+  (void)interop::import_dsr_file(g, "world.json");    // 32 read_from_json_file (DSR's JSON)
 }
 
 // Rows of the runtime's agent API: compiled, never called.
