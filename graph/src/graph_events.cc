@@ -170,6 +170,10 @@ Graph::SubscriptionId Graph::subscribe(ChangeFilter filter, ChangeCallback cb) {
 
 void Graph::set_origin_namer(OriginNamer namer) { impl_->origin_namer = std::move(namer); }
 
+std::string Graph::origin_name(const ReplicaId& id) const {
+  return impl_->origin_namer ? impl_->origin_namer(id) : id.to_string();
+}
+
 void Graph::unsubscribe(SubscriptionId id) {
   auto& s = impl_->subscribers;
   s.erase(std::remove_if(s.begin(), s.end(), [&](const auto& p) { return p.first == id; }),

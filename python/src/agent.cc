@@ -346,9 +346,16 @@ void bind_agent(py::module_& m) {
              });
              return info;
            }, py::arg("fn"), "Runs fn(transaction, *args) on the agent's thread and commits; returns the CommitInfo.")
-      .def("subscribe", [](PyAgent& a, py::function cb) {
-             return a.on_thread([&] { return a.graph.get("subscribe").subscribe(make_callback<graph::ChangeBatch>(cb, a.graph.owner)); });
-           }, py::arg("callback"), "Calls callback(ChangeBatch) on the agent's thread after every change. Returns an id.")
+      .def("subscribe", [](PyAgent& a, py::function cb, const std::vector<std::string>& node_types,
+                           const std::vector<std::string>& edge_types, const std::vector<std::string>& attributes) {
+             return a.on_thread([&] {
+               return a.graph.get("subscribe").subscribe(to_filter(node_types, edge_types, attributes),
+                                                         make_callback<graph::ChangeBatch>(cb, a.graph.owner));
+             });
+           }, py::arg("callback"), py::kw_only(), py::arg("node_types") = std::vector<std::string>{},
+           py::arg("edge_types") = std::vector<std::string>{}, py::arg("attributes") = std::vector<std::string>{},
+           "Calls callback(ChangeBatch) on the agent's thread after every change, with the part the filter "
+           "selects (as Graph.subscribe). Returns an id.")
       .def("unsubscribe", [](PyAgent& a, std::uint64_t id) { a.on_thread([&] { a.graph.get("unsubscribe").unsubscribe(id); }); },
            py::arg("id"))
       .def("live_peer_count", [](PyAgent& a) { return a.on_thread([&] { return a.core->replica().replicator().live_peer_count(); }); })

@@ -131,6 +131,9 @@ void bind_agent_base(py::module_& m) {
           "the runtime "
           "call its find() again (ticks and timers always do).");
 
+  m.def("request_stop", &agents::request_stop,
+        "Makes the running run_agent() stop as if SIGTERM had arrived (running actions cancelled, teardown() "
+        "called). Thread-safe; a call before run_agent() starts is forgotten.");
   m.def(
       "run_agent",
       [](agents::Agent& agent, std::uint32_t domain, const std::string& dds_config,

@@ -72,9 +72,4 @@ auto run_bound(AgentRun& run, F&& host) {
   return out;
 }
 
-/// A ChangeFilter from optional lists of names.
-graph::ChangeFilter to_filter(const std::vector<std::string>& node_types,
-                              const std::vector<std::string>& edge_types,
-                              const std::vector<std::string>& attributes);
-
 }  // namespace quiver::python

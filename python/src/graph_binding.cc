@@ -86,6 +86,8 @@ void bind_graph(py::module_& m) {
   py::class_<ChangeBatch>(m, "ChangeBatch", "Everything one commit or one merge changed.")
       .def_readonly("local", &ChangeBatch::local)
       .def_readonly("origin", &ChangeBatch::origin)
+      .def_readonly("origin_name", &ChangeBatch::origin_name,
+                    "The name of the agent whose change this is (its id as text when unknown).")
       .def_readonly("nodes", &ChangeBatch::nodes)
       .def_readonly("edges", &ChangeBatch::edges)
       .def("__repr__", [](const ChangeBatch& b) {
@@ -206,11 +208,16 @@ void bind_graph(py::module_& m) {
              if (!e) return py::none();
              return py::make_tuple(e->parent, pose_to_matrix(e->pose), e->stamp);
            }, py::arg("child"), "(parent, X_PC as a 4x4 array, stamp) of the child's RT edge, or None.")
-      .def("subscribe", [](const GraphHandle& h, py::function cb) {
-             return h.get("subscribe").subscribe(make_callback<ChangeBatch>(std::move(cb), h.owner));
-           }, py::arg("callback"),
+      .def("subscribe", [](const GraphHandle& h, py::function cb, const std::vector<std::string>& node_types,
+                           const std::vector<std::string>& edge_types, const std::vector<std::string>& attributes) {
+             return h.get("subscribe").subscribe(to_filter(node_types, edge_types, attributes),
+                                                 make_callback<ChangeBatch>(std::move(cb), h.owner));
+           }, py::arg("callback"), py::kw_only(), py::arg("node_types") = std::vector<std::string>{},
+           py::arg("edge_types") = std::vector<std::string>{}, py::arg("attributes") = std::vector<std::string>{},
            "Calls callback(ChangeBatch) after every commit and merge that changed something (on the graph's "
-           "owner thread, with the GIL). Returns an id for unsubscribe().")
+           "owner thread, with the GIL), with the part the filter selects (node changes of node_types, edge "
+           "changes of edge_types, changes naming one of attributes; no filter: everything; an empty part is "
+           "not delivered). Returns an id for unsubscribe().")
       .def("unsubscribe", [](const GraphHandle& h, std::uint64_t id) { h.get("unsubscribe").unsubscribe(id); },
            py::arg("id"))
       .def("state", [](const GraphHandle& h) { return GraphState{h.get("state").state()}; })

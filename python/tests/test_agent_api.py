@@ -238,3 +238,22 @@ def test_sigterm_stops_a_python_agent(tmp_path):
     rc, out, err = stop(proc)
     assert rc == 0, err
     assert "teardown ran" in out and "returned" in out
+
+
+def test_request_stop_ends_run_agent():
+    class Stopper(quiver.AgentBase):
+        def __init__(self):
+            super().__init__("py-stopper")
+            self.ticks = 0
+
+        def setup(self, ctx):
+            ctx.after(0.2, quiver.request_stop)
+
+        def on_tick(self, ctx):
+            self.ticks += 1
+
+    agent = Stopper()
+    start = time.monotonic()
+    assert quiver.run_agent(agent, domain=99, join_wait=0, run_for=30) == 0
+    assert time.monotonic() - start < 10, "request_stop() did not end the run (run_for is 30 s)"
+    assert agent.ticks > 0

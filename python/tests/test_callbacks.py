@@ -40,3 +40,26 @@ def test_a_raising_callback_does_not_break_the_commit(world):
     with world.transaction() as t:
         t.set("robot", "battery", 0.3)
     assert world.get("robot", "battery") == 0.3
+
+
+def test_a_filtered_subscription_sees_only_its_part(world):
+    mugs, battery = [], []
+    world.subscribe(mugs.append, node_types=["mug"])
+    world.subscribe(battery.append, attributes=["battery"])
+    with world.transaction() as t:
+        t.set("robot", "battery", 0.5)
+    assert mugs == [] and len(battery) == 1
+    with world.transaction() as t:
+        t.create_node("mug", "mug")
+        t.create_node("room", "attic")
+    assert len(mugs) == 1 and [c.type for c in mugs[0].nodes] == ["mug"]
+    assert len(battery) == 1
+
+
+def test_a_batch_names_its_origin(world):
+    seen = []
+    world.subscribe(seen.append)
+    with world.transaction() as t:
+        t.set("robot", "battery", 0.5)
+    # A standalone graph has no replicator to name agents: the origin's id as text.
+    assert seen[0].origin_name == str(world.replica)

@@ -120,7 +120,7 @@ void LockManager::refresh(NodeId root) {
   auto mine = mine_.find(root);
   if (mine != mine_.end() && !(w.holder == g_.replica() && w.epoch == mine->second.epoch && !w.free)) {
     std::string reason;
-    if (w.free) reason = "released by " + w.holder.to_string();
+    if (w.free) reason = "released by " + g_.origin_name(w.holder);
     else if (w.epoch == mine->second.epoch) reason = "resolved in favour of a concurrent claim (after a partition or a race)";
     else if (w.priority > mine->second.priority) reason = "preempted by priority " + std::to_string(w.priority);
     else reason = "superseded by epoch " + std::to_string(w.epoch);
@@ -196,7 +196,7 @@ Status LockManager::acquire(NodeId root, std::int64_t priority) {
     if (w->holder == g_.replica() && mine_.count(root)) return {};  // already ours
     if (!(w->holder == g_.replica()) && w->priority >= priority)
       return make_error(ErrorCode::kRefused, "acquire(): '" + g_.name_of(root) + "' is locked by " +
-                                                 w->holder.to_string() + " with priority " + std::to_string(w->priority) +
+                                                 g_.origin_name(w->holder) + " with priority " + std::to_string(w->priority) +
                                                  " (asked " + std::to_string(priority) + ")");
   }
   LockClaim c{max_epoch + 1, priority, g_.replica(), opt_.lease_ns, false};
@@ -308,7 +308,7 @@ Status LockManager::check(const graph::Graph& g, const std::vector<TxnOp>& ops) 
     NodeId root = foreign_.at(n);
     const LockClaim& w = seen_.at(root).winner;
     return make_error(ErrorCode::kRefused, "'" + g.name_of(n) + "' is in the scope of '" + g.name_of(root) +
-                                               "', locked by " + w.holder.to_string() + " (priority " +
+                                               "', locked by " + g.origin_name(w.holder) + " (priority " +
                                                std::to_string(w.priority) + ", epoch " + std::to_string(w.epoch) +
                                                "); only the holder may change it");
   };

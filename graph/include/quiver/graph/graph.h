@@ -563,6 +563,9 @@ class Graph {
   using OriginNamer = std::function<std::string(const ReplicaId&)>;
   /// Installs the namer (replacing the previous one; null: none). Owner thread only.
   void set_origin_namer(OriginNamer namer);
+  /// The name of the agent behind replica id `id`, as the namer tells it (for messages that name
+  /// an agent: "locked by planner"). @returns id.to_string() without a namer. Owner thread only.
+  std::string origin_name(const ReplicaId& id) const;
 
   // ---- Checks and statistics ----
   /// Structural invariants; returns one message per violation (empty = all hold).

@@ -72,11 +72,13 @@ TEST(LocksTest, AcquiredOnceAcknowledgedAndOthersAreRefused) {
   w.advance(200'000'000);
   EXPECT_TRUE(w.locks[0]->holds(w.arm));
   EXPECT_TRUE(w.has(0, LockEventKind::kAcquired));
-  // The scope covers the RT subtree: the gripper is locked too.
+  // The scope covers the RT subtree: the gripper is locked too. The refusal names the holder as
+  // the graph's namer does (a replicator's names the agents by what they announced).
+  w.net.nodes[1].g->set_origin_namer([](const graph::ReplicaId& r) { return "agent" + std::to_string(r.agent); });
   Status s = w.write(1, w.gripper, "open", Value(true));
   ASSERT_FALSE(s.ok());
   EXPECT_EQ(s.error().code, ErrorCode::kRefused);
-  EXPECT_NE(s.error().message.find("locked by"), std::string::npos) << s.error().message;
+  EXPECT_NE(s.error().message.find("locked by agent100 (priority"), std::string::npos) << s.error().message;
   EXPECT_TRUE(w.write(1, w.person, "seen", Value(true)).ok()) << "outside the scope";
   EXPECT_TRUE(w.write(0, w.gripper, "open", Value(true)).ok()) << "the holder may write";
   EXPECT_FALSE(w.locks[1]->acquire(w.arm, 1).ok()) << "equal priority is refused";
