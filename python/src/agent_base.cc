@@ -160,14 +160,13 @@ void bind_agent_base(py::module_& m) {
           raise(make_error(ErrorCode::kInvalidArgument,
                            "run_agent(): negative run_for, join_wait or hang"));
         AgentRun run;
+        Error why;
         const int rc = run_bound(run, [&] {
           SignalHandlersKept handlers;
-          return agents::run_process(agent, f);
+          return agents::run_process(agent, f, &why);
         });
         if (rc != 0)
-          raise(make_error(ErrorCode::kInvalidArgument,
-                           "run_agent(): agent '" + agent.name() +
-                               "' could not start (the reason is in its log)"));
+          raise(make_error(why.code, "run_agent(): agent '" + agent.name() + "' could not start: " + why.message));
         return rc;
       },
       py::arg("agent"), py::kw_only(), py::arg("domain") = 0, py::arg("dds_config") = "loopback",

@@ -257,3 +257,17 @@ def test_request_stop_ends_run_agent():
     assert quiver.run_agent(agent, domain=99, join_wait=0, run_for=30) == 0
     assert time.monotonic() - start < 10, "request_stop() did not end the run (run_for is 30 s)"
     assert agent.ticks > 0
+
+
+def test_an_agent_that_cannot_start_says_why(tmp_path):
+    class Ruled(quiver.AgentBase):
+        def __init__(self):
+            super().__init__("py-ruled")
+            self.set_grammar_file(str(tmp_path / "missing.aggl"))
+
+        def setup(self, ctx):
+            pass
+
+    with pytest.raises(quiver.Error) as e:
+        quiver.run_agent(Ruled(), domain=99, join_wait=0, run_for=1)
+    assert "could not start: " in str(e.value) and "missing.aggl" in str(e.value), str(e.value)

@@ -89,9 +89,15 @@ Status Engine::load_grammar() {
     auto pgram = parse_grammar(pg.text, pg.source);
     if (!pgram.ok()) return pgram.error();
     guard_->verify_with(fnv1a64(pg.agent), GrammarChecker(std::move(*pgram)));
+    peers_verified_.insert(fnv1a64(pg.agent));
   }
   guard_->on_unverified([this](const graph::ReplicaId& from, const Error& e) {
-    log("unverified change from " + from.to_string() + ": " + e.message);
+    const std::string line = "a change from " + g_.origin_name(from) + " (" + from.to_string() +
+                             ") is not verified by its grammar" +
+                             (peers_verified_.count(from.agent) ? "" : " (no grammar given for that agent: checked with this agent's own; add_peer_grammar())") +
+                             ": " + e.message;
+    if (opt_.warn) opt_.warn(line);
+    else log(line);
   });
   return {};
 }

@@ -190,20 +190,25 @@ Result<DdsReplicaOptions> replica_options(const std::string& name, const Process
   return o;
 }
 
-int run_process(Agent& agent, const ProcessFlags& f) {
+int run_process(Agent& agent, const ProcessFlags& f, Error* why_not_started) {
   g_stop.store(false);  // a stop requested for an earlier run in this process is not this run's
   auto log = named_logger(agent.name());
+  // Could not start: logged, told the caller, exit status 2.
+  auto not_started = [&](const Error& e) {
+    log->error("{}", e.to_string());
+    if (why_not_started != nullptr) *why_not_started = e;
+    return 2;
+  };
   auto options = replica_options(agent.name(), f);
   if (!options.ok()) {
-    log->error("{}", options.error().to_string());
-    return 2;
+    return not_started(options.error());
   }
   DdsReplicaOptions& o = *options;
   o.engine.log = [&](std::string_view line) { log->info("{}", line); };
+  o.engine.warn = [&](std::string_view line) { log->warn("{}", line); };
   auto created = DdsReplica::create(o);
   if (!created.ok()) {
-    log->error("{}", created.error().to_string());
-    return 2;
+    return not_started(created.error());
   }
   DdsReplica& r = **created;
   if (r.store_recovery())
@@ -227,8 +232,7 @@ int run_process(Agent& agent, const ProcessFlags& f) {
     // A seed depends only on the file: agents started together with it hold one world.
     auto seed = f.world.empty() ? graph::world_seed(f.world_text, "embedded world") : graph::world_seed_file(f.world);
     if (!seed.ok()) {
-      log->error("{}", seed.error().to_string());
-      return 2;
+      return not_started(seed.error());
     }
     auto fresh = r.replicator().seed(seed->delta);
     log->info("world {} ({} nodes, {} edges, {} RT edges) {}", f.world, seed->info.nodes, seed->info.edges,
@@ -246,8 +250,7 @@ int run_process(Agent& agent, const ProcessFlags& f) {
   Engine& rt = r.engine();
   rt.attach(agent);
   if (Status s = rt.start(); !s.ok()) {
-    log->error("{}", s.error().to_string());
-    return 2;
+    return not_started(s.error());
   }
   if (rt.guard())
     rt.guard()->on_violation([&](const Violation& v) { log->warn("violation {}", v.to_string(r.graph())); });

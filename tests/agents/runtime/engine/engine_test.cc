@@ -199,5 +199,31 @@ TEST(EngineTest, ABareReplicaIsSteppedByItsEngine) {
   EXPECT_EQ(net.nodes[a].rep->live_peer_count(), 1u);
 }
 
+// A peer's change that this agent's grammar does not verify is a warning, naming the peer, and
+// says when no grammar was given for that peer (its changes are then checked with this agent's).
+TEST(EngineTest, AnUnverifiedChangeOfAPeerIsAWarningNamingIt) {
+  Net net;
+  const int a = net.add(1), b = net.add(2);
+  EngineOptions o;
+  o.clock = [&] { return net.now; };
+  o.grammar_text = R"(grammar unary
+types { robot }
+rule startMoving : active { { r:robot  !r->r(moving) } => { r:robot  r->r(moving) } }
+)";
+  o.grammar_source = "unary.aggl";
+  std::vector<std::string> info, warnings;
+  o.log = [&](std::string_view line) { info.emplace_back(line); };
+  o.warn = [&](std::string_view line) { warnings.emplace_back(line); };
+  Engine e(*net.nodes[a].g, net.nodes[a].rep.get(), o);
+  ASSERT_TRUE(e.start().ok());
+  net.nodes[a].g->set_origin_namer([](const graph::ReplicaId& r) { return "agent" + std::to_string(r.agent); });
+  add_node(*net.nodes[b].g, "robot");  // b has no grammar: its commit claims no rule
+  net.pump();
+  ASSERT_EQ(warnings.size(), 1u);
+  EXPECT_NE(warnings[0].find("a change from agent2 ("), std::string::npos) << warnings[0];
+  EXPECT_NE(warnings[0].find("no grammar given for that agent"), std::string::npos) << warnings[0];
+  EXPECT_TRUE(info.empty());
+}
+
 }  // namespace
 }  // namespace quiver::agents

@@ -25,6 +25,7 @@
 /// work (logged) or from a call()'s function (stored in its future).
 
 #include <cstdint>
+#include <set>
 #include <functional>
 #include <future>
 #include <memory>
@@ -55,6 +56,9 @@ struct EngineOptions {
   std::int64_t retry_ns = 100'000'000;         ///< before trying again an action whose start failed
   std::function<std::int64_t()> clock;         ///< the host's time (required)
   std::function<void(std::string_view)> log;   ///< the host's log (may be null)
+  /// The host's log for what a user must see (a peer's change its grammar does not verify);
+  /// null: `log`.
+  std::function<void(std::string_view)> warn;
   /// Priority locks without an agent (an agent always has them).
   bool locks_enabled = false;
   /// A grammar without an agent (an agent's own grammar wins): file, or text named `source`.
@@ -249,6 +253,7 @@ class Engine final : public AgentContext {
   TimerQueue timers_;
   std::unique_ptr<LockManager> locks_;
   std::unique_ptr<GrammarGuard> guard_;
+  std::set<std::uint64_t> peers_verified_;  // agents whose changes a grammar of their own verifies
   std::unique_ptr<ActionLoop> loop_;
   std::unique_ptr<JobRunner> jobs_;
   bool started_ = false;

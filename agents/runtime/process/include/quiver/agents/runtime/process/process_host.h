@@ -79,7 +79,8 @@ Result<DdsReplicaOptions> replica_options(const std::string& name, const Process
 /// The calling thread is the replica's owner and runs the agent. It installs SIGINT/SIGTERM
 /// handlers and routes Cyclone's log for its duration, process-wide.
 /// @pre No other run_process() runs in this process; `agent` is attached to no host.
-int run_process(Agent& agent, const ProcessFlags& flags);
+/// `why_not_started`, if given, receives the error when it returns 2.
+int run_process(Agent& agent, const ProcessFlags& flags, Error* why_not_started = nullptr);
 /// Parses the standard flags from the command line (--help lists them), then runs.
 /// @returns as the other overload; for --help or a flag error, CLI11's exit code (0 for --help)
 ///          after printing the help or the error. @pre as the other overload.
