@@ -36,7 +36,11 @@ Status Transaction::revalidate() const {
       }
       case TxnOp::Kind::kDeleteNode: s = t.delete_node(op.node); break;
       case TxnOp::Kind::kSetAttr: s = t.set(op.node, op.attr, op.value); break;
-      case TxnOp::Kind::kRemoveAttr: s = t.remove_attr(op.node, op.attr); break;
+      case TxnOp::Kind::kRemoveAttr: {
+        auto removed = t.remove_attr(op.node, op.attr);
+        if (!removed.ok()) s = removed.error();
+        break;
+      }
       case TxnOp::Kind::kInsertEdge: s = t.insert_edge(op.node, op.other, op.type, op.attrs); break;
       case TxnOp::Kind::kDeleteEdge: s = t.delete_edge(op.node, op.other, op.type); break;
       case TxnOp::Kind::kSetEdgeAttr: s = t.set_edge_attr(EdgeKey{op.node, op.other, op.type}, op.attr, op.value); break;

@@ -168,16 +168,30 @@ Status Transaction::set(NodeId id, Symbol attr, Value value) {
   return {};
 }
 
-Status Transaction::remove_attr(NodeId id, Symbol attr) {
+Result<bool> Transaction::remove_attr(NodeId id, Symbol attr) {
   if (!node_usable(id)) return not_found("remove_attr()", id);
   if (attr.is_null()) return make_error(ErrorCode::kInvalidArgument, "remove_attr(): the attribute name is empty");
-  if (Status s = add_bytes("remove_attr()", op_bytes(attr.str())); !s.ok()) return s;
+  // Whether the node has it as this transaction sees it: the replica's values, then this
+  // transaction's own writes in order. Without it there is nothing to remove (and nothing to
+  // publish: a remove takes away only the values it has seen).
+  bool present = !graph_->attr_values(id, attr).empty();
+  for (const TxnOp& op : ops_) {
+    if (!(op.node == id)) continue;
+    if (op.kind == TxnOp::Kind::kCreateNode)
+      present = std::any_of(op.attrs.begin(), op.attrs.end(), [&](const auto& a) { return a.first == attr; });
+    else if (op.kind == TxnOp::Kind::kSetAttr && op.attr == attr)
+      present = true;
+    else if (op.kind == TxnOp::Kind::kRemoveAttr && op.attr == attr)
+      present = false;
+  }
+  if (!present) return false;
+  if (Status s = add_bytes("remove_attr()", op_bytes(attr.str())); !s.ok()) return s.error();
   TxnOp op{};
   op.kind = TxnOp::Kind::kRemoveAttr;
   op.node = id;
   op.attr = attr;
   record(std::move(op));
-  return {};
+  return true;
 }
 
 namespace {

@@ -93,8 +93,9 @@ void bind_transaction(py::module_& m) {
            }, py::arg("node"), py::arg("values"), "set() for every name -> value of a dict.")
       .def("remove_attr", [](PyTransaction& p, py::handle n, py::handle name) {
              Transaction& t = p.txn("remove_attr");
-             check(t.remove_attr(to_node(p.graph(), n), to_symbol(name)));
-           }, py::arg("node"), py::arg("name"))
+             return unwrap(t.remove_attr(to_node(p.graph(), n), to_symbol(name)));
+           }, py::arg("node"), py::arg("name"),
+           "Removes the attribute; returns True if the node had it (as this transaction sees it), else False.")
       .def("insert_edge", [](PyTransaction& p, py::handle a, py::handle b, py::handle type, py::handle attrs) {
              Transaction& t = p.txn("insert_edge");
              check(t.insert_edge(to_node(p.graph(), a), to_node(p.graph(), b), to_symbol(type), to_attrs(attrs)));

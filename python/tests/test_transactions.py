@@ -48,3 +48,13 @@ def test_stale_transaction_is_refused_at_commit(world):
     with pytest.raises(quiver.Error):
         t1.commit()
     assert world.find_node("kitchen") is None
+
+
+def test_remove_attr_says_whether_the_node_had_it(world):
+    with world.transaction() as t:
+        assert t.remove_attr("robot", "battery") is True
+        assert t.remove_attr("robot", "battery") is False  # gone, as this transaction sees it
+        assert t.remove_attr("robot", "never_set") is False
+        n = t.create_node("mug", "mug", {"full": True})
+        assert t.remove_attr(n, "full") is True
+    assert "battery" not in world.attrs("robot")

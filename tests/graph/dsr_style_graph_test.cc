@@ -79,7 +79,16 @@ TEST_F(Fixture, StringOverloads) {
   ASSERT_TRUE(tx.delete_edge(mug, room, "in").ok());
   ASSERT_TRUE(tx.set_edge_attr(EdgeKey{robot, room, Symbol("in")}, "since", 13).ok());
   ASSERT_TRUE(tx.remove_edge_attr(EdgeKey{robot, room, Symbol("in")}, "certainty").ok());
-  ASSERT_TRUE(tx.remove_attr(mug, "color").ok());
+  // As DSR's remove_attrib_local: true when the node had it, false when it had not (here: no
+  // longer, as this transaction sees it, or never).
+  auto removed = tx.remove_attr(mug, "color");
+  ASSERT_TRUE(removed.ok());
+  EXPECT_TRUE(*removed);
+  EXPECT_FALSE(*tx.remove_attr(mug, "color"));
+  EXPECT_FALSE(*tx.remove_attr(mug, "never_set"));
+  ASSERT_TRUE(tx.set(mug, "later", 1).ok());
+  EXPECT_TRUE(*tx.remove_attr(mug, "later")) << "set earlier in the same transaction";
+  EXPECT_FALSE(tx.remove_attr(NodeId{}, "color").ok());
   ASSERT_TRUE(tx.commit().ok());
   EXPECT_FALSE(g.has_edge(mug, room, "in"));
   EXPECT_EQ(g.edges_of_type("in").size(), 1u);

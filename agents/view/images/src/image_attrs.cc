@@ -278,7 +278,7 @@ Status remove_image(Transaction& tx, NodeId node, std::string_view prefix) {
   const ImageAttrNames names = image_attr_names(prefix);
   for (const std::string* name : {&names.bytes, &names.width, &names.height, &names.encoding}) {
     if (tx.graph().attr(node, *name) == nullptr) continue;
-    if (Status s = tx.remove_attr(node, *name); !s.ok()) return s;
+    if (auto removed = tx.remove_attr(node, *name); !removed.ok()) return removed.error();
   }
   return Status::Ok();
 }

@@ -216,14 +216,16 @@ class Transaction {
   /// @returns as the Symbol overload (an empty `attr` is kInvalidArgument); kTooLarge also when
   ///          the table of names is full.
   Status set(NodeId id, std::string_view attr, Value value);
-  /// Removes attribute `attr` of node `id` (all its concurrent values). Removing an attribute the
-  /// node does not have is not an error and publishes nothing. Owner thread only.
-  /// @returns kNotFound (node not visible to this transaction), kInvalidArgument (`attr` null).
-  Status remove_attr(NodeId id, Symbol attr);
+  /// Removes attribute `attr` of node `id` (all its concurrent values), as this transaction sees
+  /// the node (the replica's values, then this transaction's own writes). Removing an attribute
+  /// the node does not have is not an error and publishes nothing. Owner thread only.
+  /// @returns true if the node had it (DSR's remove_attrib_local), false if not; kNotFound (node
+  ///          not visible to this transaction), kInvalidArgument (`attr` null).
+  Result<bool> remove_attr(NodeId id, Symbol attr);
   /// The same with the attribute named by a string. Owner thread only.
   /// @returns as the Symbol overload.
   /// @throws std::length_error if `attr` is a new name and the table of names is full.
-  Status remove_attr(NodeId id, std::string_view attr) { return remove_attr(id, Symbol(attr)); }
+  Result<bool> remove_attr(NodeId id, std::string_view attr) { return remove_attr(id, Symbol(attr)); }
   /// Inserts (or re-inserts, replacing its attributes) a symbolic edge. A self-loop (from == to) is a
   /// unary predicate, as in AGM and CORTEX files (docs/world-format.md). The type "RT" is reserved
   /// for set_rt(). Owner thread only.
