@@ -216,9 +216,8 @@ class Transaction {
   /// @returns as the Symbol overload (an empty `attr` is kInvalidArgument); kTooLarge also when
   ///          the table of names is full.
   Status set(NodeId id, std::string_view attr, Value value);
-  /// Removes attribute `attr` of node `id` (all its concurrent values), as this transaction sees
-  /// the node (the replica's values, then this transaction's own writes). Removing an attribute
-  /// the node does not have is not an error and publishes nothing. Owner thread only.
+  /// Removes attribute `attr` of node `id` (all its concurrent values) as this transaction sees it;
+  /// removing one the node does not have is not an error and publishes nothing. Owner thread only.
   /// @returns true if the node had it (DSR's remove_attrib_local), false if not; kNotFound (node
   ///          not visible to this transaction), kInvalidArgument (`attr` null).
   Result<bool> remove_attr(NodeId id, Symbol attr);
@@ -565,8 +564,7 @@ class Graph {
   using OriginNamer = std::function<std::string(const ReplicaId&)>;
   /// Installs the namer (replacing the previous one; null: none). Owner thread only.
   void set_origin_namer(OriginNamer namer);
-  /// The name of the agent behind replica id `id`, as the namer tells it (for messages that name
-  /// an agent: "locked by planner"). @returns id.to_string() without a namer. Owner thread only.
+  /// @returns the agent behind `id` as the namer names it ("locked by planner"), else id.to_string().
   std::string origin_name(const ReplicaId& id) const;
 
   // ---- Checks and statistics ----

@@ -9,33 +9,12 @@
 # Usage: gateway_netns_test.sh QUIVER   (exit 77: skipped without root, see netns.sh)
 set -uo pipefail
 QUIVER=$1
-. "$(dirname "$0")/../../../common/netns.sh"
-netns_require
-WORK=$(mktemp -d)
-trap 'netns_cleanup; [ -n "${QUIVER_KEEP:-}" ] && echo "kept $WORK" || rm -rf "$WORK"' EXIT
-netns_up A B || { echo "FAIL: could not build the namespaces"; exit 1; }
-cat >"$WORK/team.json" <<JSON
-{"team": "$NS_TAG", "domain": 7, "lease_s": 1,
- "robots": [{"name": "A", "address": "${NETNS_ADDR[A]}"}, {"name": "B", "address": "${NETNS_ADDR[B]}"}]}
-JSON
-fail() {
-  echo "FAIL: $*"
-  for f in "$WORK"/*.log; do echo "--- $f"; grep -v '^{' "$f" | tail -8 | cut -c1-300; last_of "$f" | cut -c1-400; done
-  exit 1
-}
-last_of() { grep '^{' "$1" | tail -1; }
-field() { last_of "$WORK/$1.log" | grep -o "\"$2\":[^,}]*" | head -1 | cut -d: -f2 | tr -d '"'; }  # NAME KEY
-wait_until() {  # TIMEOUT_S CMD...: polls every 100 ms
-  local i; for ((i = 0; i < $1 * 10; ++i)); do "${@:2}" 2>/dev/null && return 0; sleep 0.1; done; return 1
-}
+. "$(dirname "$0")/gateway_lib.sh"
+team_up A B
 digests() { for n in A-a2 B-a2 A-gw B-gw; do field $n digest; done; field A-gw team_digest; field B-gw team_digest; }
 converged() { local d; d=$(digests); [ "$(grep -c . <<<"$d")" = 6 ] && [ "$(sort -u <<<"$d" | wc -l)" = 1 ]; }
 alone() { [ "$(field A-a2 digest)" = "$(field A-gw digest)" ] && [ "$(field B-a2 digest)" = "$(field B-gw digest)" ]; }
 team_peers() { [ "$(field A-gw team_peers)" = "$1" ] && [ "$(field B-gw team_peers)" = "$1" ]; }
-writer() {  # ROBOT NAME: changes for 2 s, hands over and exits; sets $started
-  netns_run "$1" "$WORK/$2.log" "$QUIVER" agent --name "$2" --domain 0 --churn-hz 20 --churn-for 2 \
-    --run-for 3 --status-ms 100
-}
 for r in A B; do
   netns_run $r "$WORK/$r-gw.log" "$QUIVER" gateway --robot $r --name $r-gw --team "$WORK/team.json" --domain 0 --status-ms 100
   netns_run $r "$WORK/$r-a2.log" "$QUIVER" agent --name $r-a2 --domain 0 --status-ms 100
