@@ -9,6 +9,7 @@
 #include "dds_options.h"
 #include "observer.h"
 #include "quiver/agents/runtime/process/dds_replica.h"
+#include "quiver/agents/rules/locks/locks.h"
 #include "quiver/graph/world_file.h"
 #include "quiver/base/rng.h"
 #include "quiver/sim/workload.h"
@@ -25,16 +26,30 @@ class ChurnAgent : public agents::Agent {
  public:
   ChurnAgent(std::string name, double hz, double for_s, double count_hz)
       : Agent(std::move(name)), hz_(hz), for_s_(for_s), count_hz_(count_hz) {}
+  /// Testing: compete for the priority lock of node `node` (once the world holds it), hold it
+  /// `hold_ms`, release it, and claim it again; each hold is printed as "held START END" (the
+  /// host's monotonic clock, ns), so that a test can check that no two agents held it at once.
+  void contend(std::string node, double hold_ms) {
+    contend_ = std::move(node);
+    hold_ns_ = static_cast<std::int64_t>(hold_ms * 1e6);
+  }
   void setup(agents::AgentContext& ctx) override {
     start_ns_ = ctx.now();
     clock_ = [&ctx] { return ctx.now(); };
     if (count_hz_ > 0) start_counting(ctx);
+    if (!contend_.empty()) ctx.every(5'000'000, [this, &ctx] { contend_step(ctx); });
     if (hz_ <= 0) return;
     ctx.every(static_cast<std::int64_t>(1e9 / hz_), [this, &ctx] {
       if (churning(ctx.now())) churn_.step(ctx.graph(), ctx.rng(), ctx.now());
     });
   }
-  void status(nlohmann::json& out) const override { out["churning"] = clock_ && churning(clock_()); }
+  void status(nlohmann::json& out) const override {
+    out["churning"] = clock_ && churning(clock_());
+    if (!contend_.empty()) {
+      out["holds"] = holds_;
+      out["holds_lost"] = lost_;  // ended before their time: another agent's claim took over
+    }
+  }
 
  private:
   bool churning(std::int64_t now) const { return hz_ > 0 && (for_s_ <= 0 || now - start_ns_ < for_s_ * 1e9); }
@@ -60,7 +75,33 @@ class ChurnAgent : public agents::Agent {
       std::cout << "acked " << count_ << std::endl;
     });
   }
+  void contend_step(agents::AgentContext& ctx) {
+    auto node = ctx.graph().find_node(contend_);
+    if (!node) return;
+    agents::LockManager& locks = ctx.locks();
+    const std::int64_t now = ctx.now();
+    if (held_since_ >= 0) {
+      // Released after its time, or lost (a higher claim, the holder cut off): the hold ends.
+      const bool still = locks.holds(*node);
+      if (still && now - held_since_ < hold_ns_) return;
+      std::cout << "held " << held_since_ << " " << now << std::endl;
+      ++holds_;
+      if (!still) ++lost_;
+      held_since_ = -1;
+      (void)locks.release(*node);
+      next_claim_ns_ = now + hold_ns_ / 2;  // give the others a turn
+      return;
+    }
+    if (locks.holds(*node)) {
+      held_since_ = now;
+      return;
+    }
+    if (!locks.pending(*node) && now >= next_claim_ns_ && !locks.locked_by_other(*node)) (void)locks.acquire(*node, 1);
+  }
   double hz_, for_s_, count_hz_;
+  std::string contend_;
+  std::int64_t hold_ns_ = 0, held_since_ = -1, next_claim_ns_ = 0;
+  int holds_ = 0, lost_ = 0;
   graph::NodeId counter_{};
   std::int64_t count_ = 0;
   std::int64_t start_ns_ = 0;
@@ -79,11 +120,14 @@ struct AgentFlags {
   double churn_hz = 0;
   double churn_for_s = 0;
   double count_hz = 0;
+  std::string contend;
+  double hold_ms = 100;
 };
 
 int run_agent(const AgentFlags& f) {
   ChurnAgent agent(f.name, f.churn_hz, f.churn_for_s, f.count_hz);
   if (!f.grammar.empty()) agent.set_grammar_file(f.grammar);
+  if (!f.contend.empty()) agent.contend(f.contend, f.hold_ms);
   return agents::run_process(agent, f.process);
 }
 
@@ -142,6 +186,12 @@ void add_agent_commands(CLI::App& app) {
                     "testing: raise the attribute 'count' of node NAME.counter by one this many times a second, "
                     "printing 'acked N' once each commit has returned (crash tests)")
       ->check(CLI::Range(0.0, 100000.0));
+  agent->add_option("--contend", af->contend,
+                    "testing: compete for the lock of this node (once the world holds it), printing 'held START END' "
+                    "(monotonic ns) for each hold; the status counts holds and holds_lost");
+  agent->add_option("--hold-ms", af->hold_ms, "testing: how long each --contend hold lasts")
+      ->check(CLI::Range(1.0, 60000.0))
+      ->capture_default_str();
   agent->callback([af] { set_exit_code(run_agent(*af)); });
 
   auto df = std::make_shared<DumpFlags>();

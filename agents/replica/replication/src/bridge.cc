@@ -2,14 +2,28 @@
 
 #include "quiver/agents/replica/replication/bridge.h"
 
+#include <algorithm>
+
 namespace quiver::agents::inline replica {
 
 ReplicaBridge::ReplicaBridge(Replicator& a, Replicator& b, std::int64_t check_ns) : r_{&a, &b}, check_ns_(check_ns) {
-  for (int i = 0; i < 2; ++i) r_[i]->on_joined([this, i](const DeltaMsg* m) { joined(i, m); });
+  for (int i = 0; i < 2; ++i) {
+    r_[i]->on_joined([this, i](const DeltaMsg* m) { joined(i, m); });
+    // A hold query to one side is answered for the other side's peers too; news of what they
+    // hold is passed on at the next pump (outside the replicator that heard it).
+    r_[i]->set_behind([this, i](const PeerId& origin, std::uint64_t wanted) {
+      return r_[1 - i]->peers_hold_upto(origin, wanted);
+    });
+    r_[i]->on_holds([this, i](const PeerId& origin) { holds_[1 - i].push_back(origin); });
+  }
 }
 
 ReplicaBridge::~ReplicaBridge() {
-  for (Replicator* r : r_) r->on_joined(nullptr);
+  for (Replicator* r : r_) {
+    r->on_joined(nullptr);
+    r->set_behind(nullptr);
+    r->on_holds(nullptr);
+  }
 }
 
 void ReplicaBridge::joined(int side, const DeltaMsg* m) {
@@ -45,6 +59,17 @@ void ReplicaBridge::pump(std::int64_t now_ns) {
       if (fresh.ok() && *fresh) ++stats_.deltas_to[to];
     }
     relaying_into_ = -1;
+  }
+  for (int side = 0; side < 2; ++side) {
+    std::vector<PeerId> origins;
+    origins.swap(holds_[side]);
+    std::sort(origins.begin(), origins.end());
+    origins.erase(std::unique(origins.begin(), origins.end()), origins.end());
+    for (const PeerId& o : origins) r_[side]->answer_holds(o);
+  }
+  if (now_ns >= next_members_ns_) {
+    next_members_ns_ = now_ns + kMembersNs;
+    for (int side = 0; side < 2; ++side) r_[side]->set_members_behind(r_[1 - side]->members_here());
   }
   bool check = now_ns >= next_check_ns_;
   for (int side = 0; side < 2; ++side)

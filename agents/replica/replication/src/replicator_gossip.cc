@@ -42,6 +42,7 @@ SummaryMsg Replicator::beat(Beat b, const PeerId& to) {
     if (known != peers_.end()) known->second.told_name = true;
   }
   m.observer = opt_.observer;
+  m.gateway = opt_.gateway;
   m.beat = b;
   m.life = life_;
   m.set_hash = set_hash();
@@ -208,6 +209,7 @@ void Replicator::handle_gossip(const PeerId& from, Peer& p, const SummaryMsg& m)
   const bool first = !p.announced && (!m.name.empty() || m.beat == Beat::kHello);
   if (!m.name.empty()) p.info.name = m.name;
   p.info.observer = m.observer;
+  p.info.gateway = m.gateway;
   remember_name(from, m.name);
   if (first) {
     p.announced = true;
@@ -225,7 +227,9 @@ void Replicator::handle_gossip(const PeerId& from, Peer& p, const SummaryMsg& m)
   if (addressed_ && counts(p) && !p.info.observer) repair_own(from, p, m.your_seq);
   if (m.covered != 0) p.covered = m.covered;
   const std::uint64_t life_before = life_;
-  for (const Rumor& r : m.rumors) hear_rumor(r);
+  // A gateway's list of the replicas behind it is no membership news of this group.
+  if (m.beat != Beat::kBehind)
+    for (const Rumor& r : m.rumors) hear_rumor(r);
   // Told it is suspected or gone: the refutation goes back to the teller at once, not with the
   // next probe (after a partition heals, each side would otherwise wait a probe turn per step).
   if (life_ > life_before) send_beat(Beat::kAck, from);
@@ -258,6 +262,9 @@ void Replicator::handle_gossip(const PeerId& from, Peer& p, const SummaryMsg& m)
       if (probe_sent_ns_ >= 0 && probe_target_ == m.subject) probe_sent_ns_ = -1;
       break;
     case Beat::kFull: break;
+    case Beat::kHoldQuery:
+    case Beat::kHolds:
+    case Beat::kBehind: handle_team_beat(from, p, m); break;
   }
 
   if (!behind(p)) {
@@ -453,11 +460,13 @@ void Replicator::gossip_tick() {
   // Acknowledgements a claim waits for: asked of the peers that have not given them.
   if (want_acks_seq_ > 0 && now_ >= next_ack_request_ns_) {
     bool all = true;
-    for (const auto& [id, p] : peers_)
-      if (p.info.alive && p.your_seq < want_acks_seq_) {
-        all = false;
-        send_beat(Beat::kPing, id);
-      }
+    for (const auto& [id, p] : peers_) {
+      if (!p.info.alive || held(p, self_) >= want_acks_seq_) continue;
+      all = false;
+      // A gateway vouches for the replicas behind it only when asked (replicator_behind.cc).
+      if (p.info.gateway) send_hold(Beat::kHoldQuery, id, self_, want_acks_seq_);
+      else send_beat(Beat::kPing, id);
+    }
     if (all) want_acks_seq_ = 0;
     next_ack_request_ns_ = now_ + opt_.pull_first_timeout_ns;
   }
@@ -470,6 +479,7 @@ void Replicator::gossip_tick() {
     p.applied = crdt::CausalContext{};
     p.full = false;
   }
+  behind_tick();
   if (offering_ && now_ >= next_offer_ns_) {
     next_offer_ns_ = now_ + opt_.pull_timeout_ns;
     send_full(PeerId{});
@@ -549,6 +559,12 @@ std::size_t Replicator::protocol_bytes() const {
   for (const auto& [o, m] : seen_) n += kNode + sizeof(o) + m.size() * (kNode + sizeof(Seen));
   n += rumors_.capacity() * sizeof(Spreading) + mismatched_.size() * (kNode + 24);
   n += applied_.range_count() * (kNode + 16) + applied_.replica_count() * (kNode + 32);
+  if (getenv("QDBG")) {
+    std::size_t pe=0, pa=0, se=0;
+    for (const auto& [id, p] : peers_) { pe += kNode + sizeof(id) + sizeof(p); pa += p.applied.range_count() * (kNode + 16) + p.applied.replica_count() * (kNode + 32);}
+    for (const auto& [o, m] : seen_) se += kNode + sizeof(o) + m.size() * (kNode + sizeof(Seen));
+    fprintf(stderr, "DBG self=%zu peers=%zu sizeofPeer=%zu peerapplied=%zu names=%zu seen=%zu seen_order=%zu rumors=%zu mism=%zu applied_ranges=%zu applied_replicas=%zu\n", sizeof(*this), pe, sizeof(Peer), pa, names_.size(), se, seen_order_.capacity()*sizeof(seen_order_[0]), rumors_.capacity(), mismatched_.size(), applied_.range_count(), applied_.replica_count());
+  }
   return n;
 }
 

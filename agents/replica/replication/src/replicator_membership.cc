@@ -97,12 +97,17 @@ bool Replicator::all_peers_hold(const PeerId& origin, std::uint64_t lo, std::uin
   for (const auto& [id, p] : peers_) {
     if (!p.info.alive) continue;
     // Gossip: a peer acknowledges this replica's own numbers (your_seq), and holds others' when
-    // its reported set is ours or it told us its whole set.
-    const bool holds = !opt_.gossip ? p.applied.includes(origin, lo, hi)
-                       : origin == self_ && p.your_seq >= hi
-                           ? true
-                           : (p.report_ns >= 0 && p.hash == set_hash() && applied_.includes(origin, lo, hi)) ||
-                                 (p.full && p.applied.includes(origin, lo, hi));
+    // its reported set is ours or it told us its whole set. A gateway acknowledges ours only for
+    // every replica behind it too (kHolds, replicator_behind.cc).
+    bool holds;
+    if (!opt_.gossip)
+      holds = p.applied.includes(origin, lo, hi);
+    else if (origin == self_ && p.info.gateway)
+      holds = held(p, self_) >= hi;
+    else
+      holds = (origin == self_ && p.your_seq >= hi) ||
+              (p.report_ns >= 0 && p.hash == set_hash() && applied_.includes(origin, lo, hi)) ||
+              (p.full && p.applied.includes(origin, lo, hi));
     if (!holds) return false;
   }
   return true;

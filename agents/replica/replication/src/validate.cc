@@ -48,14 +48,19 @@ Status check(const SummaryMsg& m, const SampleLimits& lim) {
     return make_error(ErrorCode::kMalformed, "a beat that is not a full summary carries an applied set");
   if (m.beat == Beat::kPingReq && m.subject.is_null())
     return make_error(ErrorCode::kMalformed, "a ping request names no replica to probe");
+  if ((m.beat == Beat::kHoldQuery || m.beat == Beat::kHolds) && (m.subject.is_null() || m.subject_seq == 0))
+    return make_error(ErrorCode::kMalformed, "a hold query or answer names no replica or no sequence number");
+  if (m.beat == Beat::kBehind && !m.gateway)
+    return make_error(ErrorCode::kMalformed, "a list of members behind a gateway from a replica that is no gateway");
   if (m.rumors.size() > lim.max_rumors)
     return make_error(ErrorCode::kTooLarge, "it carries " + num(m.rumors.size()) + " rumors (the limit is " +
                                                 num(lim.max_rumors) + ")");
   for (const Rumor& r : m.rumors) {
     if (r.peer.is_null()) return make_error(ErrorCode::kMalformed, "a rumor names the null replica");
-    if (static_cast<std::uint8_t>(r.status) > 2)
+    if (static_cast<std::uint8_t>(r.status) > 2 || (m.beat == Beat::kBehind && r.status == Liveness::kSuspect))
       return make_error(ErrorCode::kMalformed, "a rumor about " + r.peer.to_string() + " has the status " +
-                                                   num(static_cast<std::uint8_t>(r.status)) + " (known: 0 to 2)");
+                                                   num(static_cast<std::uint8_t>(r.status)) +
+                                                   (m.beat == Beat::kBehind ? " (known behind a gateway: 0, 2)" : " (known: 0 to 2)"));
   }
   return ranges(m.applied, "its applied set", lim);
 }

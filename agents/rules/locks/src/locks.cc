@@ -67,7 +67,7 @@ LockManager::~LockManager() { g_.unsubscribe(sub_); }
 
 bool LockManager::live(const PeerId& p) const {
   if (p == g_.replica()) return true;
-  return rep_ == nullptr || rep_->peer_alive(p);
+  return rep_ == nullptr || rep_->member_alive(p);
 }
 
 bool LockManager::expired(const Seen& s) const {

@@ -41,6 +41,7 @@ Result<std::unique_ptr<DdsReplica>> DdsReplica::create(DdsReplicaOptions options
   if (a->opt_.replicator.sample_ns > 0) a->opt_.dds.read_deltas = false;
   a->opt_.dds.name = a->opt_.name;
   a->opt_.dds.observer = a->opt_.observer;
+  a->opt_.dds.gateway = a->opt_.replicator.gateway;
   auto t = DdsTransport::create(id, a->opt_.dds);
   if (!t.ok()) return t.error();
   a->transport_ = std::move(*t);

@@ -93,6 +93,14 @@ int run_gateway(const GatewayFlags& f) {
     log->error("{}", (robot_options.ok() ? team_options.error() : robot_options.error()).to_string());
     return 2;
   }
+  if (!robot_options->replicator.gossip) {
+    // Acknowledgements that hold across the gateway (hold queries) are beats of the gossip.
+    log->error("a gateway needs gossip membership (--membership gossip)");
+    return 2;
+  }
+  // Each side vouches for the replicas behind it: a claim's acknowledgement from the gateway
+  // means every robot holds it, and the peers learn who is alive beyond (docs/teams.md).
+  robot_options->replicator.gateway = team_options->replicator.gateway = true;
   team_options->dds.xmit_loss_permille = f.team_loss_permille;
   if (!f.team_security.empty()) {
     auto files = security::agent_files(f.team_security, team_options->name);

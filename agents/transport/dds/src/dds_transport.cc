@@ -74,7 +74,7 @@ std::atomic<dds_domainid_t> g_next_private{0x4000};
 std::set<dds_domainid_t> g_secured_private;
 constexpr dds_domainid_t kMaxDomainId = 230;
 // The role byte of a participant's card (its user data; take_new_peers()).
-constexpr unsigned kCardObserver = 1, kCardSecured = 2;
+constexpr unsigned kCardObserver = 1, kCardSecured = 2, kCardGateway = 4;
 
 // A sample addressed to another replica never enters this participant's reader: Cyclone drops it
 // on its receive thread, so the owner thread does not wake for the beats, pulls and state chunks
@@ -330,11 +330,12 @@ Result<std::unique_ptr<DdsTransport>> DdsTransport::create(const PeerId& self, c
     d.shared_domain = true;
   }
 
-  // User data: the replica id, a role byte (1: observer, 2: secured) and the name
+  // User data: the replica id, a role byte (1: observer, 2: secured, 4: gateway) and the name
   // (take_new_peers()).
   std::vector<unsigned char> card(sizeof self + 1 + cfg.name.size());
   std::memcpy(card.data(), &self, sizeof self);
-  card[sizeof self] = static_cast<unsigned char>((cfg.observer ? kCardObserver : 0) | (cfg.security ? kCardSecured : 0));
+  card[sizeof self] = static_cast<unsigned char>((cfg.observer ? kCardObserver : 0) | (cfg.security ? kCardSecured : 0) |
+                                                    (cfg.gateway ? kCardGateway : 0));
   std::memcpy(card.data() + sizeof self + 1, cfg.name.data(), cfg.name.size());
   Qos pqos;
   dds_qset_userdata(pqos.q, card.data(), card.size());
@@ -492,10 +493,11 @@ std::vector<PeerCard> DdsTransport::take_new_peers() {
       std::memcpy(&card.id, bytes, sizeof card.id);
       const unsigned role = bytes[sizeof(PeerId)];
       card.observer = (role & kCardObserver) != 0;
+      card.gateway = (role & kCardGateway) != 0;
       card.name.assign(reinterpret_cast<const char*>(bytes) + kHead, size - kHead);
       // A secured participant and an unsecured one exchange no sample: not peers of each other.
       const bool secured = (role & kCardSecured) != 0;
-      if (!(card.id == self_) && !card.id.is_null() && role <= (kCardObserver | kCardSecured) &&
+      if (!(card.id == self_) && !card.id.is_null() && role <= (kCardObserver | kCardSecured | kCardGateway) &&
           secured == impl_->secured)
         out.push_back(std::move(card));
     }

@@ -6,6 +6,9 @@
 namespace quiver::agents::inline transport::wire {
 namespace {
 
+// Summary.role's bits; others are ignored (room for roles to come).
+constexpr std::uint8_t kRoleObserver = 1, kRoleGateway = 2;
+
 void read_ranges(const dds_sequence_quiver_wire_ReplicaRanges& in, RangeList& out) {
   out.clear();
   for (std::uint32_t i = 0; i < in._length; ++i) {
@@ -45,7 +48,8 @@ const dds_topic_descriptor_t& descriptor(DdsTopic t) {
 Sample sample_of(const quiver_wire_Summary& s) {
   SummaryMsg m;
   m.name = s.name ? s.name : "";
-  m.observer = s.observer;
+  m.observer = (s.role & kRoleObserver) != 0;
+  m.gateway = (s.role & kRoleGateway) != 0;
   m.digest = s.digest;
   m.beat = static_cast<Beat>(s.beat);  // validate() refuses a beat out of range
   m.life = s.life;
@@ -56,7 +60,14 @@ Sample sample_of(const quiver_wire_Summary& s) {
   m.subject = from_wire(s.subject);
   read_ranges(s.applied, m.applied);
   m.rumors.reserve(s.rumors._length);
-  for (std::uint32_t i = 0; i < s.rumors._length; ++i) {
+  std::uint32_t first = 0;
+  // A hold beat's number rides as its first rumor (quiver_wire.idl); one that names another
+  // replica leaves subject_seq 0, which validate() refuses.
+  if ((m.beat == Beat::kHoldQuery || m.beat == Beat::kHolds) && s.rumors._length > 0) {
+    first = 1;
+    if (from_wire(s.rumors._buffer[0].peer) == m.subject) m.subject_seq = s.rumors._buffer[0].life;
+  }
+  for (std::uint32_t i = first; i < s.rumors._length; ++i) {
     const auto& r = s.rumors._buffer[i];
     m.rumors.push_back(Rumor{from_wire(r.peer), r.life, static_cast<Liveness>(r.status)});
   }
@@ -140,7 +151,7 @@ std::pair<DdsTopic, const void*> SampleBuilder::build(const Message& m, const Pe
           summary_.sender_agent = sender.agent;
           summary_.sender_incarnation = sender.incarnation;
           summary_.name = const_cast<char*>(msg.name.c_str());
-          summary_.observer = msg.observer;
+          summary_.role = static_cast<std::uint8_t>((msg.observer ? kRoleObserver : 0) | (msg.gateway ? kRoleGateway : 0));
           summary_.applied = a_.build(msg.applied);
           summary_.digest = msg.digest;
           summary_.destination = to;
@@ -152,6 +163,8 @@ std::pair<DdsTopic, const void*> SampleBuilder::build(const Message& m, const Pe
           summary_.covered = msg.covered;
           summary_.subject = to_wire(msg.subject);
           rumors_.clear();
+          if (msg.beat == Beat::kHoldQuery || msg.beat == Beat::kHolds)
+            rumors_.push_back(quiver_wire_Rumor{to_wire(msg.subject), msg.subject_seq, 0});
           for (const Rumor& r : msg.rumors)
             rumors_.push_back(quiver_wire_Rumor{to_wire(r.peer), r.life, static_cast<std::uint8_t>(r.status)});
           summary_.rumors._length = summary_.rumors._maximum = static_cast<std::uint32_t>(rumors_.size());

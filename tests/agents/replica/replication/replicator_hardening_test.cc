@@ -241,7 +241,25 @@ TEST(ReplicatorHardeningTest, MalformedGossipBeatsAreRefused) {
   SummaryMsg many{"rogue", false, {}};
   many.beat = Beat::kPing;
   many.rumors.assign(SampleLimits{}.max_rumors + 1, Rumor{PeerId{3, 1}, 1, Liveness::kAlive});
+  // Robot teams: hold queries and answers name an origin and a number; only a gateway lists the
+  // replicas behind it, alive or gone.
+  SummaryMsg holds_without_subject{"rogue", false, {}};
+  holds_without_subject.beat = Beat::kHolds;
+  holds_without_subject.subject_seq = 3;
+  SummaryMsg query_without_number{"rogue", false, {}};
+  query_without_number.beat = Beat::kHoldQuery;
+  query_without_number.subject = PeerId{3, 1};
+  SummaryMsg behind_from_agent{"rogue", false, {}};
+  behind_from_agent.beat = Beat::kBehind;
+  behind_from_agent.rumors = {Rumor{PeerId{3, 1}, 0, Liveness::kAlive}};
+  SummaryMsg suspect_behind = behind_from_agent;
+  suspect_behind.gateway = true;
+  suspect_behind.rumors = {Rumor{PeerId{3, 1}, 0, Liveness::kSuspect}};
   const std::pair<SummaryMsg, const char*> cases[] = {{bad_beat, "its beat is 9"},
+                                                      {holds_without_subject, "names no replica or no sequence number"},
+                                                      {query_without_number, "names no replica or no sequence number"},
+                                                      {behind_from_agent, "from a replica that is no gateway"},
+                                                      {suspect_behind, "(known behind a gateway: 0, 2)"},
                                                       {ranges_in_ping, "carries an applied set"},
                                                       {req_without_subject, "names no replica to probe"},
                                                       {null_rumor, "a rumor names the null replica"},

@@ -41,6 +41,26 @@ TEST(CdrSampleTest, AGossipBeatHasAConstantSize) {
   EXPECT_EQ(size_of("", 6), bare + 6 * 32);
 }
 
+// A gateway's hold answer keeps its role, subject and number through the encoding.
+TEST(CdrSampleTest, AHoldAnswerFromAGatewayKeepsItsRoleSubjectAndNumber) {
+  for (bool observer : {false, true}) {
+    SummaryMsg m;
+    m.beat = Beat::kHolds;
+    m.gateway = true;
+    m.observer = observer;
+    m.subject = PeerId{9, 4};
+    m.subject_seq = 123456789;
+    auto back = decode_cdr_sample(DdsTopic::kSummary, encode_cdr_sample(Sample{PeerId{1, 1}, PeerId{2, 1}, m}).bytes);
+    ASSERT_TRUE(back.ok()) << back.error().to_string();
+    const auto& got = std::get<SummaryMsg>(back->message);
+    EXPECT_EQ(got.beat, Beat::kHolds);
+    EXPECT_TRUE(got.gateway);
+    EXPECT_EQ(got.observer, observer);
+    EXPECT_EQ(got.subject, (PeerId{9, 4}));
+    EXPECT_EQ(got.subject_seq, 123456789u);
+  }
+}
+
 std::vector<Sample> one_of_each(const PeerId& a, const PeerId& b) {
   graph::Graph g(a);
   std::vector<std::vector<std::uint8_t>> deltas;

@@ -6,6 +6,9 @@
 /// (origin, sequence interval, payload, signature), so each group deduplicates and checks it as
 /// if it came from its origin; a state transfer crosses as the state one side holds beyond the
 /// other. Nothing crosses back: what a side joins from the bridge is not carried again.
+/// Each side is a gateway replica (ReplicatorOptions::gateway) that vouches for the other side's
+/// peers: it answers a hold query only as far as they all hold the origin, and tells its own peers
+/// which replicas are alive over there, so that locks hold across robots.
 ///
 /// Threading: both replicators and this bridge belong to one owner thread.
 
@@ -30,7 +33,9 @@ class ReplicaBridge {
   ReplicaBridge(const ReplicaBridge&) = delete;
   ReplicaBridge& operator=(const ReplicaBridge&) = delete;
 
-  /// Carries what each side joined since the last call to the other side. After a state
+  /// Carries what each side joined since the last call to the other side, answers hold queries
+  /// that wait on what the other side's peers said since, and tells each side's peers who is
+  /// alive on the other side (at most every 10 ms). After a state
   /// transfer on one side, and every `check_ns` while the two (origin, seq) sets differ, the side
   /// that lacks something adopts what the other holds beyond it. Call it after each round of
   /// either replica, outside any join. Owner thread only.
@@ -44,7 +49,10 @@ class ReplicaBridge {
   void adopt(int from, int to);
 
   Replicator* r_[2];
+  static constexpr std::int64_t kMembersNs = 10'000'000;
   std::vector<DeltaMsg> out_[2];  // joined on side i, to be relayed into the other
+  std::vector<PeerId> holds_[2];  // origins side i's askers may now be answered about
+  std::int64_t next_members_ns_ = 0;
   bool state_joined_[2] = {false, false};
   int relaying_into_ = -1;  // the side being fed: what it joins now came from the bridge
   std::int64_t check_ns_;

@@ -51,9 +51,13 @@ enum class Beat : std::uint8_t {
   kPing = 2,       ///< a probe: answer kAck (to `subject` through the sender, when set)
   kAck = 3,        ///< a probe's answer (or an acknowledgement of a claim)
   kPingReq = 4,    ///< "probe `subject` for me": the receiver pings it and relays the answer
-  kRelayedAck = 5  ///< `subject` answered a probe made on the receiver's behalf
+  kRelayedAck = 5,  ///< `subject` answered a probe made on the receiver's behalf
+  // Robot teams (docs/teams.md): acknowledgements and liveness across a gateway.
+  kHoldQuery = 6,  ///< "do you, and every replica behind you, hold `subject`'s 1..subject_seq?"
+  kHolds = 7,      ///< "I, and every replica behind me, hold `subject`'s 1..subject_seq"
+  kBehind = 8      ///< from a gateway: the replicas in `rumors` are alive (or gone) behind it
 };
-inline constexpr std::uint8_t kBeatCount = 6;
+inline constexpr std::uint8_t kBeatCount = 9;
 
 /// What one replica says about another's membership (SWIM-style): the peer, the life
 /// (incarnation of its liveness, raised by the peer itself to refute a suspicion) and the status.
@@ -83,8 +87,12 @@ struct SummaryMsg {
   std::uint64_t your_seq = 0;
   /// Addressed beats: the set hash of the receiver's last kFull that the sender holds all of (0: none).
   std::uint64_t covered = 0;
-  PeerId subject;              ///< kPingReq, kPing, kAck, kRelayedAck: the third replica (see Beat)
+  PeerId subject;              ///< kPingReq, kPing, kAck, kRelayedAck, kHoldQuery, kHolds: the third replica (see Beat)
+  /// kHoldQuery: the sequence number wanted of `subject`; kHolds: held (on the wire, the first
+  /// rumor carries it: quiver_wire.idl).
+  std::uint64_t subject_seq = 0;
   std::vector<Rumor> rumors;   ///< membership news, piggybacked
+  bool gateway = false;  ///< the sender is one side of a gateway (bridge.h): it vouches for replicas behind it
 };
 
 /// One delta interval of one origin: sequence numbers [lo, hi], encoded graph delta (whose

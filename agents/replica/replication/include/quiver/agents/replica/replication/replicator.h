@@ -47,6 +47,7 @@
 #include "quiver/agents/replica/replication/admission.h"
 #include "quiver/agents/replica/replication/journal.h"
 #include "quiver/agents/replica/replication/messages.h"
+#include "quiver/agents/replica/replication/replicator_options.h"
 #include "quiver/agents/replica/replication/transport.h"
 #include "quiver/agents/replica/replication/validate.h"
 #include "quiver/crdt/causal_context.h"
@@ -57,71 +58,11 @@
 
 namespace quiver::agents::inline replica {
 
-struct ReplicatorOptions {
-  std::string name;                          ///< the agent's name, announced to peers
-  bool observer = false;                     ///< announce as a read-only observer
-  std::int64_t heartbeat_ns = 100'000'000;   ///< summary period
-  std::int64_t lease_ns = 1'000'000'000;     ///< a peer silent this long has left
-  std::int64_t pull_timeout_ns = 400'000'000;  ///< longest silence a pull waits (first tries wait less)
-  std::int64_t pull_first_timeout_ns = 50'000'000;  ///< the first try's patience; doubles per timeout
-  std::int64_t gap_grace_ns = 30'000'000;    ///< reordering tolerated before a gap is pulled
-  std::size_t buffer_bytes = 16u << 20;      ///< relay buffer of recent deltas (all origins)
-  std::size_t chunk_bytes = 256u << 10;      ///< state transfer chunk size
-  std::size_t max_state_bytes = 1u << 30;    ///< a state transfer larger than this is refused
-  bool coalesce = false;                     ///< hold local deltas until flush() or tick()
-  SampleLimits limits;                       ///< what one sample may hold (validate.h)
-  std::size_t max_peers = 1024;              ///< peers remembered at once (live or recently gone)
-  std::size_t max_peer_ranges = 1u << 20;    ///< ranges of all peers' summaries kept together
-  std::size_t equivocation_window = 1u << 16;  ///< (origin, seq) digests kept to detect equivocation
-  /// Versions of one (origin, seq) remembered and relayed; later ones are joined but not relayed
-  /// (the periodic state digest repairs replicas that missed them).
-  std::size_t max_versions = 64;
-  int suspect_after_timeouts = 6;            ///< pulls in a row a talking peer leaves unanswered before...
-  std::int64_t suspect_ns = 3'000'000'000;   ///< ...its summaries are ignored this long
-  /// A summary carries the state digest this often (0: never). A peer that holds the same
-  /// (origin, seq) set with another digest twice in a row is asked for its whole state.
-  std::int64_t digest_every_ns = 1'000'000'000;
-  /// A sampling observer (0: off): it reads no deltas (its transport subscribes to none, so no
-  /// writer sends it any) and instead pulls what it lacks as one context diff, at most this often.
-  /// For a viewer: writers pay nothing per change for it.
-  std::int64_t sample_ns = 0;
-  /// A sampling observer's demand on the peers that answer it (0: none): after a diff of B
-  /// bytes it waits at least B / sample_bytes_per_s before its next pull, so that a viewer of a
-  /// busy graph samples less often instead of making the writers serialise more.
-  std::size_t sample_bytes_per_s = 0;
-  /// Membership and anti-entropy by gossip over partial views instead of all-to-all summaries
-  /// (docs/protocol.md, "Membership and anti-entropy without all-to-all heartbeats"): every
-  /// probe_ns a replica probes one peer with a constant-size beat (SWIM-style, with indirect
-  /// probes and suspicion), membership news rides on the beats, and the (origin, seq) sets are
-  /// compared by hash and count, exchanged only when they differ. A transport that delivers
-  /// unicast samples to their destination only (the simulator's network) makes each replica's
-  /// cost independent of the number of replicas. The default; off: all-to-all summaries (every
-  /// heartbeat, the whole (origin, seq) set to every peer; docs/protocol.md).
-  bool gossip = true;
-  std::int64_t probe_ns = 250'000'000;       ///< gossip: one probe per period
-  int indirect_probes = 3;                    ///< gossip: peers asked to probe an unanswering one
-  /// gossip: a peer suspected this long without refuting is declared gone (0: max(lease_ns, 3 probe_ns)).
-  std::int64_t suspect_timeout_ns = 0;
-  int rumor_repeats = 3;                      ///< gossip: each rumor is sent this many times log2(peers + 1)
-  std::size_t rumors_per_beat = 6;            ///< gossip: rumors piggybacked on one beat
-  /// gossip: every period one replica in about (live peers + 1) says hello to everyone again,
-  /// and a replica that hears nobody always does (rediscovery after partitions and restarts).
-  std::int64_t rediscover_ns = 2'000'000'000;
-  /// gossip: deltas of other origins leave the relay buffer after this long (own deltas once
-  /// every live peer acknowledged them), whatever its byte bound would allow.
-  std::int64_t relay_retain_ns = 2'000'000'000;
-  /// gossip: how many members answer a hello, on average (0: every member that did not know the
-  /// sender, or 3 once the transport introduced a peer). A transport that introduces peers itself
-  /// (introduce(), e.g. DDS discovery) needs only a few: one answer tells a newcomer the hash of a
-  /// set to pull. Then a replica that knows live peers says hello to that many of them, chosen
-  /// at random, instead of to everyone; each answers.
-  int hello_answers = 0;
-};
-
 struct PeerInfo {
   PeerId id;
   std::string name;
   bool observer = false;
+  bool gateway = false;  ///< one side of a gateway (ReplicatorOptions::gateway)
   bool alive = false;
   std::int64_t last_heard_ns = 0;
   bool suspect = false;  ///< it claimed changes it did not deliver: its summaries are ignored for now
@@ -275,6 +216,34 @@ class Replicator {
   void on_error(std::function<void(const Error&)> cb) { error_cb_ = std::move(cb); }
   /// True if `peer` is currently heard from. Owner thread only.
   bool peer_alive(const PeerId& peer) const;
+  /// True if `peer` is heard from, or a live gateway peer says it is alive behind it (another
+  /// robot's agent): whether a lock it holds lives. Owner thread only.
+  bool member_alive(const PeerId& peer) const;
+
+  // Gateways (bridge.h): what one side of a gateway learns from, and tells, the other side.
+  /// Sets how far the replicas behind this side hold an origin: the bridge answers with the
+  /// other side's peers_hold_upto(). A hold query a peer sends here is answered with the lesser
+  /// of that and what this replica holds. Owner thread only.
+  void set_behind(std::function<std::uint64_t(const PeerId& origin, std::uint64_t wanted)> vouch) {
+    behind_ = std::move(vouch);
+  }
+  /// The greatest n such that every live agent peer (observers aside; the origin itself aside)
+  /// said it holds `origin`'s 1..n (kHolds); asks those that did not say `wanted` yet (at most
+  /// once a gap_grace_ns each). No peer: the greatest possible. Owner thread only.
+  std::uint64_t peers_hold_upto(const PeerId& origin, std::uint64_t wanted);
+  /// Calls `cb` when a peer says it holds more of an origin than it said before (kHolds).
+  /// Replaces the previous callback. Owner thread only.
+  void on_holds(std::function<void(const PeerId& origin)> cb) { holds_cb_ = std::move(cb); }
+  /// Answers again the peers whose hold query about `origin` waits, now that the replicas behind
+  /// may hold more. Owner thread only.
+  void answer_holds(const PeerId& origin);
+  /// Sets the replicas alive behind this side (sorted or not); the peers learn what changed at
+  /// once and the whole list every rediscover_ns / 2. Owner thread only.
+  void set_members_behind(std::vector<PeerId> members);
+  /// @returns the live peers that are agents (not observers, not gateways) and the replicas the
+  ///          live gateway peers say are alive behind them: what the other side of a gateway
+  ///          tells its peers. Owner thread only.
+  std::vector<PeerId> members_here() const;
   /// True if `peer` was heard from at some time and is still remembered (the peer table keeps
   /// peers that left until it needs their room). Owner thread only.
   bool peer_known(const PeerId& peer) const { return peers_.count(peer) > 0; }
@@ -361,6 +330,13 @@ class Replicator {
     std::uint64_t covered = 0;   // the hash of our last offered set it holds all of
     bool told_name = false;      // a beat of ours named us to it
     std::int64_t repaired_ns = -1;  // our own deltas it lacked were last sent again then (repair_own())
+    // Teams (replicator_behind.cc): how far it (and the replicas behind it) holds other origins.
+    struct Held {
+      PeerId origin;
+      std::uint64_t n = 0;            // it said it holds origin's 1..n (kHolds)
+      std::int64_t asked_ns = -1;     // our last hold query about origin
+    };
+    std::vector<Held> holds;          // bounded (kMaxHolds), the oldest asked dropped first
   };
   // The state transfer answering our outstanding pull (one at a time).
   struct Reassembly {
@@ -459,6 +435,25 @@ class Replicator {
   /// Stores `applied` as p's set; false (rejected, p unchanged) beyond max_peer_ranges.
   bool take_peer_set(const PeerId& from, Peer& p, crdt::CausalContext applied);
   void trim_buffer();
+  // Teams (replicator_behind.cc).
+  struct Asker {  // a peer waiting for us to hold, with what is behind us, origin's 1..wanted
+    PeerId origin, asker;
+    std::uint64_t wanted = 0, told = 0;
+    std::int64_t since_ns = 0;
+  };
+  struct Behind {  // a replica alive behind a gateway peer
+    PeerId via;
+    std::int64_t heard_ns = 0;
+  };
+  static constexpr std::size_t kMaxHolds = 16, kMaxAskers = 256;
+  Peer::Held& held_entry(Peer& p, const PeerId& origin);
+  std::uint64_t held(const Peer& p, const PeerId& origin) const;
+  std::uint64_t vouch(const PeerId& origin, std::uint64_t wanted);
+  void send_hold(Beat b, const PeerId& to, const PeerId& origin, std::uint64_t n);
+  void handle_team_beat(const PeerId& from, Peer& p, const SummaryMsg& m);
+  void check_askers(const PeerId* origin);
+  void send_behind(std::vector<Rumor> news);
+  void behind_tick();
   void queue(const PeerId& to, Message msg);
   void send_queued();
   void reject(const Error& e);
@@ -536,6 +531,14 @@ class Replicator {
   std::int64_t applied_changed_ns_ = 0;
   mutable std::uint64_t hash_version_ = ~0ull, set_hash_ = 0, set_count_ = 0;
   std::map<PeerId, std::int64_t> mismatched_;  // peers whose last report showed what we lack
+  // Teams (replicator_behind.cc).
+  std::function<std::uint64_t(const PeerId&, std::uint64_t)> behind_;
+  std::function<void(const PeerId&)> holds_cb_;
+  std::vector<Asker> askers_;
+  std::uint64_t askers_version_ = 0;  // state_version_ when the askers were last checked
+  std::map<PeerId, Behind> remote_;   // replicas alive behind gateway peers
+  std::vector<PeerId> behind_out_;    // gateway: the replicas alive behind us, as told (sorted)
+  std::int64_t next_behind_ns_ = 0;
 
   std::vector<Sample> outbox_;
   mutable std::mutex heartbeat_mu_;

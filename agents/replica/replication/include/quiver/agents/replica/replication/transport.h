@@ -23,6 +23,7 @@ struct PeerCard {
   PeerId id;
   std::string name;
   bool observer = false;
+  bool gateway = false;  ///< one side of a gateway (docs/teams.md)
 };
 
 /// Best-effort delivery of samples (one protocol message each): one may be lost, duplicated,

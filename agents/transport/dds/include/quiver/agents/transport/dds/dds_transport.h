@@ -54,6 +54,7 @@ struct DdsConfig {
   /// what take_new_peers() gives the others.
   std::string name;
   bool observer = false;
+  bool gateway = false;                        ///< one side of a robot team's gateway (docs/teams.md)
   std::int64_t lease_ns = 1'000'000'000;       ///< participant lease (crash detection time)
   int xmit_loss_permille = 0;                  ///< testing: Cyclone drops this share of sent packets
   bool own_domain_instance = false;            ///< a private Cyclone instance (threads, sockets) for this transport
