@@ -48,13 +48,32 @@ int VirtualNetwork::index_of(const agents::PeerId& id) const {
   return -1;
 }
 
+void VirtualNetwork::set_segment_faults(int segment, const FaultConfig& f) {
+  if (FaultConfig* have = segment_faults(segment)) *have = f;
+  else segment_faults_.emplace_back(segment, f);
+}
+
+FaultConfig* VirtualNetwork::segment_faults(int segment) {
+  for (auto& [s, f] : segment_faults_)
+    if (s == segment) return &f;
+  return nullptr;
+}
+
 void VirtualNetwork::transmit(int from, int to, std::shared_ptr<const agents::CdrSample> sample) {
   if (!nodes_[from].up) return;  // a node that is down sends nothing (a host that fail-stopped)
+  const int segment = nodes_[from].segment;
+  const FaultConfig* own = segment_faults(segment);
+  const FaultConfig& link = own != nullptr ? *own : faults_;
   auto one = [&](int d) {
+    if (nodes_[d].segment != segment) return;  // another network: it never sees the sample
     ++stats_.messages;
     stats_.bytes += sample->bytes.size();
     ++stats_.topic_messages[static_cast<std::size_t>(sample->topic)];
     stats_.topic_bytes[static_cast<std::size_t>(sample->topic)] += sample->bytes.size();
+    if (segment > 0) {
+      if (stats_.segment_bytes.size() <= static_cast<std::size_t>(segment)) stats_.segment_bytes.resize(segment + 1);
+      stats_.segment_bytes[segment] += sample->bytes.size();
+    }
     if (!nodes_[d].up || nodes_[d].group != nodes_[from].group) {
       ++stats_.dropped;
       return;
@@ -64,22 +83,22 @@ void VirtualNetwork::transmit(int from, int to, std::shared_ptr<const agents::Cd
     // reliable sample is sent again (RTPS): it arrives late, and the samples after it wait for it
     // on a FIFO link. A partition or a host down at its arrival still loses it.
     std::int64_t repair = 0;
-    if (rng_.chance(faults_.loss)) {
+    if (rng_.chance(link.loss)) {
       ++stats_.dropped;
       if (sample->topic == agents::DdsTopic::kSummary) return;
       ++stats_.retransmitted;
-      repair = faults_.repair_min_ns +
-               static_cast<std::int64_t>(rng_.below(static_cast<std::uint64_t>(faults_.repair_max_ns - faults_.repair_min_ns + 1)));
+      repair = link.repair_min_ns +
+               static_cast<std::int64_t>(rng_.below(static_cast<std::uint64_t>(link.repair_max_ns - link.repair_min_ns + 1)));
     }
-    int copies = rng_.chance(faults_.dup) ? 2 : 1;
+    int copies = rng_.chance(link.dup) ? 2 : 1;
     stats_.duplicated += copies - 1;
     for (int c = 0; c < copies; ++c) {
-      std::int64_t delay = faults_.delay_min_ns +
-                           static_cast<std::int64_t>(rng_.below(faults_.delay_max_ns - faults_.delay_min_ns + 1));
-      if (faults_.reorder) delay += static_cast<std::int64_t>(rng_.below(faults_.reorder_jitter_ns));
+      std::int64_t delay = link.delay_min_ns +
+                           static_cast<std::int64_t>(rng_.below(link.delay_max_ns - link.delay_min_ns + 1));
+      if (link.reorder) delay += static_cast<std::int64_t>(rng_.below(link.reorder_jitter_ns));
       std::int64_t t = now_ + delay + repair;
       std::int64_t& last = last_delivery_[static_cast<std::size_t>(from) * nodes_.size() + d];
-      if (!faults_.reorder) t = std::max(t, last + 1);  // FIFO link
+      if (!link.reorder) t = std::max(t, last + 1);  // FIFO link
       last = std::max(last, t);
       Event e;
       e.t = t;
@@ -102,7 +121,7 @@ void VirtualNetwork::discover(int node, agents::PeerCard card, Introducer introd
   if (!n.up || !n.introduce) return;
   for (int d = 0; d < size(); ++d) {
     Node& o = nodes_[d];
-    if (d == node || !o.up || o.group != n.group || !o.introduce) continue;
+    if (d == node || !o.up || o.group != n.group || o.segment != n.segment || !o.introduce) continue;
     o.introduce(n.card);
     n.introduce(o.card);
     stats_.introductions += 2;

@@ -1,5 +1,8 @@
 // The replica simulator's checks: graph invariants on every replica, the time two agents both
-// held one lock scope (connected or partitioned), and convergence (same applied dots, same digest).
+// held one lock scope (connected or partitioned), and convergence (same applied dots, same digest;
+// with a team, both sides of every gateway too).
+#include <algorithm>
+
 #include "replica_simulation.h"
 
 namespace quiver::sim {
@@ -20,8 +23,10 @@ void Simulation::account_overlap() {
       for (std::size_t y = x + 1; y < holders.size(); ++y) {
         Agent& a = agents_[holders[x]];
         Agent& b = agents_[holders[y]];
-        bool hear = net_.group(holders[x]) == net_.group(holders[y]) && a.replicator->peer_alive(b.graph->replica()) &&
-                    b.replicator->peer_alive(a.graph->replica());
+        // Across robots the gateways' hearing each other stands for the agents' (linked()).
+        const bool across = robots() > 0 && robot_of(holders[x]) != robot_of(holders[y]);
+        bool hear = linked(holders[x], holders[y]) &&
+                    (across || (a.replicator->peer_alive(b.graph->replica()) && b.replicator->peer_alive(a.graph->replica())));
         (hear ? connected : partitioned) = true;
       }
   }
@@ -43,6 +48,37 @@ void Simulation::check_invariants_all() {
   }
 }
 
+// Two agents that can hear each other: in one group of one network, or, on different robots,
+// through their gateways: both up, their team sides in one group and hearing each other, each agent
+// hearing its gateway, whose list of the replicas behind it holds the other agent, and having heard
+// its latest generation (docs/teams.md). What a lock guarantees across robots holds between such agents, as within one
+// network it holds between agents that hear each other.
+bool Simulation::linked(int x, int y) const {
+  if (net_.group(x) != net_.group(y)) return false;
+  if (robots() == 0 || robot_of(x) == robot_of(y)) return true;
+  const int rx = robot_of(x), ry = robot_of(y);
+  const Gateway& gx = gateways_[rx];
+  const Gateway& gy = gateways_[ry];
+  if (!gx.up || !gy.up || net_.group(gateway_node(rx, 1)) != net_.group(gateway_node(ry, 1)) ||
+      !gx.replicator[1]->peer_alive(gy.graph[1]->replica()) || !gy.replicator[1]->peer_alive(gx.graph[1]->replica()))
+    return false;
+  // Each robot's gateway lists the other agent among those alive behind it.
+  for (auto [agent, other] : {std::pair{x, y}, std::pair{y, x}}) {
+    const auto& told = gateways_[robot_of(agent)].replicator[0]->members_behind();
+    if (!std::binary_search(told.begin(), told.end(), agents_[other].graph->replica())) return false;
+  }
+  for (auto [agent, r] : {std::pair{x, rx}, std::pair{y, ry}}) {
+    const Gateway& g = gateways_[r];
+    const agents::Replicator& mine = *agents_[agent].replicator;
+    // (A gateway without the role, -1, announces no generation: nothing to wait for.)
+    const int heard = mine.generation_heard(g.graph[0]->replica());
+    if (!mine.peer_alive(g.graph[0]->replica()) ||
+        (heard >= 0 && heard != static_cast<int>(g.replicator[0]->behind_generation() & 63)))
+      return false;
+  }
+  return true;
+}
+
 bool Simulation::converged() {
   const Agent& first = agents_[0];
   if (!first.up) return false;  // a host down (fail-stopped) has no graph to compare
@@ -52,6 +88,7 @@ bool Simulation::converged() {
     if (!(a.replicator->applied() == first.replicator->applied())) return false;
     if (!(a.graph->digest() == d)) return false;
   }
+  if (robots() > 0 && !gateways_converged(d, first.replicator->applied())) return false;
   // With a repairing agent, quiescence also means the repairs are done.
   if (cfg_.rooms.enabled && cfg_.rooms.repair && !first.guard->checker().all_violations(*first.graph).empty())
     return false;

@@ -24,6 +24,15 @@ void Simulation::plan_faults(std::int64_t work_end) {
   const double end_s = static_cast<double>(work_end) / 1e9;
   FaultMix mix;
   for (int i = 0; i < cfg_.agents; ++i) mix.agents.push_back(name(i));
+  std::vector<std::string> killable = mix.agents;
+  if (robots() > 0) {
+    // A team: partitions cut robots off the team network; gateways may be killed too.
+    mix.agents.clear();
+    for (int r = 0; r < robots(); ++r) {
+      mix.agents.push_back("robot" + std::to_string(r));
+      killable.push_back("gateway" + std::to_string(r));
+    }
+  }
   mix.loss_chance = 0;
   mix.max_partitions = 0;
   mix.max_kills = 0;
@@ -37,7 +46,7 @@ void Simulation::plan_faults(std::int64_t work_end) {
     mix.heal_after = {0.05, 1.55};
   }
   if (cfg_.faults.crashes) {
-    mix.killable = mix.agents;
+    mix.killable = killable;
     mix.min_kills = 1;
     mix.max_kills = std::max(1, cfg_.agents / 3);
     mix.kill_at = {0, end_s};
@@ -49,6 +58,7 @@ void Simulation::plan_faults(std::int64_t work_end) {
 
 void Simulation::partition(const std::vector<std::vector<std::string>>& groups) {
   ++result_.partitions;
+  if (robots() > 0) return team_partition(groups);
   for (int i = 0; i < cfg_.agents; ++i) net_.set_group(i, static_cast<int>(groups.size()));  // not named
   for (std::size_t g = 0; g < groups.size(); ++g)
     for (const std::string& n : groups[g])
@@ -60,6 +70,11 @@ void Simulation::heal() { net_.heal(); }
 // A kill -9; with torn writes, half of them instead make the power fail during the next write of
 // the agent's store (the host goes down then, and restarts shortly after: after_write).
 bool Simulation::kill(const std::string& agent) {
+  if (const int r = gateway_index(agent); r >= 0) {
+    if (!gateways_[r].up) return false;
+    crash_gateway(r);
+    return true;
+  }
   const int i = index(agent);
   if (i < 0 || !agents_[i].up) return false;
   if (cfg_.disks.enabled && cfg_.disks.torn_writes && rng_.chance(0.5)) {
@@ -71,6 +86,11 @@ bool Simulation::kill(const std::string& agent) {
 }
 
 bool Simulation::restart(const std::string& agent) {
+  if (const int r = gateway_index(agent); r >= 0) {
+    if (gateways_[r].up) return false;
+    boot_gateway(r);
+    return true;
+  }
   const int i = index(agent);
   if (i < 0 || agents_[i].up) return false;
   boot(i);

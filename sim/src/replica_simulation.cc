@@ -10,7 +10,7 @@
 namespace quiver::sim {
 
 Simulation::Simulation(const SimConfig& cfg)
-    : cfg_(cfg), rng_(cfg.seed), net_(cfg.agents, rng_.fork(), cfg.faults) {
+    : cfg_(cfg), rng_(cfg.seed), net_(cfg.agents + 2 * robots(cfg), rng_.fork(), cfg.faults) {
   result_.seed = cfg.seed;
   result_.agents = cfg.agents;
   result_.steps = cfg.steps;
@@ -21,9 +21,11 @@ Simulation::Simulation(const SimConfig& cfg)
   net_.after_each_event([this] { account_overlap(); });
   boot_pending_.assign(cfg.agents, false);
   if (cfg.disks.enabled) make_disks();
+  if (robots() > 0) make_team();
 }
 
 Simulation::~Simulation() {
+  for (auto& g : gateways_) g.bridge.reset();
   for (auto& a : agents_) {
     a.engine.reset();
     a.replicator.reset();
@@ -43,6 +45,10 @@ SimResult Simulation::run() {
     net_.at(static_cast<std::int64_t>(rng_.below(cfg_.tick_interval_ns)), [this, i] { tick(i); });
   }
   const std::int64_t work_end = cfg_.steps * cfg_.step_interval_ns;
+  for (int r = 0; r < robots(); ++r) {
+    boot_gateway(r);
+    net_.at(static_cast<std::int64_t>(rng_.below(cfg_.tick_interval_ns)), [this, r] { tick_gateway(r); });
+  }
   if (cfg_.locks.enabled) create_scopes();
   if (cfg_.rooms.enabled) create_rooms();
   for (int s = 0; s < cfg_.steps; ++s) net_.at((s + 1) * cfg_.step_interval_ns, [this] { step(); });
@@ -61,6 +67,7 @@ SimResult Simulation::run() {
   net_.faults().loss = 0;
   net_.faults().dup = 0;
   net_.heal();
+  if (robots() > 0) team_heal();
   for (auto& a : agents_) {
     a.disk.full_until = std::min(a.disk.full_until, net_.now());
     a.disk.tear_next = false;
@@ -80,11 +87,15 @@ SimResult Simulation::run() {
       for (int i = 0; i < cfg_.agents; ++i)
         if (agents_[i].up) check_acked(i, agents_[i].replicator->applied(), "the final replicas");
   }
-  account_overlap();
   result_.settle_ms = (net_.now() - heal_at) / 1'000'000;
+  if (robots() > 0 && result_.converged) check_team_members();
+  account_overlap();
   result_.virtual_ms = net_.now() / 1'000'000;
   result_.messages = net_.stats().messages;
   result_.bytes = net_.stats().bytes;
+  result_.robots = robots();
+  if (robots() > 0 && net_.stats().segment_bytes.size() > static_cast<std::size_t>(robots()))
+    result_.team_bytes = net_.stats().segment_bytes[robots()];
   result_.dropped = net_.stats().dropped;
   result_.introductions = net_.stats().introductions;
   result_.retransmitted = net_.stats().retransmitted;

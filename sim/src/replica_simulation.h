@@ -8,6 +8,7 @@
 //                          writes, acknowledged-commit checks
 //   replica_workloads.cc   the lock and rooms workloads
 //   replica_checks.cc      invariants, lock overlap, convergence
+//   replica_team.cc        robot teams: robots as networks joined by gateways (TeamSim)
 //   simulator.cc           run_simulation(), SimResult's JSON, SimConfig's defaults
 //
 // Threading: the simulator's one thread (a store's writer calls in while the owner waits).
@@ -18,6 +19,7 @@
 #include <string>
 #include <vector>
 
+#include "quiver/agents/replica/replication/bridge.h"
 #include "quiver/agents/rules/grammar/grammar_guard.h"
 #include "quiver/agents/rules/locks/locks.h"
 #include "quiver/agents/runtime/engine/engine.h"
@@ -112,7 +114,31 @@ class Simulation final : public FaultTarget {
   void rooms_step(int who);
   void lock_step(int who);
 
+  // Robot teams (replica_team.cc): gateway r's replicas are network nodes gateway_node(r, 0) (on
+  // robot r's network) and gateway_node(r, 1) (on the team's).
+  struct Gateway {
+    bool up = false;
+    std::uint64_t incarnation = 0;
+    std::unique_ptr<graph::Graph> graph[2];
+    std::unique_ptr<agents::Replicator> replicator[2];
+    std::unique_ptr<agents::ReplicaBridge> bridge;
+  };
+  static int robots(const SimConfig& c) { return c.team.robots >= 2 ? c.team.robots : 0; }
+  int robots() const { return robots(cfg_); }
+  int robot_of(int agent) const { return agent % robots(); }
+  int gateway_node(int r, int side) const { return cfg_.agents + 2 * r + side; }
+  void make_team();
+  void boot_gateway(int r);
+  void crash_gateway(int r);
+  void tick_gateway(int r);
+  int gateway_index(const std::string& name) const;
+  void team_partition(const std::vector<std::vector<std::string>>& groups);
+  void team_heal();
+  bool gateways_converged(const Digest128& d, const crdt::CausalContext& applied) const;
+  void check_team_members();
+
   // Checks (replica_checks.cc).
+  bool linked(int x, int y) const;  // samples can go between two agents now
   void account_overlap();
   void check_invariants_all();
   bool converged();
@@ -125,6 +151,7 @@ class Simulation final : public FaultTarget {
   Rng rng_;
   VirtualNetwork net_;
   std::vector<Agent> agents_;
+  std::vector<Gateway> gateways_;
   std::vector<graph::NodeId> scope_roots_;        // "scope0", ... as create_scopes made them
   Churn churn_{ChurnMix{}};
   SimResult result_;

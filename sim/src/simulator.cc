@@ -57,6 +57,11 @@ std::string SimResult::to_json() const {
   j["ops"] = ops;
   j["crashes"] = crashes;
   j["partitions"] = partitions;
+  if (robots > 0) {
+    j["robots"] = robots;
+    j["team_bytes"] = team_bytes;
+    j["gateway_crashes"] = gateway_crashes;
+  }
   j["deltas_applied"] = deltas_applied;
   j["states_applied"] = states_applied;
   j["rejected_samples"] = rejected_samples;

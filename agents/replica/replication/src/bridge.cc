@@ -48,6 +48,9 @@ void ReplicaBridge::adopt(int from, int to) {
 }
 
 void ReplicaBridge::pump(std::int64_t now_ns) {
+  // Who is alive over there first: a delta relayed below then reaches peers that already know
+  // its origin as alive (a claim it carries does not look expired for a moment).
+  for (int side = 0; side < 2; ++side) r_[side]->set_members_behind(r_[1 - side]->members_here());
   for (int from = 0; from < 2; ++from) {
     const int to = 1 - from;
     if (out_[from].empty()) continue;
@@ -66,10 +69,6 @@ void ReplicaBridge::pump(std::int64_t now_ns) {
     std::sort(origins.begin(), origins.end());
     origins.erase(std::unique(origins.begin(), origins.end()), origins.end());
     for (const PeerId& o : origins) r_[side]->answer_holds(o);
-  }
-  if (now_ns >= next_members_ns_) {
-    next_members_ns_ = now_ns + kMembersNs;
-    for (int side = 0; side < 2; ++side) r_[side]->set_members_behind(r_[1 - side]->members_here());
   }
   bool check = now_ns >= next_check_ns_;
   for (int side = 0; side < 2; ++side)

@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <limits>
+#include <span>
 
 #include "quiver/agents/replica/replication/replicator.h"
 
@@ -20,17 +21,22 @@ Replicator::Peer::Held& Replicator::held_entry(Peer& p, const PeerId& origin) {
                                    [](const Peer::Held& a, const Peer::Held& b) { return a.asked_ns < b.asked_ns; });
     p.holds.erase(oldest);
   }
-  p.holds.push_back(Peer::Held{origin, 0, -1});
+  p.holds.push_back(Peer::Held{origin, 0, -1, 0});
   return p.holds.back();
 }
 
 std::uint64_t Replicator::held(const Peer& p, const PeerId& origin) const {
   std::uint64_t n = 0;
   for (const auto& h : p.holds)
-    if (h.origin == origin) n = h.n;
+    if (h.origin == origin && (!p.info.gateway || h.generation == p.behind_generation)) n = h.n;
   // A replica that is no gateway acknowledges our own numbers exactly in every addressed beat.
   if (origin == self_ && !p.info.gateway) n = std::max(n, p.your_seq);
   return n;
+}
+
+int Replicator::generation_heard(const PeerId& peer) const {
+  auto it = peers_.find(peer);
+  return it != peers_.end() && it->second.info.gateway ? it->second.behind_generation : -1;
 }
 
 bool Replicator::member_alive(const PeerId& peer) const {
@@ -43,7 +49,9 @@ std::uint64_t Replicator::peers_hold_upto(const PeerId& origin, std::uint64_t wa
   std::uint64_t least = std::numeric_limits<std::uint64_t>::max();
   for (auto& [id, p] : peers_) {
     if (!p.info.alive || p.info.observer || id == origin) continue;
-    const std::uint64_t n = held(p, origin);
+    // A gateway's answer counts once we hold what it holds: claims made behind it reach our side
+    // before our vouch does (as a peer's own deltas reach a claimant before its ack: repair_own()).
+    const std::uint64_t n = p.info.gateway && behind(p) ? 0 : held(p, origin);
     least = std::min(least, n);
     if (n >= wanted) continue;
     Peer::Held& h = held_entry(p, origin);
@@ -87,23 +95,44 @@ void Replicator::handle_team_beat(const PeerId& from, Peer& p, const SummaryMsg&
     }
     case Beat::kHolds: {
       Peer::Held& h = held_entry(p, m.subject);
-      if (m.subject_seq <= h.n) break;
+      // An answer under another generation of the gateway replaces what it said before.
+      if (m.generation == h.generation && m.subject_seq <= h.n) break;
+      h.generation = m.generation;
       h.n = m.subject_seq;
       if (holds_cb_) holds_cb_(m.subject);
       break;
     }
-    case Beat::kBehind:
-      for (const Rumor& r : m.rumors) {
+    case Beat::kBehind: {
+      // The first rumor names the gateway itself with the version of its list: a list older than
+      // one already taken (reordered) changes nothing.
+      if (m.rumors.empty() || !(m.rumors[0].peer == from) || m.rumors[0].life < p.behind_version) break;
+      p.behind_version = m.rumors[0].life;
+      const auto entries = std::span<const Rumor>(m.rumors).subspan(1);
+      if (m.subject == from)  // the whole list, in one beat: whom it no longer names has gone
+        std::erase_if(remote_, [&](const auto& e) {
+          return e.second.via == from && std::none_of(entries.begin(), entries.end(), [&](const Rumor& r) {
+                   return r.peer == e.first && r.status != Liveness::kDead;
+                 });
+        });
+      for (const Rumor& r : entries) {
         if (r.peer == self_ || peers_.count(r.peer) != 0) continue;  // one we hear ourselves
+        auto it = remote_.find(r.peer);
         if (r.status == Liveness::kDead) {
-          if (auto it = remote_.find(r.peer); it != remote_.end() && it->second.via == from) remote_.erase(it);
-        } else if (remote_.size() < opt_.max_peers || remote_.count(r.peer) != 0) {
+          if (it != remote_.end() && it->second.via == from) remote_.erase(it);
+        } else if (it != remote_.end() || remote_.size() < opt_.max_peers) {
           remote_[r.peer] = Behind{from, now_};
         }
       }
       break;
+    }
     default: break;
   }
+}
+
+void Replicator::ask_again() {
+  if (claims_seq_ == 0 || want_acks_seq_ >= claims_seq_) return;
+  want_acks_seq_ = claims_seq_;
+  next_ack_request_ns_ = now_;
 }
 
 void Replicator::answer_holds(const PeerId& origin) {
@@ -132,17 +161,11 @@ void Replicator::set_members_behind(std::vector<PeerId> members) {
   std::sort(members.begin(), members.end());
   members.erase(std::unique(members.begin(), members.end()), members.end());
   if (members == behind_out_) return;
-  std::vector<Rumor> news;
-  std::vector<PeerId> gone;
-  std::set_difference(members.begin(), members.end(), behind_out_.begin(), behind_out_.end(),
-                      std::back_inserter(gone));
-  for (const PeerId& id : gone) news.push_back(Rumor{id, 0, Liveness::kAlive});
-  gone.clear();
-  std::set_difference(behind_out_.begin(), behind_out_.end(), members.begin(), members.end(),
-                      std::back_inserter(gone));
-  for (const PeerId& id : gone) news.push_back(Rumor{id, 0, Liveness::kDead});
+  // Replicas came: what we vouched for before does not cover them (the generation says so).
+  if (!std::includes(behind_out_.begin(), behind_out_.end(), members.begin(), members.end())) ++behind_generation_;
+  ++behind_version_;
   behind_out_ = std::move(members);
-  send_behind(std::move(news));
+  tell_behind(PeerId{});
   send_queued();
 }
 
@@ -155,27 +178,46 @@ std::vector<PeerId> Replicator::members_here() const {
   return out;
 }
 
-void Replicator::send_behind(std::vector<Rumor> news) {
+// Always the whole list, versioned: a receiver takes a list no older than the last it took, so a
+// reordered one changes nothing.
+void Replicator::send_behind(std::vector<Rumor> news, const PeerId& to, bool whole) {
   if (!opt_.gateway || !started_) return;
-  const std::size_t per_beat = std::max<std::size_t>(1, std::min<std::size_t>(opt_.limits.max_rumors, 32));
+  // Each beat: a header (ourselves, with the list's version), then up to per_beat entries.
+  const std::size_t per_beat = std::max<std::size_t>(1, std::min<std::size_t>(opt_.limits.max_rumors, 32) - 1);
+  const Rumor header{self_, behind_version_, Liveness::kAlive};
+  // A whole list that fits one beat says so (its subject is the sender): a receiver then forgets
+  // whom it no longer names, even when it missed the news that they left.
+  if (whole && news.size() <= per_beat) {
+    SummaryMsg m = beat(Beat::kBehind, to, /*rumors=*/false);
+    m.subject = self_;
+    m.rumors.push_back(header);
+    m.rumors.insert(m.rumors.end(), news.begin(), news.end());
+    queue(to, std::move(m));
+    return;
+  }
   for (std::size_t i = 0; i < news.size(); i += per_beat) {
-    SummaryMsg m = beat(Beat::kBehind, PeerId{});
-    m.rumors.assign(news.begin() + static_cast<long>(i),
+    SummaryMsg m = beat(Beat::kBehind, to, /*rumors=*/false);
+    m.rumors.push_back(header);
+    m.rumors.insert(m.rumors.end(), news.begin() + static_cast<long>(i),
                     news.begin() + static_cast<long>(std::min(news.size(), i + per_beat)));
-    queue(PeerId{}, std::move(m));
+    queue(to, std::move(m));
   }
 }
 
-// Every rediscover_ns / 2 a gateway says again who is behind it (a lost change is repaired, a
-// newcomer learns them); a peer forgets what it has not heard again for three of those periods.
+void Replicator::tell_behind(const PeerId& to) {
+  std::vector<Rumor> all;
+  for (const PeerId& id : behind_out_) all.push_back(Rumor{id, 0, Liveness::kAlive});
+  send_behind(std::move(all), to, /*whole=*/true);
+}
+
+// Every probe period a gateway says again who is behind it (a lost change is repaired, a newcomer
+// learns them); a peer forgets what it has not heard again for three of those periods.
 void Replicator::behind_tick() {
-  const std::int64_t period = std::max<std::int64_t>(opt_.rediscover_ns / 2, opt_.probe_ns);
+  const std::int64_t period = opt_.probe_ns;
   if (!askers_.empty() && askers_version_ != state_version_) check_askers(nullptr);
   if (opt_.gateway && now_ >= next_behind_ns_) {
     next_behind_ns_ = now_ + period;
-    std::vector<Rumor> all;
-    for (const PeerId& id : behind_out_) all.push_back(Rumor{id, 0, Liveness::kAlive});
-    send_behind(std::move(all));
+    tell_behind(PeerId{});
   }
   std::erase_if(remote_, [&](const auto& e) { return now_ - e.second.heard_ns > 3 * period || !peer_alive(e.second.via); });
 }

@@ -31,7 +31,7 @@ std::int64_t Replicator::suspect_timeout() const {
   return std::max(opt_.lease_ns, 3 * opt_.probe_ns);
 }
 
-SummaryMsg Replicator::beat(Beat b, const PeerId& to) {
+SummaryMsg Replicator::beat(Beat b, const PeerId& to, bool rumors) {
   SummaryMsg m;
   // The name goes in every hello, and in another beat only to a peer we have not named ourselves
   // to yet: it is most of a beat's variable size.
@@ -43,6 +43,7 @@ SummaryMsg Replicator::beat(Beat b, const PeerId& to) {
   }
   m.observer = opt_.observer;
   m.gateway = opt_.gateway;
+  m.generation = static_cast<std::uint8_t>(behind_generation_ & 63);
   m.beat = b;
   m.life = life_;
   m.set_hash = set_hash();
@@ -59,6 +60,7 @@ SummaryMsg Replicator::beat(Beat b, const PeerId& to) {
     m.digest = state_digest();
     digest_due_ = false;
   }
+  if (!rumors) return m;
   // Rumors: a suspicion of the receiver first (so that it can refute), then the others, each
   // until it has been sent its number of times.
   if (!to.is_null())
@@ -209,12 +211,23 @@ void Replicator::handle_gossip(const PeerId& from, Peer& p, const SummaryMsg& m)
   const bool first = !p.announced && (!m.name.empty() || m.beat == Beat::kHello);
   if (!m.name.empty()) p.info.name = m.name;
   p.info.observer = m.observer;
+  // A gateway's acknowledgements count only from its hold answers, and only under its latest
+  // generation: replicas that came behind it since have acknowledged nothing (docs/teams.md).
+  // (A beat that overtook a newer one does not take the generation back: modulo 64, a newer one is
+  // 1 to 31 ahead.)
+  const unsigned ahead = static_cast<unsigned>(m.generation - p.behind_generation) & 63u;
+  if (m.gateway && (!p.info.gateway || (ahead != 0 && ahead < 32))) {
+    p.behind_generation = m.generation;
+    ask_again();
+  }
   p.info.gateway = m.gateway;
   remember_name(from, m.name);
   if (first) {
     p.announced = true;
     if (membership_cb_ && p.info.alive) membership_cb_(Membership::kJoined, p.info);
   }
+  // A gateway tells a peer new or back at once who is behind it, not at the next refresh.
+  if (opt_.gateway && was_new && !opt_.observer) tell_behind(from);
   if (m.set_hash != 0) {
     p.hash = m.set_hash;
     p.count = m.count;
@@ -540,6 +553,7 @@ void Replicator::offer_all() {
 }
 
 void Replicator::want_acks(std::uint64_t seq) {
+  claims_seq_ = std::max(claims_seq_, seq);
   if (!opt_.gossip || seq <= want_acks_seq_) return;
   want_acks_seq_ = seq;
   next_ack_request_ns_ = now_ + opt_.gap_grace_ns;  // the claim's own delivery usually brings them
@@ -559,12 +573,6 @@ std::size_t Replicator::protocol_bytes() const {
   for (const auto& [o, m] : seen_) n += kNode + sizeof(o) + m.size() * (kNode + sizeof(Seen));
   n += rumors_.capacity() * sizeof(Spreading) + mismatched_.size() * (kNode + 24);
   n += applied_.range_count() * (kNode + 16) + applied_.replica_count() * (kNode + 32);
-  if (getenv("QDBG")) {
-    std::size_t pe=0, pa=0, se=0;
-    for (const auto& [id, p] : peers_) { pe += kNode + sizeof(id) + sizeof(p); pa += p.applied.range_count() * (kNode + 16) + p.applied.replica_count() * (kNode + 32);}
-    for (const auto& [o, m] : seen_) se += kNode + sizeof(o) + m.size() * (kNode + sizeof(Seen));
-    fprintf(stderr, "DBG self=%zu peers=%zu sizeofPeer=%zu peerapplied=%zu names=%zu seen=%zu seen_order=%zu rumors=%zu mism=%zu applied_ranges=%zu applied_replicas=%zu\n", sizeof(*this), pe, sizeof(Peer), pa, names_.size(), se, seen_order_.capacity()*sizeof(seen_order_[0]), rumors_.capacity(), mismatched_.size(), applied_.range_count(), applied_.replica_count());
-  }
   return n;
 }
 

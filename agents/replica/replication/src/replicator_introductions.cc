@@ -12,7 +12,10 @@ void Replicator::introduce(const PeerCard& card) {
   if (!opt_.gossip || peer == self_ || peer.is_null()) return;
   introduced_ = true;
   Peer* p = add_peer(peer);
-  if (p != nullptr && card.gateway) p->info.gateway = true;  // its acknowledgements need hold queries
+  if (p != nullptr && card.gateway && !p->info.gateway) {
+    p->info.gateway = true;  // its acknowledgements count only from its hold answers
+    ask_again();
+  }
   // Named only by a name that hashes to its id: nobody can name another agent.
   if (p == nullptr || p->announced || card.name.size() > opt_.limits.max_name_bytes || !remember_name(peer, card.name))
     return;

@@ -6,8 +6,9 @@
 namespace quiver::agents::inline transport::wire {
 namespace {
 
-// Summary.role's bits; others are ignored (room for roles to come).
-constexpr std::uint8_t kRoleObserver = 1, kRoleGateway = 2;
+// Summary.role's bits.
+// The bits above them carry a gateway's generation (modulo 64).
+constexpr std::uint8_t kRoleObserver = 1, kRoleGateway = 2, kRoleGenerationShift = 2;
 
 void read_ranges(const dds_sequence_quiver_wire_ReplicaRanges& in, RangeList& out) {
   out.clear();
@@ -50,6 +51,7 @@ Sample sample_of(const quiver_wire_Summary& s) {
   m.name = s.name ? s.name : "";
   m.observer = (s.role & kRoleObserver) != 0;
   m.gateway = (s.role & kRoleGateway) != 0;
+  m.generation = static_cast<std::uint8_t>(s.role >> kRoleGenerationShift);
   m.digest = s.digest;
   m.beat = static_cast<Beat>(s.beat);  // validate() refuses a beat out of range
   m.life = s.life;
@@ -151,7 +153,8 @@ std::pair<DdsTopic, const void*> SampleBuilder::build(const Message& m, const Pe
           summary_.sender_agent = sender.agent;
           summary_.sender_incarnation = sender.incarnation;
           summary_.name = const_cast<char*>(msg.name.c_str());
-          summary_.role = static_cast<std::uint8_t>((msg.observer ? kRoleObserver : 0) | (msg.gateway ? kRoleGateway : 0));
+          summary_.role = static_cast<std::uint8_t>((msg.observer ? kRoleObserver : 0) | (msg.gateway ? kRoleGateway : 0) |
+                                                    ((msg.generation & 63) << kRoleGenerationShift));
           summary_.applied = a_.build(msg.applied);
           summary_.digest = msg.digest;
           summary_.destination = to;

@@ -47,6 +47,8 @@ struct NetworkStats {
   std::uint64_t introductions = 0;
   /// messages and bytes by topic (agents::DdsTopic order: summary, delta, pull, state, bye)
   std::array<std::uint64_t, agents::kDdsTopicCount> topic_messages{}, topic_bytes{};
+  /// bytes sent by nodes of a segment other than 0 (VirtualNetwork::set_segment), by segment
+  std::vector<std::uint64_t> segment_bytes;
 };
 
 class VirtualNetwork {
@@ -88,6 +90,14 @@ class VirtualNetwork {
   void heal() {
     for (auto& n : nodes_) n.group = 0;
   }
+  /// Separate networks (a robot team: each robot's own, and the team's): a node hears only nodes
+  /// of its segment (0 unless set); broadcasts and discovery stay within it.
+  void set_segment(int node, int segment) { nodes_[node].segment = segment; }
+  int segment(int node) const { return nodes_[node].segment; }
+  /// The link faults of what nodes of `segment` send (instead of faults()): e.g. a slower, lossier
+  /// team network.
+  void set_segment_faults(int segment, const FaultConfig& f);
+  FaultConfig* segment_faults(int segment);
   FaultConfig& faults() { return faults_; }
   const NetworkStats& stats() const { return stats_; }
   int size() const { return static_cast<int>(nodes_.size()); }
@@ -111,6 +121,7 @@ class VirtualNetwork {
   struct Node {
     bool up = false;  // until the simulation starts it
     int group = 0;
+    int segment = 0;
     agents::PeerId address;
     agents::PeerCard card;
     Introducer introduce;
@@ -121,6 +132,7 @@ class VirtualNetwork {
 
   Rng rng_;
   FaultConfig faults_;
+  std::vector<std::pair<int, FaultConfig>> segment_faults_;
   std::vector<Node> nodes_;
   std::priority_queue<Event, std::vector<Event>, std::greater<Event>> queue_;
   std::uint64_t next_seq_ = 0;

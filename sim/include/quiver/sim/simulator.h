@@ -59,6 +59,17 @@ struct DiskFaults {
   std::string dir;  ///< where the stores live (empty: a new temporary directory, removed after)
 };
 
+/// Robot teams (docs/teams.md): the agents split over `robots` robots (agent i on robot
+/// i % robots), each robot its own network with a gateway (two replicas, one on the robot's
+/// network and one on the team's, joined by a ReplicaBridge), the team network slower and lossier.
+/// Partitions then cut robots off the team network (the robots' own networks never split), and
+/// crashes kill agents and gateways.
+struct TeamSim {
+  int robots = 0;  ///< 0 or 1: one network, no gateway
+  double loss = 0.1;  ///< the team network's loss while faults run (at least FaultConfig::loss)
+  std::int64_t delay_min_ns = 2'000'000, delay_max_ns = 10'000'000;  ///< the team network's delays
+};
+
 struct SimConfig {
   std::uint64_t seed = 1;
   int agents = 5;
@@ -68,6 +79,7 @@ struct SimConfig {
   LockWorkload locks;
   RoomsWorkload rooms;
   DiskFaults disks;
+  TeamSim team;
   std::int64_t step_interval_ns = 5'000'000;
   std::int64_t tick_interval_ns = 10'000'000;
   std::int64_t settle_limit_ns = 120'000'000'000;
@@ -118,8 +130,11 @@ struct SimResult {
   std::uint64_t retransmitted = 0;  ///< reliable samples whose packet was lost and sent again
   std::uint64_t duplicated = 0;
   std::uint64_t ops = 0;  ///< changes committed by the workload
-  std::uint64_t crashes = 0;
+  std::uint64_t crashes = 0;  ///< agents and gateways killed
   std::uint64_t partitions = 0;
+  /// Teams (TeamSim): the bytes sent on the team network (part of `bytes`), and the gateways killed.
+  int robots = 0;
+  std::uint64_t team_bytes = 0, gateway_crashes = 0;
   std::uint64_t deltas_applied = 0;
   std::uint64_t states_applied = 0;
   std::uint64_t rejected_samples = 0;

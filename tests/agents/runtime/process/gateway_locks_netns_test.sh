@@ -3,10 +3,10 @@
 # (tests/common/netns.sh) with its gateway and an agent that competes for the lock of the mug
 # (`quiver agent --contend mug`: hold 100 ms, release, claim again; each hold printed as
 # "held START END" on the monotonic clock the namespaces share). Checks, over 8 s of contention:
-# both robots' agents hold the lock several times, no hold is lost before its time (another claim
-# taking over), and no hold of one overlaps a hold of the other. Without the gateways' hold queries
-# and member lists, each robot sees the other's holder as gone and claims at once: holds are cut
-# short.
+# both robots' agents hold the lock several times, at most a quarter of the holds end before their
+# time (two claims racing: one is told it lost), and no hold of one overlaps a hold of the other.
+# Without the gateways' hold queries and member lists, each robot sees the other's holder as gone
+# and claims at once: nearly every hold is cut short, and holds overlap.
 # Usage: gateway_locks_netns_test.sh QUIVER WORLD   (exit 77: skipped without root, see netns.sh)
 set -uo pipefail
 QUIVER=$1
@@ -35,13 +35,16 @@ overlaps=$(
                      if ($2 > end) { end = $2; who = $3 } } END { print n + 0 }'
 )
 [ "$overlaps" = 0 ] || fail "$overlaps holds overlapped a hold of the other robot"
+# A hold may end early when two claims race (both claim as the other releases: one is told it
+# lost), rarely; without the gateways' hold queries nearly every hold is cut short.
 for r in A B; do
-  [ "$(field $r-c holds_lost)" = 0 ] || fail "$r: $(field $r-c holds_lost) holds were lost before their time"
+  lost=$(field $r-c holds_lost)
+  [ $((lost * 4)) -le "$(holds $r)" ] || fail "$r: $lost of $(holds $r) holds were lost before their time"
 done
 for n in A-gw B-gw; do
   for k in equivocations divergences rejected; do
     [ "$(field $n $k)" = 0 ] || fail "$n: $k = $(field $n $k)"
   done
 done
-echo "every hold lasted its 100 ms; none overlapped a hold of the other robot"
+echo "lost early: A $(field A-c holds_lost), B $(field B-c holds_lost); no hold overlapped a hold of the other robot"
 echo PASS

@@ -33,9 +33,9 @@ class ReplicaBridge {
   ReplicaBridge(const ReplicaBridge&) = delete;
   ReplicaBridge& operator=(const ReplicaBridge&) = delete;
 
-  /// Carries what each side joined since the last call to the other side, answers hold queries
-  /// that wait on what the other side's peers said since, and tells each side's peers who is
-  /// alive on the other side (at most every 10 ms). After a state
+  /// Tells each side's peers who is alive on the other side (when that changed), carries what
+  /// each side joined since the last call to the other side, and answers hold queries that wait
+  /// on what the other side's peers said since. After a state
   /// transfer on one side, and every `check_ns` while the two (origin, seq) sets differ, the side
   /// that lacks something adopts what the other holds beyond it. Call it after each round of
   /// either replica, outside any join. Owner thread only.
@@ -49,10 +49,8 @@ class ReplicaBridge {
   void adopt(int from, int to);
 
   Replicator* r_[2];
-  static constexpr std::int64_t kMembersNs = 10'000'000;
   std::vector<DeltaMsg> out_[2];  // joined on side i, to be relayed into the other
   std::vector<PeerId> holds_[2];  // origins side i's askers may now be answered about
-  std::int64_t next_members_ns_ = 0;
   bool state_joined_[2] = {false, false};
   int relaying_into_ = -1;  // the side being fed: what it joins now came from the bridge
   std::int64_t check_ns_;

@@ -93,6 +93,9 @@ struct SummaryMsg {
   std::uint64_t subject_seq = 0;
   std::vector<Rumor> rumors;   ///< membership news, piggybacked
   bool gateway = false;  ///< the sender is one side of a gateway (bridge.h): it vouches for replicas behind it
+  /// A gateway's: raised (modulo 64) whenever replicas came behind it; what it vouched for under
+  /// an older one does not cover them (docs/teams.md).
+  std::uint8_t generation = 0;
 };
 
 /// One delta interval of one origin: sequence numbers [lo, hi], encoded graph delta (whose

@@ -238,8 +238,14 @@ class Replicator {
   /// may hold more. Owner thread only.
   void answer_holds(const PeerId& origin);
   /// Sets the replicas alive behind this side (sorted or not); the peers learn what changed at
-  /// once and the whole list every rediscover_ns / 2. Owner thread only.
+  /// once and the whole list every probe_ns. Owner thread only.
   void set_members_behind(std::vector<PeerId> members);
+  /// Gateways: the replicas alive behind this side, as last told to the peers (sorted).
+  const std::vector<PeerId>& members_behind() const { return behind_out_; }
+  /// Gateways: raised whenever replicas came behind this side (every beat carries it modulo 64).
+  std::uint64_t behind_generation() const { return behind_generation_; }
+  /// The latest generation gateway peer `peer` announced (modulo 64); -1 for another peer.
+  int generation_heard(const PeerId& peer) const;
   /// @returns the live peers that are agents (not observers, not gateways) and the replicas the
   ///          live gateway peers say are alive behind them: what the other side of a gateway
   ///          tells its peers. Owner thread only.
@@ -335,8 +341,11 @@ class Replicator {
       PeerId origin;
       std::uint64_t n = 0;            // it said it holds origin's 1..n (kHolds)
       std::int64_t asked_ns = -1;     // our last hold query about origin
+      std::uint8_t generation = 0;    // the gateway's generation when it said so
     };
     std::vector<Held> holds;          // bounded (kMaxHolds), the oldest asked dropped first
+    std::uint8_t behind_generation = 0;  // a gateway's latest (SummaryMsg::generation)
+    std::uint64_t behind_version = 0;    // a gateway's: the version of its list of replicas behind it last taken
   };
   // The state transfer answering our outstanding pull (one at a time).
   struct Reassembly {
@@ -400,7 +409,8 @@ class Replicator {
   void check_digest(const PeerId& from, Peer& p, std::uint64_t digest);
   bool behind(const Peer& p) const;
   // Gossip (replicator_gossip.cc).
-  SummaryMsg beat(Beat b, const PeerId& to);
+  /// A beat to `to` (null: everyone); with `rumors`, the membership news due piggybacked.
+  SummaryMsg beat(Beat b, const PeerId& to, bool rumors = true);
   void send_beat(Beat b, const PeerId& to, const PeerId& subject = {});
   /// A kFull beat: this replica's whole (origin, seq) set, to `to` (null: everyone).
   void send_full(const PeerId& to);
@@ -452,8 +462,13 @@ class Replicator {
   void send_hold(Beat b, const PeerId& to, const PeerId& origin, std::uint64_t n);
   void handle_team_beat(const PeerId& from, Peer& p, const SummaryMsg& m);
   void check_askers(const PeerId* origin);
-  void send_behind(std::vector<Rumor> news);
+  /// Asks again for acknowledgements of our latest claim (want_acks()) when a gateway peer's
+  /// earlier ones may no longer cover everyone behind it.
+  void ask_again();
+  void send_behind(std::vector<Rumor> news, const PeerId& to = PeerId{}, bool whole = false);
   void behind_tick();
+  /// Gateways: the whole list of the replicas behind us, to `to` (null: everyone).
+  void tell_behind(const PeerId& to);
   void queue(const PeerId& to, Message msg);
   void send_queued();
   void reject(const Error& e);
@@ -536,8 +551,11 @@ class Replicator {
   std::function<void(const PeerId&)> holds_cb_;
   std::vector<Asker> askers_;
   std::uint64_t askers_version_ = 0;  // state_version_ when the askers were last checked
+  std::uint64_t claims_seq_ = 0;      // the greatest number want_acks() was given
   std::map<PeerId, Behind> remote_;   // replicas alive behind gateway peers
   std::vector<PeerId> behind_out_;    // gateway: the replicas alive behind us, as told (sorted)
+  std::uint64_t behind_generation_ = 0;  // gateway: raised whenever replicas came behind us
+  std::uint64_t behind_version_ = 0;     // gateway: raised whenever that list changed
   std::int64_t next_behind_ns_ = 0;
 
   std::vector<Sample> outbox_;
