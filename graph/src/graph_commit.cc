@@ -44,7 +44,11 @@ Status Transaction::revalidate() const {
       case TxnOp::Kind::kInsertEdge: s = t.insert_edge(op.node, op.other, op.type, op.attrs); break;
       case TxnOp::Kind::kDeleteEdge: s = t.delete_edge(op.node, op.other, op.type); break;
       case TxnOp::Kind::kSetEdgeAttr: s = t.set_edge_attr(EdgeKey{op.node, op.other, op.type}, op.attr, op.value); break;
-      case TxnOp::Kind::kRemoveEdgeAttr: s = t.remove_edge_attr(EdgeKey{op.node, op.other, op.type}, op.attr); break;
+      case TxnOp::Kind::kRemoveEdgeAttr: {
+        auto removed = t.remove_edge_attr(EdgeKey{op.node, op.other, op.type}, op.attr);
+        if (!removed.ok()) s = removed.error();
+        break;
+      }
       case TxnOp::Kind::kSetRt: s = t.set_rt(op.other, op.node, op.pose, op.stamp); break;
       case TxnOp::Kind::kRemoveRt: s = t.remove_rt(op.node); break;
     }

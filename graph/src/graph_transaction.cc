@@ -295,11 +295,24 @@ Status Transaction::set_edge_attr(const EdgeKey& key, Symbol attr, Value value) 
   return {};
 }
 
-Status Transaction::remove_edge_attr(const EdgeKey& key, Symbol attr) {
+Result<bool> Transaction::remove_edge_attr(const EdgeKey& key, Symbol attr) {
   if (key.type == symbols::rt() || !edge_usable(key.from, key.to, key.type))
     return make_error(ErrorCode::kNotFound, "remove_edge_attr(): no edge " + key.to_string());
   if (attr.is_null()) return make_error(ErrorCode::kInvalidArgument, "remove_edge_attr(): the attribute name is empty");
-  if (Status s = add_bytes("remove_edge_attr()", op_bytes(attr.str(), key.type.str())); !s.ok()) return s;
+  // Whether the edge has it as this transaction sees it (as remove_attr()): the replica's values,
+  // then this transaction's own writes of that edge in order (a re-insertion replaces them all).
+  bool present = !graph_->edge_attr_values(key, attr).empty();
+  for (const TxnOp& op : ops_) {
+    if (!(op.node == key.from) || !(op.other == key.to) || !(op.type == key.type)) continue;
+    if (op.kind == TxnOp::Kind::kInsertEdge)
+      present = std::any_of(op.attrs.begin(), op.attrs.end(), [&](const auto& a) { return a.first == attr; });
+    else if (op.kind == TxnOp::Kind::kDeleteEdge)
+      present = false;
+    else if ((op.kind == TxnOp::Kind::kSetEdgeAttr || op.kind == TxnOp::Kind::kRemoveEdgeAttr) && op.attr == attr)
+      present = op.kind == TxnOp::Kind::kSetEdgeAttr;
+  }
+  if (!present) return false;
+  if (Status s = add_bytes("remove_edge_attr()", op_bytes(attr.str(), key.type.str())); !s.ok()) return s.error();
   TxnOp op{};
   op.kind = TxnOp::Kind::kRemoveEdgeAttr;
   op.node = key.from;
@@ -307,7 +320,7 @@ Status Transaction::remove_edge_attr(const EdgeKey& key, Symbol attr) {
   op.type = key.type;
   op.attr = attr;
   record(std::move(op));
-  return {};
+  return true;
 }
 
 Status Transaction::cycle_check(NodeId parent, NodeId child) const {

@@ -115,7 +115,7 @@ void bind_transaction(py::module_& m) {
       .def("remove_edge_attr", [](PyTransaction& p, py::handle a, py::handle b, py::handle type, py::handle name) {
              Transaction& t = p.txn("remove_edge_attr");
              graph::EdgeKey k{to_node(p.graph(), a), to_node(p.graph(), b), to_symbol(type)};
-             check(t.remove_edge_attr(k, to_symbol(name)));
+             return unwrap(t.remove_edge_attr(k, to_symbol(name)));
            }, py::arg("source"), py::arg("target"), py::arg("type"), py::arg("name"))
       .def("set_rt", [](PyTransaction& p, py::handle parent, py::handle child, py::handle X_PC, py::handle translation,
                         py::handle rotation, std::int64_t stamp) {

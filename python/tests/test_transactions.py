@@ -58,3 +58,15 @@ def test_remove_attr_says_whether_the_node_had_it(world):
         n = t.create_node("mug", "mug", {"full": True})
         assert t.remove_attr(n, "full") is True
     assert "battery" not in world.attrs("robot")
+
+
+def test_remove_edge_attr_says_whether_the_edge_had_it(world):
+    with world.transaction() as t:
+        t.set_edge_attr("robot", "kitchen", "in", "certainty", 0.5)
+        assert t.remove_edge_attr("robot", "kitchen", "in", "certainty") is True  # set in this transaction
+        assert t.remove_edge_attr("robot", "kitchen", "in", "certainty") is False
+        assert t.remove_edge_attr("robot", "kitchen", "in", "never_set") is False
+    with world.transaction() as t:
+        t.set_edge_attr("robot", "kitchen", "in", "since", 3)
+    with world.transaction() as t:
+        assert t.remove_edge_attr("robot", "kitchen", "in", "since") is True  # the replica's

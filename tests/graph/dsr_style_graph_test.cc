@@ -77,8 +77,15 @@ TEST_F(Fixture, StringOverloads) {
 
   auto tx = g.begin();
   ASSERT_TRUE(tx.delete_edge(mug, room, "in").ok());
-  ASSERT_TRUE(tx.set_edge_attr(EdgeKey{robot, room, Symbol("in")}, "since", 13).ok());
-  ASSERT_TRUE(tx.remove_edge_attr(EdgeKey{robot, room, Symbol("in")}, "certainty").ok());
+  const EdgeKey in{robot, room, Symbol("in")};
+  auto edge_removed = tx.remove_edge_attr(in, "certainty");
+  ASSERT_TRUE(edge_removed.ok());
+  EXPECT_TRUE(*edge_removed) << "the edge had it";
+  EXPECT_FALSE(*tx.remove_edge_attr(in, "certainty")) << "gone, as this transaction sees it";
+  EXPECT_FALSE(*tx.remove_edge_attr(in, "never_set"));
+  EXPECT_TRUE(*tx.remove_edge_attr(in, "since")) << "the replica's, then written again below";
+  ASSERT_TRUE(tx.set_edge_attr(in, "since", 13).ok());
+  EXPECT_FALSE(tx.remove_edge_attr(EdgeKey{mug, room, Symbol("in")}, "x").ok()) << "deleted in this transaction";
   // As DSR's remove_attrib_local: true when the node had it, false when it had not (here: no
   // longer, as this transaction sees it, or never).
   auto removed = tx.remove_attr(mug, "color");
@@ -94,6 +101,7 @@ TEST_F(Fixture, StringOverloads) {
   EXPECT_EQ(g.edges_of_type("in").size(), 1u);
   EXPECT_EQ(g.attr(mug, "color"), nullptr);
   EXPECT_EQ(g.edge_attr(EdgeKey{robot, room, Symbol("in")}, "certainty"), nullptr);
+  EXPECT_EQ(g.get<std::int64_t>(in, "since").value(), 13);
 }
 
 TEST_F(Fixture, TypedEdgeGetters) {

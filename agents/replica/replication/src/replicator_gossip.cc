@@ -573,6 +573,10 @@ std::size_t Replicator::protocol_bytes() const {
   for (const auto& [o, m] : seen_) n += kNode + sizeof(o) + m.size() * (kNode + sizeof(Seen));
   n += rumors_.capacity() * sizeof(Spreading) + mismatched_.size() * (kNode + 24);
   n += applied_.range_count() * (kNode + 16) + applied_.replica_count() * (kNode + 32);
+  // Teams (replicator_behind.cc): what gateway peers vouched for, who waits, who is behind them.
+  for (const auto& [id, p] : peers_) n += p.holds.capacity() * sizeof(Peer::Held);
+  n += askers_.capacity() * sizeof(Asker) + remote_.size() * (kNode + sizeof(PeerId) + sizeof(Behind));
+  n += behind_out_.capacity() * sizeof(PeerId);
   return n;
 }
 

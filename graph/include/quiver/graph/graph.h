@@ -261,15 +261,15 @@ class Transaction {
   Status set_edge_attr(const EdgeKey& key, std::string_view attr, Value value) {
     return set_edge_attr(key, Symbol(attr), std::move(value));
   }
-  /// Removes attribute `attr` of a symbolic edge (not an error if the edge lacks it).
-  /// Owner thread only.
-  /// @returns kNotFound (no such edge visible to this transaction, or an RT edge),
-  ///          kInvalidArgument (`attr` null).
-  Status remove_edge_attr(const EdgeKey& key, Symbol attr);
+  /// Removes attribute `attr` of a symbolic edge as this transaction sees it (lacking it is no error).
+  /// @returns true if the edge had it (as remove_attr()), false if not; kNotFound (no such edge
+  ///          visible to this transaction, or an RT edge), kInvalidArgument (`attr` null). Owner
+  ///          thread only.
+  Result<bool> remove_edge_attr(const EdgeKey& key, Symbol attr);
   /// The same with the attribute named by a string. Owner thread only.
   /// @returns as the Symbol overload.
   /// @throws std::length_error if `attr` is a new name and the table of names is full.
-  Status remove_edge_attr(const EdgeKey& key, std::string_view attr) { return remove_edge_attr(key, Symbol(attr)); }
+  Result<bool> remove_edge_attr(const EdgeKey& key, std::string_view attr) { return remove_edge_attr(key, Symbol(attr)); }
   /// Puts `child` under `parent` with transform X_PC at time `stamp`. If the child already hangs
   /// under `parent` this is a pose update (a new history sample); otherwise it is a move.
   /// Refused if it would close a cycle. Owner thread only.
