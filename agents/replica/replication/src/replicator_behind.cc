@@ -115,13 +115,9 @@ void Replicator::handle_team_beat(const PeerId& from, Peer& p, const SummaryMsg&
                  });
         });
       for (const Rumor& r : entries) {
-        if (r.peer == self_ || peers_.count(r.peer) != 0) continue;  // one we hear ourselves
-        auto it = remote_.find(r.peer);
-        if (r.status == Liveness::kDead) {
-          if (it != remote_.end() && it->second.via == from) remote_.erase(it);
-        } else if (it != remote_.end() || remote_.size() < opt_.max_peers) {
-          remote_[r.peer] = Behind{from, now_};
-        }
+        // One we hear ourselves is no replica behind it; an entry marked gone names none.
+        if (r.status == Liveness::kDead || r.peer == self_ || peers_.count(r.peer) != 0) continue;
+        if (remote_.count(r.peer) != 0 || remote_.size() < opt_.max_peers) remote_[r.peer] = Behind{from, now_};
       }
       break;
     }
@@ -179,47 +175,35 @@ std::vector<PeerId> Replicator::members_here() const {
 }
 
 // Always the whole list, versioned: a receiver takes a list no older than the last it took, so a
-// reordered one changes nothing.
-void Replicator::send_behind(std::vector<Rumor> news, const PeerId& to, bool whole) {
-  if (!opt_.gateway || !started_) return;
-  // Each beat: a header (ourselves, with the list's version), then up to per_beat entries.
-  const std::size_t per_beat = std::max<std::size_t>(1, std::min<std::size_t>(opt_.limits.max_rumors, 32) - 1);
-  const Rumor header{self_, behind_version_, Liveness::kAlive};
-  // A whole list that fits one beat says so (its subject is the sender): a receiver then forgets
-  // whom it no longer names, even when it missed the news that they left.
-  if (whole && news.size() <= per_beat) {
-    SummaryMsg m = beat(Beat::kBehind, to, /*rumors=*/false);
-    m.subject = self_;
-    m.rumors.push_back(header);
-    m.rumors.insert(m.rumors.end(), news.begin(), news.end());
-    queue(to, std::move(m));
-    return;
-  }
-  for (std::size_t i = 0; i < news.size(); i += per_beat) {
-    SummaryMsg m = beat(Beat::kBehind, to, /*rumors=*/false);
-    m.rumors.push_back(header);
-    m.rumors.insert(m.rumors.end(), news.begin() + static_cast<long>(i),
-                    news.begin() + static_cast<long>(std::min(news.size(), i + per_beat)));
-    queue(to, std::move(m));
-  }
-}
-
+// reordered one changes nothing. Each beat: a header (ourselves, with the list's version), then
+// up to per_beat entries. A list that fits one beat says it is whole (its subject is the sender):
+// a receiver then forgets whom it no longer names, even when it missed the list that left them
+// out. An empty list is one such beat.
 void Replicator::tell_behind(const PeerId& to) {
-  std::vector<Rumor> all;
-  for (const PeerId& id : behind_out_) all.push_back(Rumor{id, 0, Liveness::kAlive});
-  send_behind(std::move(all), to, /*whole=*/true);
+  if (!opt_.gateway || !started_) return;
+  const std::size_t per_beat = std::max<std::size_t>(1, std::min<std::size_t>(opt_.limits.max_rumors, 32) - 1);
+  const std::size_t n = behind_out_.size();
+  for (std::size_t i = 0; i == 0 || i < n; i += per_beat) {
+    SummaryMsg m = beat(Beat::kBehind, to, /*rumors=*/false);
+    if (n <= per_beat) m.subject = self_;
+    m.rumors.push_back(Rumor{self_, behind_version_, Liveness::kAlive});
+    for (std::size_t k = i; k < std::min(n, i + per_beat); ++k)
+      m.rumors.push_back(Rumor{behind_out_[k], 0, Liveness::kAlive});
+    queue(to, std::move(m));
+  }
 }
 
 // Every probe period a gateway says again who is behind it (a lost change is repaired, a newcomer
 // learns them); a peer forgets what it has not heard again for three of those periods.
-void Replicator::behind_tick() {
+void Replicator::behind_tick(bool sweep) {
   const std::int64_t period = opt_.probe_ns;
   if (!askers_.empty() && askers_version_ != state_version_) check_askers(nullptr);
   if (opt_.gateway && now_ >= next_behind_ns_) {
     next_behind_ns_ = now_ + period;
     tell_behind(PeerId{});
   }
-  std::erase_if(remote_, [&](const auto& e) { return now_ - e.second.heard_ns > 3 * period || !peer_alive(e.second.via); });
+  if (sweep)
+    std::erase_if(remote_, [&](const auto& e) { return now_ - e.second.heard_ns > 3 * period || !peer_alive(e.second.via); });
 }
 
 }  // namespace quiver::agents

@@ -492,7 +492,7 @@ void Replicator::gossip_tick() {
     p.applied = crdt::CausalContext{};
     p.full = false;
   }
-  behind_tick();
+  behind_tick(sweep);
   if (offering_ && now_ >= next_offer_ns_) {
     next_offer_ns_ = now_ + opt_.pull_timeout_ns;
     send_full(PeerId{});

@@ -465,8 +465,9 @@ class Replicator {
   /// Asks again for acknowledgements of our latest claim (want_acks()) when a gateway peer's
   /// earlier ones may no longer cover everyone behind it.
   void ask_again();
-  void send_behind(std::vector<Rumor> news, const PeerId& to = PeerId{}, bool whole = false);
-  void behind_tick();
+  /// Teams: answers waiting askers, says who is behind us every probe period, and (on a sweep)
+  /// forgets replicas behind gateway peers not heard of again.
+  void behind_tick(bool sweep);
   /// Gateways: the whole list of the replicas behind us, to `to` (null: everyone).
   void tell_behind(const PeerId& to);
   void queue(const PeerId& to, Message msg);
