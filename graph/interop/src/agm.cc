@@ -64,7 +64,7 @@ class Locator {
 /// An RT link's pose, as AGM's inner model reads it: tx ty tz (mm) rx ry rz (rad).
 constexpr const char* kPoseKeys[] = {"tx", "ty", "tz", "rx", "ry", "rz"};
 
-bool is_pose_key(const std::string& key) {
+bool is_pose_key(std::string_view key) {
   return std::find_if(std::begin(kPoseKeys), std::end(kPoseKeys), [&](const char* k) { return key == k; }) !=
          std::end(kPoseKeys);
 }
@@ -206,6 +206,7 @@ Result<Plan> read_plan(std::string_view text, const std::string& src, double met
   if (std::string_view(root.name()) != "AGMModel")
     return malformed(loc.at(root), "not an AGM world: the root element is not <AGMModel>");
   Plan plan;
+  plan.is_link_pose_key = &is_pose_key;
   std::vector<pugi::xml_node> links;
   for (const pugi::xml_node& e : root.children()) {
     if (e.type() != pugi::node_element) continue;

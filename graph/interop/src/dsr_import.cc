@@ -149,6 +149,7 @@ Result<Plan> read_plan(std::string_view text, const std::string& src, const Impo
   if (model.contains("symbols") && model.contains("symbol"))
     return malformed(base, "both \"symbols\" and \"symbol\": give one");
   Plan plan;
+  plan.is_link_pose_key = &internal::is_pose_key;
   for (auto it = model.begin(); it != model.end(); ++it)
     if (it.key() != "symbols" && it.key() != "symbol" && it.key() != "link")
       plan.warnings.push_back(base + "/" + token(it.key()) + ": not part of a CORTEX world: ignored");

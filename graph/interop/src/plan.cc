@@ -164,6 +164,14 @@ Result<ImportReport> apply_plan(graph::Graph& g, Plan& plan, const ImportOptions
     PlanNode& node = plan.nodes[i];
     if (rt_of[i] != SIZE_MAX) {
       PlanRt& rt = plan.rts[rt_of[i]];
+      if (plan.is_link_pose_key)
+        for (const auto& [own, v] : node.attrs)
+          if (own.size() > kRtAttrPrefix.size() && own.compare(0, kRtAttrPrefix.size(), kRtAttrPrefix) == 0 &&
+              plan.is_link_pose_key(std::string_view(own).substr(kRtAttrPrefix.size())))
+            return malformed(node.where, "the attribute " + in_quotes(own) + " names the pose key " +
+                                             in_quotes(own.substr(kRtAttrPrefix.size())) + " of the RT link from symbol " +
+                                             plan.nodes[rt.parent].id +
+                                             " (attributes prefixed rt: are that link's): it could not be written back; rename it");
       for (auto& [key, value] : rt.attrs) {
         std::string moved = std::string(kRtAttrPrefix) + key;
         for (const auto& [own, v] : node.attrs)

@@ -6,6 +6,7 @@
 
 #include <cstddef>
 #include <string>
+#include <string_view>
 #include <unordered_map>
 #include <utility>
 #include <vector>
@@ -49,6 +50,9 @@ struct Plan {
   std::vector<PlanEdge> edges;
   std::vector<PlanRt> rts;
   std::vector<std::string> warnings;
+  /// The RT link attributes the format's pose is written to: a child's own attribute
+  /// `rt:<one of these>` could not be written back onto its link, so the file is refused.
+  bool (*is_link_pose_key)(std::string_view key) = nullptr;
 
   /// Adds a node; false if its id is taken (the caller reports it).
   bool add_node(PlanNode n);

@@ -246,6 +246,16 @@ TEST(DsrImportTest, OtherMistakes) {
   EXPECT_EQ(error_of(R"({"DSRModel": {"symbols": [{"id": "1", "type": "t"}, {"id": "1", "type": "u"}]}})"),
             "dsr.json:/DSRModel/symbols/1: a second symbol with id 1");
   EXPECT_EQ(error_of(R"({"robots": []})"), "dsr.json:/: not a CORTEX DSR world: no \"DSRModel\" object at the top");
+  // A child's own attribute named as its RT link's pose key could not be exported back (the
+  // pose goes there): refused, not lost on the way out. Under no RT link it is an attribute.
+  const std::string rt_child = R"({"DSRModel": {"symbols": {"1": {"id": "1", "name": "w", "type": "world", "links": [
+      {"src": "1", "dst": "2", "label": "RT"}]}, "2": {"id": "2", "name": "c", "type": "t", "attribute": {)";
+  EXPECT_EQ(error_of(rt_child + R"("rt:rt_translation": {"type": 3, "value": [1, 2, 3]}}}}}})"),
+            "dsr.json:/DSRModel/symbols/2: the attribute 'rt:rt_translation' names the pose key 'rt_translation' of "
+            "the RT link from symbol 1 (attributes prefixed rt: are that link's): it could not be written back; "
+            "rename it");
+  EXPECT_EQ(acceptance(import_dsr, rt_child + R"("rt:calibrated": {"type": 4, "value": true}}}}}})", "d.json"), "");
+  EXPECT_EQ(acceptance(import_dsr, world + R"("attribute": {"rt:rt_translation": {"type": 3, "value": [1, 2, 3]}}}}}})", "d.json"), "");
 }
 
 TEST(DsrImportTest, AFileForAnotherCommandSaysSo) {

@@ -46,6 +46,13 @@ inline std::string refusal(ImportFn import, const std::string& text, const std::
   return r.ok() ? "" : r.error().message;
 }
 
+/// Whether `text` imports (the error's message when not: "" when it does).
+inline std::string acceptance(ImportFn import, const std::string& text, const std::string& source) {
+  graph::Graph g(graph::ReplicaId{1, 1});
+  auto r = import(g, text, source, {});
+  return r.ok() ? "" : r.error().message;
+}
+
 /// The same for a fixture file (named by its path).
 inline std::string file_refusal(ImportFn import, const std::string& rel) {
   auto text = read_file("file_refusal()", fixture(rel));
