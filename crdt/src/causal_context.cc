@@ -16,29 +16,31 @@ std::string ReplicaId::to_string() const {
 
 std::string Dot::to_string() const { return replica.to_string() + ":" + std::to_string(counter); }
 
-CausalContext::Entry* CausalContext::find(const ReplicaId& r) {
+std::uint64_t* CausalContext::find(const ReplicaId& r) {
   auto it = std::lower_bound(replicas_.begin(), replicas_.end(), r,
                              [](const auto& p, const ReplicaId& key) { return p.first < key; });
   return (it != replicas_.end() && it->first == r) ? &it->second : nullptr;
 }
 
-const CausalContext::Entry* CausalContext::find(const ReplicaId& r) const {
+const std::uint64_t* CausalContext::find(const ReplicaId& r) const {
   return const_cast<CausalContext*>(this)->find(r);
 }
 
-CausalContext::Entry& CausalContext::find_or_add(const ReplicaId& r) {
+std::uint64_t& CausalContext::find_or_add(const ReplicaId& r) {
   auto it = std::lower_bound(replicas_.begin(), replicas_.end(), r,
                              [](const auto& p, const ReplicaId& key) { return p.first < key; });
   if (it != replicas_.end() && it->first == r) return it->second;
-  return replicas_.insert(it, {r, Entry{}})->second;
+  return replicas_.insert(it, {r, 0})->second;
 }
 
 bool CausalContext::contains(const ReplicaId& r, std::uint64_t counter) const {
-  const Entry* e = find(r);
-  if (e == nullptr || counter == 0) return false;
-  if (counter <= e->max) return true;
-  auto it = e->cloud.upper_bound(counter);
-  if (it == e->cloud.begin()) return false;
+  const std::uint64_t* max = find(r);
+  if (max == nullptr || counter == 0) return false;
+  if (counter <= *max) return true;
+  const Cloud* c = cloud(r);
+  if (c == nullptr) return false;
+  auto it = c->upper_bound(counter);
+  if (it == c->begin()) return false;
   --it;
   return counter <= it->second;
 }
@@ -49,21 +51,26 @@ void CausalContext::add_range(const ReplicaId& r, std::uint64_t lo, std::uint64_
   if (lo == 0) lo = 1;
   if (hi < lo) return;
   max_overall_ = std::max(max_overall_, hi);
-  Entry& e = find_or_add(r);
-  if (hi <= e.max) return;
-  if (lo - 1 <= e.max) {
-    e.max = hi;
+  std::uint64_t& max = find_or_add(r);
+  if (hi <= max) return;
+  if (lo - 1 <= max) {
+    max = hi;
     // Absorb cloud ranges that the version vector has reached.
-    auto it = e.cloud.begin();
-    while (it != e.cloud.end() && it->first - 1 <= e.max) {
-      e.max = std::max(e.max, it->second);
-      it = e.cloud.erase(it);
+    if (clouds_.empty()) return;
+    auto c = clouds_.find(r);
+    if (c == clouds_.end()) return;
+    auto it = c->second.begin();
+    while (it != c->second.end() && it->first - 1 <= max) {
+      max = std::max(max, it->second);
+      it = c->second.erase(it);
     }
+    if (c->second.empty()) clouds_.erase(c);
     return;
   }
   // Insert [lo, hi] into the cloud, merging with overlapping or adjacent ranges.
-  auto it = e.cloud.upper_bound(lo);
-  if (it != e.cloud.begin()) {
+  Cloud& cloud = clouds_[r];
+  auto it = cloud.upper_bound(lo);
+  if (it != cloud.begin()) {
     auto prev = std::prev(it);
     if (prev->second >= lo - 1) {
       if (prev->second >= hi) return;
@@ -71,11 +78,11 @@ void CausalContext::add_range(const ReplicaId& r, std::uint64_t lo, std::uint64_
       it = prev;
     }
   }
-  while (it != e.cloud.end() && it->first - 1 <= hi) {
+  while (it != cloud.end() && it->first - 1 <= hi) {
     hi = std::max(hi, it->second);
-    it = e.cloud.erase(it);
+    it = cloud.erase(it);
   }
-  e.cloud.emplace(lo, hi);
+  cloud.emplace(lo, hi);
 }
 
 void CausalContext::join(const CausalContext& other) {
@@ -85,22 +92,26 @@ void CausalContext::join(const CausalContext& other) {
 }
 
 bool CausalContext::includes(const ReplicaId& r, std::uint64_t lo, std::uint64_t hi) const {
-  const Entry* e = find(r);
-  if (e == nullptr) return false;
-  if (hi <= e->max) return true;
-  const std::uint64_t from = std::max(lo, e->max + 1);
-  auto it = e->cloud.upper_bound(from);
-  if (it == e->cloud.begin()) return false;
+  const std::uint64_t* max = find(r);
+  if (max == nullptr) return false;
+  if (hi <= *max) return true;
+  const Cloud* c = cloud(r);
+  if (c == nullptr) return false;
+  const std::uint64_t from = std::max(lo, *max + 1);
+  auto it = c->upper_bound(from);
+  if (it == c->begin()) return false;
   --it;
   return it->first <= from && hi <= it->second;
 }
 
 bool CausalContext::intersects(const ReplicaId& r, std::uint64_t lo, std::uint64_t hi) const {
-  const Entry* e = find(r);
-  if (e == nullptr) return false;
-  if (lo <= e->max) return true;
-  auto it = e->cloud.upper_bound(hi);  // the first range starting beyond hi
-  if (it == e->cloud.begin()) return false;
+  const std::uint64_t* max = find(r);
+  if (max == nullptr) return false;
+  if (lo <= *max) return true;
+  const Cloud* c = cloud(r);
+  if (c == nullptr) return false;
+  auto it = c->upper_bound(hi);  // the first range starting beyond hi
+  if (it == c->begin()) return false;
   --it;
   return it->second >= lo;
 }
@@ -116,16 +127,19 @@ bool CausalContext::includes(const CausalContext& other) const {
 CausalContext CausalContext::minus(const CausalContext& other) const {
   CausalContext out;
   for_each_range([&](const ReplicaId& r, std::uint64_t lo, std::uint64_t hi) {
-    const Entry* e = other.find(r);
-    if (e == nullptr) {
+    const std::uint64_t* max = other.find(r);
+    if (max == nullptr) {
       out.add_range(r, lo, hi);
       return;
     }
-    std::uint64_t cur = std::max(lo, e->max + 1);
+    std::uint64_t cur = std::max(lo, *max + 1);
     if (cur > hi) return;
+    static const Cloud kNone;
+    const Cloud* c = other.cloud(r);
+    const Cloud& cl = c ? *c : kNone;
     // Walk the other side's cloud ranges that intersect [cur, hi].
-    auto it = e->cloud.upper_bound(cur);
-    if (it != e->cloud.begin()) {
+    auto it = cl.upper_bound(cur);
+    if (it != cl.begin()) {
       auto prev = std::prev(it);
       if (prev->second >= cur) {
         if (prev->second >= hi) return;  // covered to the end (also avoids wrapping at 2^64 - 1)
@@ -133,7 +147,7 @@ CausalContext CausalContext::minus(const CausalContext& other) const {
       }
     }
     while (cur <= hi) {
-      if (it == e->cloud.end() || it->first > hi) {
+      if (it == cl.end() || it->first > hi) {
         out.add_range(r, cur, hi);
         break;
       }
@@ -147,19 +161,29 @@ CausalContext CausalContext::minus(const CausalContext& other) const {
 }
 
 std::uint64_t CausalContext::contiguous(const ReplicaId& r) const {
-  const Entry* e = find(r);
-  return e ? e->max : 0;
+  const std::uint64_t* max = find(r);
+  return max ? *max : 0;
 }
 
 std::uint64_t CausalContext::max_counter(const ReplicaId& r) const {
-  const Entry* e = find(r);
-  if (e == nullptr) return 0;
-  return e->cloud.empty() ? e->max : e->cloud.rbegin()->second;
+  const std::uint64_t* max = find(r);
+  if (max == nullptr) return 0;
+  const Cloud* c = cloud(r);
+  return c == nullptr ? *max : c->rbegin()->second;
 }
 
 std::size_t CausalContext::range_count() const {
   std::size_t n = 0;
-  for (const auto& [r, e] : replicas_) n += (e.max > 0 ? 1 : 0) + e.cloud.size();
+  for (const auto& [r, max] : replicas_) n += max > 0 ? 1 : 0;
+  for (const auto& [r, c] : clouds_) n += c.size();
+  return n;
+}
+
+std::size_t CausalContext::memory_bytes() const {
+  // A std::map node: its value plus about 48 bytes (links, colour, allocator overhead).
+  constexpr std::size_t kNode = 48;
+  std::size_t n = replicas_.capacity() * sizeof(replicas_[0]);
+  for (const auto& [r, c] : clouds_) n += kNode + sizeof(r) + sizeof(c) + c.size() * (kNode + 16);
   return n;
 }
 
@@ -172,7 +196,7 @@ std::uint64_t CausalContext::dot_count() const {
 std::vector<ReplicaId> CausalContext::replicas() const {
   std::vector<ReplicaId> out;
   out.reserve(replicas_.size());
-  for (const auto& [r, e] : replicas_) out.push_back(r);
+  for (const auto& [r, max] : replicas_) out.push_back(r);
   return out;
 }
 
@@ -185,13 +209,7 @@ Digest128 CausalContext::digest() const {
 }
 
 bool operator==(const CausalContext& a, const CausalContext& b) {
-  if (a.replicas_.size() != b.replicas_.size()) return false;
-  for (std::size_t i = 0; i < a.replicas_.size(); ++i) {
-    const auto& [ra, ea] = a.replicas_[i];
-    const auto& [rb, eb] = b.replicas_[i];
-    if (ra != rb || ea.max != eb.max || ea.cloud != eb.cloud) return false;
-  }
-  return true;
+  return a.replicas_ == b.replicas_ && a.clouds_ == b.clouds_;
 }
 
 }  // namespace quiver::crdt

@@ -97,8 +97,7 @@ void Replicator::publish(std::vector<std::uint8_t> bytes, std::uint64_t lo, std:
   applied_.add_range(self_, lo, hi);
   ++state_version_;
   applied_changed_ns_ = now_;
-  record(self_, lo, hi, digest_of(*shared));
-  remember(self_, lo, hi, shared, signature);
+  remember(self_, lo, hi, digest_of(*shared), shared, signature);
   ++stats_.deltas_published;
   queue(PeerId{}, DeltaMsg{self_, lo, hi, std::move(shared), std::move(signature)});
   send_queued();
@@ -113,8 +112,7 @@ Result<bool> Replicator::seed(const graph::GraphDelta& d) {
   ++state_version_;
   applied_.add_range(d.origin, d.seq_lo, d.seq_hi);
   if (journal_ != nullptr) journal_->remote(d.origin, d.seq_lo, d.seq_hi, *bytes);
-  record(d.origin, d.seq_lo, d.seq_hi, digest_of(*bytes));
-  remember(d.origin, d.seq_lo, d.seq_hi, bytes, nullptr);
+  remember(d.origin, d.seq_lo, d.seq_hi, digest_of(*bytes), bytes, nullptr);
   DeltaMsg m{d.origin, d.seq_lo, d.seq_hi, std::move(bytes), nullptr};
   queue(PeerId{}, m);
   send_queued();

@@ -7,11 +7,12 @@
 
 namespace quiver::agents::inline replica {
 
-void Replicator::remember(const PeerId& origin, std::uint64_t lo, std::uint64_t hi, Bytes bytes, Bytes signature) {
+void Replicator::remember(const PeerId& origin, std::uint64_t lo, std::uint64_t hi, std::uint64_t digest, Bytes bytes,
+                          Bytes signature) {
   auto& idx = buffer_index_[origin];
   if (idx.count(lo)) return;
   buffer_bytes_ += bytes->size();
-  buffer_.push_back(Buffered{origin, lo, hi, now_, std::move(bytes), std::move(signature)});
+  buffer_.push_back(Buffered{origin, lo, hi, now_, std::move(bytes), std::move(signature), digest, {}});
   idx.emplace(lo, std::prev(buffer_.end()));
   while (buffer_bytes_ > opt_.buffer_bytes && buffer_.size() > 1) {
     evict_front();

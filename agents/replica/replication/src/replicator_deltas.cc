@@ -12,27 +12,11 @@ namespace quiver::agents::inline replica {
 using internal::digest_of;
 using internal::interval;
 
-void Replicator::record(const PeerId& origin, std::uint64_t lo, std::uint64_t hi, std::uint64_t digest) {
-  if (opt_.equivocation_window == 0) return;
-  if (seen_order_.size() < opt_.equivocation_window) {
-    seen_order_.emplace_back(origin, lo);
-  } else {  // the ring is full: forget the oldest record
-    auto& [o, l] = seen_order_[seen_next_];
-    if (auto it = seen_.find(o); it != seen_.end()) {
-      it->second.erase(l);
-      if (it->second.empty()) seen_.erase(it);
-    }
-    seen_order_[seen_next_] = {origin, lo};
-    seen_next_ = (seen_next_ + 1) % seen_order_.size();
-  }
-  seen_[origin][lo] = Seen{hi, digest, {}};
-}
-
-const Replicator::Seen* Replicator::recorded(const PeerId& origin, std::uint64_t lo) const {
-  auto it = seen_.find(origin);
-  if (it == seen_.end()) return nullptr;
-  auto s = it->second.find(lo);
-  return s == it->second.end() ? nullptr : &s->second;
+Replicator::Buffered* Replicator::recorded(const PeerId& origin, std::uint64_t lo) {
+  auto it = buffer_index_.find(origin);
+  if (it == buffer_index_.end()) return nullptr;
+  auto b = it->second.find(lo);
+  return b == it->second.end() ? nullptr : &*b->second;
 }
 
 Status Replicator::decode_delta(const PeerId& from, const DeltaMsg& m) {
@@ -58,9 +42,8 @@ void Replicator::apply_delta(const PeerId& from, const DeltaMsg& m, std::uint64_
     ack_to_.push_back(m.origin);
   applied_.add_range(m.origin, m.lo, m.hi);
   if (journal_ != nullptr) journal_->remote(m.origin, m.lo, m.hi, *m.payload);
-  record(m.origin, m.lo, m.hi, digest);
   ++stats_.deltas_applied;
-  remember(m.origin, m.lo, m.hi, m.payload, m.signature);
+  remember(m.origin, m.lo, m.hi, digest, m.payload, m.signature);
   if (auto it = peers_.find(from); it != peers_.end() && pulling_ && pull_target_ == from) it->second.pull_failures = 0;
   if (applied_.contiguous(m.origin) + 1 < m.lo && !gap_pending_) {
     gap_pending_ = true;
@@ -74,7 +57,7 @@ void Replicator::handle(const PeerId& from, const DeltaMsg& m) {
   if (m.origin == self_) return handle_own(from, m);
   const std::uint64_t digest = digest_of(*m.payload);
   if (applied_.includes(m.origin, m.lo, m.hi)) {
-    const Seen* seen = recorded(m.origin, m.lo);
+    const Buffered* seen = recorded(m.origin, m.lo);
     if (seen == nullptr || seen->knows(m.hi, digest)) {
       ++stats_.deltas_duplicate;
       return;
@@ -97,8 +80,7 @@ bool Replicator::admitted(const PeerId& from, const DeltaMsg& m, std::uint64_t d
   if (s.ok()) return true;
   applied_.add_range(m.origin, m.lo, m.hi);
   ++state_version_;
-  record(m.origin, m.lo, m.hi, digest);
-  remember(m.origin, m.lo, m.hi, m.payload, m.signature);
+  remember(m.origin, m.lo, m.hi, digest, m.payload, m.signature);
   queue(PeerId{}, DeltaMsg{m.origin, m.lo, m.hi, m.payload, m.signature});
   reject(s.error());
   joined(&m);
@@ -137,10 +119,10 @@ void Replicator::equivocate(const PeerId& from, const DeltaMsg& m, std::uint64_t
   if (journal_ != nullptr) journal_->remote(m.origin, m.lo, m.hi, *m.payload);
   // Remembered by its interval's end and digest, so that its echoes are duplicates: relayed
   // versions that were not would bounce between the replicas for ever.
-  Seen* seen = recorded(m.origin, m.lo);
+  Buffered* seen = recorded(m.origin, m.lo);
   bool first_other = false;
   if (seen == nullptr) {
-    record(m.origin, m.lo, m.hi, digest);
+    remember(m.origin, m.lo, m.hi, digest, m.payload, m.signature);
   } else if (seen->others.size() < opt_.max_versions) {
     first_other = seen->others.empty();
     seen->others.push_back(Version{m.hi, digest});
@@ -150,12 +132,7 @@ void Replicator::equivocate(const PeerId& from, const DeltaMsg& m, std::uint64_t
   }
   queue(PeerId{}, DeltaMsg{m.origin, m.lo, m.hi, m.payload, m.signature});
   joined(&m);
-  if (first_other) {
-    auto idx = buffer_index_.find(m.origin);
-    if (idx != buffer_index_.end())
-      if (auto it = idx->second.find(m.lo); it != idx->second.end())
-        queue(PeerId{}, DeltaMsg{m.origin, it->second->lo, it->second->hi, it->second->bytes, it->second->signature});
-  }
+  if (first_other) queue(PeerId{}, DeltaMsg{m.origin, seen->lo, seen->hi, seen->bytes, seen->signature});
 }
 
 // A delta that claims this replica as its origin. An echo of what we published is a duplicate;
@@ -163,7 +140,7 @@ void Replicator::equivocate(const PeerId& from, const DeltaMsg& m, std::uint64_t
 void Replicator::handle_own(const PeerId& from, const DeltaMsg& m) {
   const std::uint64_t digest = digest_of(*m.payload);
   if (applied_.includes(self_, m.lo, m.hi)) {
-    const Seen* seen = recorded(self_, m.lo);
+    const Buffered* seen = recorded(self_, m.lo);
     if (seen == nullptr || seen->knows(m.hi, digest)) {
       ++stats_.deltas_duplicate;
       return;

@@ -566,13 +566,11 @@ std::size_t Replicator::protocol_bytes() const {
   std::size_t n = sizeof(*this);
   for (const auto& [id, p] : peers_) {
     n += kNode + sizeof(id) + sizeof(p) + (p.info.name.capacity() > 15 ? p.info.name.capacity() : 0);
-    n += p.applied.range_count() * (kNode + 16) + p.applied.replica_count() * (kNode + 32);
+    n += p.applied.memory_bytes();
   }
   n += names_.size() * (kNode + 8 + 32);
-  n += seen_order_.capacity() * sizeof(seen_order_[0]);
-  for (const auto& [o, m] : seen_) n += kNode + sizeof(o) + m.size() * (kNode + sizeof(Seen));
   n += rumors_.capacity() * sizeof(Spreading) + mismatched_.size() * (kNode + 24);
-  n += applied_.range_count() * (kNode + 16) + applied_.replica_count() * (kNode + 32);
+  n += applied_.memory_bytes();
   // Teams (replicator_behind.cc): what gateway peers vouched for, who waits, who is behind them.
   for (const auto& [id, p] : peers_) n += p.holds.capacity() * sizeof(Peer::Held);
   n += askers_.capacity() * sizeof(Asker) + remote_.size() * (kNode + sizeof(PeerId) + sizeof(Behind));

@@ -277,8 +277,9 @@ class Replicator {
   /// @returns a reference that lives as long as the replicator. Owner thread only.
   const crdt::CausalContext& applied() const { return applied_; }
   /// The bytes this replica's protocol state takes (peer table and what it records of each
-  /// peer, names, the equivocation records, rumors, the (origin, seq) set; not the graph and not
-  /// the relay buffer, whose bound is buffer_bytes), estimated from the containers' sizes.
+  /// peer, names, rumors, the (origin, seq) set; not the graph and not the relay buffer, whose
+  /// bound is buffer_bytes and which holds the equivocation records: the digest of each delta it
+  /// keeps), estimated from the containers' sizes.
   /// Owner thread only.
   std::size_t protocol_bytes() const;
   /// True when no protocol work waits for a timer: no pull, gap, state transfer, set mismatch,
@@ -303,12 +304,27 @@ class Replicator {
   graph::Graph& graph() { return g_; }
 
  private:
+  // The versions seen under one (origin, lo) besides the first (an equivocation), each known by
+  // its interval's end and its payload's digest.
+  struct Version {
+    std::uint64_t hi = 0;
+    std::uint64_t digest = 0;
+    bool operator==(const Version&) const = default;
+  };
+  // A delta kept to answer pulls, and the record that tells a duplicate of it from an
+  // equivocation (another payload under its (origin, lo)): its payload's digest and any other
+  // version seen. The record lives as long as the delta is buffered.
   struct Buffered {
     PeerId origin;
     std::uint64_t lo, hi;
     std::int64_t at_ns;
     std::shared_ptr<const std::vector<std::uint8_t>> bytes;
     std::shared_ptr<const std::vector<std::uint8_t>> signature;
+    std::uint64_t digest = 0;
+    std::vector<Version> others;
+    bool knows(std::uint64_t hi_, std::uint64_t d) const {
+      return (hi == hi_ && digest == d) || std::find(others.begin(), others.end(), Version{hi_, d}) != others.end();
+    }
   };
   using Bytes = std::shared_ptr<const std::vector<std::uint8_t>>;
   struct Peer {
@@ -356,24 +372,6 @@ class Replicator {
     std::size_t received = 0, bytes = 0;
     crdt::CausalContext applied;
   };
-  // What each applied (origin, lo) carried, to tell a duplicate from an equivocation: the digest
-  // of the first payload, and of any other that came under the same interval.
-  // The versions seen under one (origin, lo): the first, and the others (an equivocation), each
-  // known by its interval's end and its payload's digest.
-  struct Version {
-    std::uint64_t hi = 0;
-    std::uint64_t digest = 0;
-    bool operator==(const Version&) const = default;
-  };
-  struct Seen {
-    std::uint64_t hi = 0;
-    std::uint64_t digest = 0;
-    std::vector<Version> others;
-    bool knows(std::uint64_t hi_, std::uint64_t d) const {
-      return (hi == hi_ && digest == d) || std::find(others.begin(), others.end(), Version{hi_, d}) != others.end();
-    }
-  };
-
   void on_local_delta(const graph::GraphDelta& d);
   void publish(std::vector<std::uint8_t> bytes, std::uint64_t lo, std::uint64_t hi);
   void handle_own(const PeerId& from, const DeltaMsg& m);
@@ -382,11 +380,8 @@ class Replicator {
   void apply_delta(const PeerId& from, const DeltaMsg& m, std::uint64_t digest);
   bool admitted(const PeerId& from, const DeltaMsg& m, std::uint64_t digest);
   Status admission_verdict(const PeerId& from, const DeltaMsg& m);
-  void record(const PeerId& origin, std::uint64_t lo, std::uint64_t hi, std::uint64_t digest);
-  const Seen* recorded(const PeerId& origin, std::uint64_t lo) const;
-  Seen* recorded(const PeerId& origin, std::uint64_t lo) {
-    return const_cast<Seen*>(static_cast<const Replicator*>(this)->recorded(origin, lo));
-  }
+  /// The buffered delta under (origin, lo), or null: what tells a duplicate from an equivocation.
+  Buffered* recorded(const PeerId& origin, std::uint64_t lo);
   void joined(const DeltaMsg* m) {
     if (joined_cb_) joined_cb_(m);
   }
@@ -439,7 +434,9 @@ class Replicator {
   std::uint64_t set_hash() const { refresh_set_hash(); return set_hash_; }
   std::uint64_t set_count() const { refresh_set_hash(); return set_count_; }
   std::int64_t suspect_timeout() const;
-  void remember(const PeerId& origin, std::uint64_t lo, std::uint64_t hi, Bytes bytes, Bytes signature);
+  /// Buffers a delta and its digest (nothing when its (origin, lo) is buffered already).
+  void remember(const PeerId& origin, std::uint64_t lo, std::uint64_t hi, std::uint64_t digest, Bytes bytes,
+                Bytes signature);
   void evict_front();
   std::list<Buffered>::iterator erase_buffered(std::list<Buffered>::iterator it);
   /// Stores `applied` as p's set; false (rejected, p unchanged) beyond max_peer_ranges.
@@ -501,9 +498,6 @@ class Replicator {
   std::map<std::uint64_t, std::string> names_;  // agent id -> announced name (bounded)
   std::size_t peer_ranges_ = 0;  // ranges of all peers' applied sets
   Reassembly state_;
-  std::map<PeerId, std::map<std::uint64_t, Seen>> seen_;
-  std::vector<std::pair<PeerId, std::uint64_t>> seen_order_;  // ring, for eviction
-  std::size_t seen_next_ = 0;
   std::size_t pending_bytes_ = 0;  // estimated size of the coalesced interval
 
   // Outstanding pull.

@@ -27,7 +27,6 @@ struct ReplicatorOptions {
   SampleLimits limits;                       ///< what one sample may hold (validate.h)
   std::size_t max_peers = 1024;              ///< peers remembered at once (live or recently gone)
   std::size_t max_peer_ranges = 1u << 20;    ///< ranges of all peers' summaries kept together
-  std::size_t equivocation_window = 1u << 16;  ///< (origin, seq) digests kept to detect equivocation
   /// Versions of one (origin, seq) remembered and relayed; later ones are joined but not relayed
   /// (the periodic state digest repairs replicas that missed them).
   std::size_t max_versions = 64;
