@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Traffic between robots (docs/teams.md), measured with real processes in network namespaces the
-# script makes itself (tests/common/netns.sh; root only, nothing outside them): R robots, each
+# script makes itself (scripts/netns.sh; root only, nothing outside them): R robots, each
 # with A idle agents; one writer on the first robot makes changes at HZ for S seconds. Two
 # topologies, the same workload:
 #   gateways: the agents on each robot's own loopback domain, one `quiver gateway` per robot;
@@ -10,7 +10,7 @@
 # Usage: scripts/team_traffic.sh QUIVER [ROBOTS=3] [AGENTS=3] [HZ=20] [SECONDS=10]
 set -uo pipefail
 QUIVER=$1 ROBOTS=${2:-3} AGENTS=${3:-3} HZ=${4:-20} SECS=${5:-10}
-. "$(dirname "$0")/../tests/common/netns.sh"
+. "$(dirname "$0")/netns.sh"
 QV_NS_PREFIX=qvb NS_TAG="qvb-$$"
 netns_require
 WORK=$(mktemp -d)

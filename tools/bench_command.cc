@@ -6,6 +6,7 @@
 #include "quiver/tools/bench/crdt_bench.h"
 #include "quiver/tools/bench/load_bench.h"
 #include "quiver/tools/bench/scale_bench.h"
+#include "quiver/tools/bench/team_bench.h"
 #include "quiver/tools/bench/schedules_bench.h"
 
 namespace quiver::tools {
@@ -72,6 +73,20 @@ void add_bench_commands(CLI::App& app) {
       ->check(CLI::IsMember({"gossip", "all-to-all"}))
       ->capture_default_str();
   sched->callback([sb] { set_exit_code(bench::run_schedules_bench(*sb)); });
+  auto tb = std::make_shared<bench::TeamBench>();
+  auto* team = bench->add_subcommand(
+      "team",
+      "Robots as network namespaces (root only; nothing leaves them), each with its gateway: the human tracker "
+      "(900 joint poses/s) on one robot, the joints' latency on the others, the bytes on the team network against "
+      "the delta bytes the tracker publishes (target <= 1.5 x (robots - 1)), and a robot joining a world of --nodes "
+      "nodes late (target <= 1 s); docs/teams.md");
+  team->add_option("--robots", tb->robots)->check(CLI::Range(2, 8))->capture_default_str();
+  team->add_option("--seconds", tb->seconds, "how long the tracker runs")->check(CLI::Range(1.0, 3600.0))->capture_default_str();
+  team->add_option("--nodes", tb->nodes, "the world the late robot joins (nodes of 10 attributes)")
+      ->check(CLI::Range(1, 1'000'000))
+      ->capture_default_str();
+  team->add_option("--out", tb->out, "keep the processes' logs in this directory");
+  team->callback([tb] { set_exit_code(bench::run_team_bench(*tb)); });
 }
 
 }  // namespace quiver::tools

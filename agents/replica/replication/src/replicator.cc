@@ -99,6 +99,7 @@ void Replicator::publish(std::vector<std::uint8_t> bytes, std::uint64_t lo, std:
   applied_changed_ns_ = now_;
   remember(self_, lo, hi, digest_of(*shared), shared, signature);
   ++stats_.deltas_published;
+  stats_.bytes_published += shared->size();
   queue(PeerId{}, DeltaMsg{self_, lo, hi, std::move(shared), std::move(signature)});
   send_queued();
 }

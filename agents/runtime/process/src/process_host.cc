@@ -44,6 +44,7 @@ nlohmann::json status(Agent& agent, DdsReplica& r, const Engine& rt) {
   j["peers"] = r.replicator().live_peer_count();
   j["synced"] = r.replicator().synced();
   j["published"] = r.replicator().last_seq();  // the last sequence number it published
+  j["published_bytes"] = st.bytes_published;    // the encoded changes it published
   j["deltas_applied"] = st.deltas_applied;
   j["states_applied"] = st.states_applied;
   j["pulls_sent"] = st.pulls_sent;  // with states_applied: a state transfer is under way (crash tests)

@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Faults between robots with real processes (docs/teams.md): three robots as network namespaces
-# (tests/common/netns.sh), each a gateway and an agent that stays (X-a2); short-lived writers make
+# (scripts/netns.sh), each a gateway and an agent that stays (X-a2); short-lived writers make
 # the changes. The team domain loses 20% of what the gateways send throughout
 # (--team-loss-permille 200). Phases, each ending with every running replica equal and no
 # equivocation, divergence or rejected sample:

@@ -1,8 +1,8 @@
 #!/usr/bin/env bash
-# Shared by the gateway tests (sourced): robots as network namespaces (tests/common/netns.sh), a
+# Shared by the gateway tests (sourced): robots as network namespaces (scripts/netns.sh), a
 # work directory, the team file, and reading the JSON status lines the processes print.
 # The caller sets QUIVER first; `team_up ROBOT...` builds the namespaces and $WORK/team.json.
-. "$(dirname "${BASH_SOURCE[0]}")/../../../common/netns.sh"
+. "$(dirname "${BASH_SOURCE[0]}")/../../../../scripts/netns.sh"
 netns_require
 WORK=$(mktemp -d)
 trap 'netns_cleanup; [ -n "${QUIVER_KEEP:-}" ] && echo "kept $WORK" || rm -rf "$WORK"' EXIT

@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Locks across robots with real processes: two robots, each a network namespace of its own
-# (tests/common/netns.sh) with its gateway and an agent that competes for the lock of the mug
+# (scripts/netns.sh) with its gateway and an agent that competes for the lock of the mug
 # (`quiver agent --contend mug`: hold 100 ms, release, claim again; each hold printed as
 # "held START END" on the monotonic clock the namespaces share). Checks, over 8 s of contention:
 # both robots' agents hold the lock several times, at most a quarter of the holds end before their

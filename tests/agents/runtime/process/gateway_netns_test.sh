@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Two robots on a team network, each a network namespace of its own (tests/common/netns.sh): on
+# Two robots on a team network, each a network namespace of its own (scripts/netns.sh): on
 # each, an agent that stays (X-a2), short-lived writers, and the gateway (`quiver gateway`: the
 # robot's loopback domain 0 and the team domain 7 on its veth). Checks:
 #  1. a change made on robot A reaches robot B's agent, through both gateways;

@@ -73,6 +73,7 @@ enum class Membership : std::uint8_t { kJoined, kLeft };
 struct ReplicatorStats {
   std::uint64_t samples_sent = 0, samples_received = 0;
   std::uint64_t deltas_published = 0, deltas_applied = 0, deltas_duplicate = 0, deltas_relayed = 0;
+  std::uint64_t bytes_published = 0;  ///< the payloads of the deltas it published (encoded changes)
   std::uint64_t pulls_sent = 0, pulls_timed_out = 0, pulls_answered_with_deltas = 0, pulls_answered_with_state = 0;
   std::uint64_t states_applied = 0, state_bytes_received = 0;
   std::uint64_t rejected = 0;  ///< samples refused: undecodable, malformed, or messages that did not hold

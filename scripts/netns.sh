@@ -1,5 +1,6 @@
 #!/usr/bin/env bash
-# tests/common/netns.sh (issue 23): robots as network namespaces. Sourced by the team tests, or run
+# scripts/netns.sh (issue 23): robots as network namespaces. Sourced by the team tests, the team
+# benchmarks (quiver bench team embeds it) and scripts/team_traffic.sh, or run
 # directly as a self-test (`netns.sh selftest`). One namespace per robot (NS_TAG-ROBOT, eth0 =
 # 10.77.0.I/24) and one holding the bridge (NS_TAG-br: br0 + v-ROBOT); nothing in the caller's
 # namespace. Everything made is removed by the EXIT trap, even on failure; stale namespaces of
