@@ -36,7 +36,7 @@ set(QUIVER_PC_kinematics_REQUIRES "quiver-graph = ${PROJECT_VERSION}, eigen3, fc
 set(QUIVER_PC_kinematics_PRIVATE "urdfdom")
 set(QUIVER_PC_kinematics_LIBS "-lquiver_kinematics")
 set(QUIVER_PC_agents_REQUIRES "quiver-graph = ${PROJECT_VERSION}, nlohmann_json")
-set(QUIVER_PC_agents_PRIVATE "lmdb")
+set(QUIVER_PC_agents_PRIVATE "lmdb, pugixml")
 set(QUIVER_PC_agents_LIBS "-lquiver_planning -lquiver_runtime -lquiver_agent_api -lquiver_planner -lquiver_mission -lquiver_symbolic -lquiver_store -lquiver_recording -lquiver_permissions -lquiver_locks -lquiver_grammar -lquiver_replication")
 set(QUIVER_PC_dds_REQUIRES "quiver-agents = ${PROJECT_VERSION}, CycloneDDS, CLI11")
 set(QUIVER_PC_dds_PRIVATE "spdlog, libcrypto")

@@ -320,7 +320,7 @@ void add_planner_commands(CLI::App& app) {
   check->add_option("world", ma->world, "world file: Quiver JSON, AGM XML or CORTEX JSON")
       ->required()
       ->check(CLI::ExistingFile);
-  check->add_option("mission", ma->mission, "mission file (.aggt)")->required()->check(CLI::ExistingFile);
+  check->add_option("mission", ma->mission, "mission file: an AGM target (.aggt, or AGM XML: an <AGMModel> pattern)")->required()->check(CLI::ExistingFile);
   check->add_option("--domain", ma->domain, "domain grammar (.aggl), for type inheritance")->check(CLI::ExistingFile);
   check->add_option("-I,--include-dir", ma->include_dirs, "where the domain's include(...) files are looked for")
       ->allow_extra_args(false)
@@ -336,7 +336,7 @@ void add_planner_commands(CLI::App& app) {
   plan->add_option("world", pa->world, "world file: Quiver JSON, AGM XML or CORTEX JSON")
       ->required()
       ->check(CLI::ExistingFile);
-  plan->add_option("mission", pa->mission, "mission file (.aggt)")->required()->check(CLI::ExistingFile);
+  plan->add_option("mission", pa->mission, "mission file: an AGM target (.aggt, or AGM XML: an <AGMModel> pattern)")->required()->check(CLI::ExistingFile);
   plan->add_option("-I,--include-dir", pa->include_dirs, "where the grammar's include(...) files are looked for")
       ->allow_extra_args(false)
       ->check(CLI::ExistingDirectory);

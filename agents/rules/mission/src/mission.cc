@@ -13,6 +13,7 @@
 #include "agm_reader.h"
 #include "aggl_agm_formula.h"
 #include "grammar_lexer.h"
+#include "xml_target.h"
 
 namespace quiver::agents::inline rules {
 namespace {
@@ -58,6 +59,19 @@ std::string edge_text(const PatternEdge& e) {
   return e.from + "->" + e.to + "(" + e.label + ")" + (e.negated ? "*" : "");
 }
 
+// A file of another kind given as a mission: what it is, or "" when it may be a target.
+std::string other_kind(std::string_view text) {
+  const auto first = text.find_first_not_of(" \t\r\n");
+  if (first == std::string_view::npos) return "";
+  const auto next = text.find_first_not_of(" \t\r\n", first + 1);
+  if ((text[first] == '{' && next != std::string_view::npos && text[next] == '"') || text[first] == '[')
+    return "this is JSON (a world file?), not a mission";
+  if (text.find("\n===") != std::string_view::npos || text.substr(first, 5) == "name=" ||
+      text.substr(first, 13) == "spacePattern=" || text.substr(first, 8) == "grammar ")
+    return "this is a grammar (.aggl: a domain's rules), not a mission";
+  return "";
+}
+
 }  // namespace
 
 bool Mission::is_constant(std::string_view var) const {
@@ -67,6 +81,11 @@ bool Mission::is_constant(std::string_view var) const {
 }
 
 Result<Mission> parse_mission(std::string_view text, std::string_view source) {
+  if (internal::looks_like_xml(text)) return internal::parse_xml_target(text, source);
+  if (std::string kind = other_kind(text); !kind.empty())
+    return make_error(ErrorCode::kMalformed, std::string(source) + ": " + kind +
+                                                 " (a mission is an AGM target: a .aggt file, or an AGM XML target "
+                                                 "with the root <AGMModel>)");
   std::vector<Token> toks;
   std::string err;
   SourceLoc loc;

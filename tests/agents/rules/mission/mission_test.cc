@@ -162,6 +162,68 @@ TEST(MissionCheckTest, TheFormulaDecidesWhenTheGraphMatches) {
                    .holds);
 }
 
+// AGM's planner examples state targets as <AGMModel> patterns (AGM's
+// AGGLPlanner/example_HRI/clean_table_easy/target0.xml has <symbol id="tazaR" type="object"/>): a
+// numeric id is a world node, any other a variable, and enabled="false" negates a link.
+TEST(MissionXmlTargetTest, AgmModelTargetsAreMissions) {
+  auto m = parse_mission(
+      "<AGMModel>\n"
+      "  <symbol id=\"01\" type=\"robot\" x=\"-235\" y=\"+150\"/>\n"
+      "  <symbol id=\"obj\" type=\"object\"/> <symbol id=\"12\" type=\"room\"/>\n"
+      "  <link src=\"obj\" dst=\"12\" label=\"at\"/>\n"
+      "  <link src=\"1\" dst=\"12\" label=\"in\" enabled=\"False\"/>\n"
+      "</AGMModel>\n<!-- a comment after the model, as AGM's grasp/target1.xml has -->\n",
+      "target.xml");
+  ASSERT_TRUE(m.ok()) << m.error().to_string();
+  ASSERT_EQ(m->pattern.nodes.size(), 3u);
+  EXPECT_EQ(m->pattern.nodes[0].var, "1");  // "01" is AGM id 1
+  EXPECT_TRUE(m->is_constant("1"));
+  EXPECT_FALSE(m->is_constant("obj"));
+  EXPECT_EQ(m->pattern.nodes[0].pos, std::make_optional(std::make_pair(-235, 150)));
+  EXPECT_EQ(m->pattern.nodes[1].loc.line, 3);
+  ASSERT_EQ(m->pattern.edges.size(), 2u);
+  EXPECT_FALSE(m->pattern.edges[0].negated);
+  EXPECT_TRUE(m->pattern.edges[1].negated);
+  // It is checked as the same .aggt would be.
+  Warehouse w;
+  MissionReport r = check_mission(*m, w.g, w.grammar.types);
+  EXPECT_TRUE(r.holds);  // the box is at the office, and the robot is not there
+  w.link("robot", "office", "in");
+  r = check_mission(*m, w.g, w.grammar.types);
+  EXPECT_FALSE(r.holds);
+  EXPECT_TRUE(mentions(r, "link 1->12(in)*: 1 (robot) -[in]-> 12 (office) exists and must not")) << r.missing[0];
+}
+
+TEST(MissionXmlTargetTest, MistakesAndFilesOfAnotherKindAreNamed) {
+  auto error = [](const std::string& text) {
+    auto m = parse_mission(text, "t.xml");
+    return m.ok() ? std::string("accepted") : m.error().message;
+  };
+  EXPECT_EQ(error("<AGMModel>\n<symbol type=\"robot\"/>\n</AGMModel>"), "t.xml:2:1: <symbol> without id");
+  EXPECT_EQ(error("<AGMModel><symbol id=\"a\" type=\"t\"/><link src=\"a\" dst=\"b\" label=\"x\"/></AGMModel>"),
+            "t.xml:1:36: the link names symbol b, which no <symbol> before it declares");
+  EXPECT_EQ(error("<AGMModel><symbol id=\"5\" type=\"t\"/><symbol id=\"05\" type=\"u\"/></AGMModel>"),
+            "t.xml:1:36: a second symbol with id 5");
+  EXPECT_EQ(error("<?xml version=\"1.0\"?>\n<robot name=\"r\"/>"),
+            "t.xml:2:1: the root element is <robot>: not a mission (a mission is an AGM target: a .aggt file, or an "
+            "AGM XML target with the root <AGMModel>)");
+  EXPECT_EQ(error("{\"quiver_world\": 1, \"nodes\": []}"),
+            "t.xml: this is JSON (a world file?), not a mission (a mission is an AGM target: a .aggt file, or an AGM "
+            "XML target with the root <AGMModel>)");
+  EXPECT_EQ(error("name=HRI\n===\nr : active(1)\n{ { a:t } => { a:t } }").substr(0, 65),
+            "t.xml: this is a grammar (.aggl: a domain's rules), not a mission");
+  EXPECT_NE(error("<AGMModel><symbol").find("t.xml:1:"), std::string::npos);
+  EXPECT_NE(error("<AGMModel><symbol").find("XML syntax error"), std::string::npos);
+  // What a target does not match is noted, not refused.
+  auto noted = parse_mission("<AGMModel><symbol id=\"1\" type=\"t\"><attribute key=\"k\" value=\"v\"/></symbol>"
+                             "<comment/></AGMModel>",
+                             "t.xml");
+  ASSERT_TRUE(noted.ok());
+  ASSERT_EQ(noted->notes.size(), 2u);
+  EXPECT_NE(noted->notes[0].find("symbol 1: attributes are not part of a target"), std::string::npos);
+  EXPECT_NE(noted->notes[1].find("<comment> is not part of an AGM target: ignored"), std::string::npos);
+}
+
 TEST(MissionCheckTest, FixtureFilesLoad) {
   for (const char* f : {"parcel_to_hall.aggt", "robot_in_office.aggt", "ball_in_hall.aggt", "two_parcels.aggt"}) {
     auto m = load_mission_file(kDir + f);

@@ -122,7 +122,9 @@ TEST(PlannerTest, FindsTheKnownOptimalPlans) {
     double cost;
     std::size_t length;
   };
+  // parcel_to_hall_target.xml: the same target as AGM's XML (an <AGMModel> pattern).
   for (const Case& c : {Case{"robot_in_office.aggt", 4, 2}, Case{"parcel_to_hall.aggt", 17, 9},
+                        Case{"parcel_to_hall_target.xml", 17, 9},
                         Case{"ball_in_hall.aggt", 12, 7}, Case{"two_parcels.aggt", 16, 10}}) {
     SCOPED_TRACE(c.mission);
     Problem p("warehouse.aggl", "warehouse.xml", c.mission);
