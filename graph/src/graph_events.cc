@@ -36,10 +36,19 @@ void Graph::Impl::touch_edge(const EdgeRec& e) {
 }
 
 std::uint64_t register_fingerprint(const AttrList& attrs, Symbol name) {
+  // What a reader sees: the winning value and the set of concurrent values, not the dots that
+  // carry them, so that writing the value an attribute already has (a re-inserted edge's
+  // unchanged attributes, a set() of the same value) is no change, as DSR reports it.
   const AttrSlot* s = find_slot(attrs, name);
   if (s == nullptr) return 0;
-  std::uint64_t fp = s->reg.size();
-  for (const auto& e : s->reg) fp += mix64(hash_value(e.dot) ^ (e.fence * 0x9e3779b97f4a7c15ULL));
+  auto value_hash = [](const Value& v) {
+    Hasher h(0xa77);
+    v.hash_into(h);
+    return h.h64();
+  };
+  std::uint64_t fp = mix64(s->reg.size());
+  for (const auto& e : s->reg) fp += mix64(value_hash(e.value));
+  if (const auto* w = winner(s->reg)) fp ^= mix64(value_hash(w->value) + 1);
   return fp;
 }
 

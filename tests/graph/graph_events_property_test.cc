@@ -23,9 +23,14 @@ namespace {
 
 using testing::Peer;
 
+// What a change is about: the winning value and the concurrent values (not the dots that carry
+// them: rewriting the value an attribute already has is no change, as DSR reports it).
 std::string values_text(const std::vector<AttrValue>& vs) {
+  std::multiset<std::string> values;
+  for (const auto& v : vs) values.insert(v.value.to_string());
   std::ostringstream o;
-  for (const auto& v : vs) o << v.value.to_string() << "@" << v.dot.to_string() << "/" << v.fence << ";";
+  if (!vs.empty()) o << vs.front().value.to_string() << " of";
+  for (const auto& v : values) o << " " << v << ";";
   return o.str();
 }
 
@@ -258,6 +263,52 @@ TEST(GraphEventsTest, AnEarlierNamesakeArrivingRenamesTheHolder) {
   bool renamed = false;
   for (const NodeChange& c : seen[0].nodes) renamed = renamed || (c.id == later && c.kind == ChangeKind::kUpdated && c.renamed);
   EXPECT_TRUE(renamed) << "the node that lost its name is reported";
+}
+
+// DSR's mapping of "replace an edge's attributes" is a re-insert (docs/dsr-api.md row 14): only
+// the attributes whose values change are reported, as DSR's update_edge_attr_signal names them;
+// the same for set() of the value a node attribute already has.
+TEST(GraphEventsTest, ARewriteReportsOnlyTheAttributesWhoseValuesChanged) {
+  Peer a(1);
+  NodeId x = a.add("t", "x"), y = a.add("t", "y");
+  {
+    auto tx = a.g.begin();
+    ASSERT_TRUE(tx.insert_edge(x, y, Symbol("e"), {{Symbol("a"), Value(1.0)}, {Symbol("b"), Value(2.0)},
+                                                  {Symbol("c"), Value(3.0)}}).ok());
+    ASSERT_TRUE(tx.set(x, "n", Value(5.0)).ok());
+    ASSERT_TRUE(tx.commit().ok());
+  }
+  std::vector<ChangeBatch> seen;
+  a.g.subscribe([&](const ChangeBatch& b) { seen.push_back(b); });
+  {
+    auto tx = a.g.begin();
+    ASSERT_TRUE(tx.insert_edge(x, y, Symbol("e"), {{Symbol("a"), Value(1.0)}, {Symbol("b"), Value(7.0)},
+                                                  {Symbol("d"), Value(4.0)}}).ok());
+    ASSERT_TRUE(tx.set(x, "n", Value(5.0)).ok());
+    ASSERT_TRUE(tx.commit().ok());
+  }
+  ASSERT_EQ(seen.size(), 1u);
+  ASSERT_EQ(seen[0].edges.size(), 1u);
+  std::set<std::string> attrs;
+  for (Symbol s : seen[0].edges[0].attrs) attrs.insert(s.str());
+  EXPECT_EQ(attrs, (std::set<std::string>{"b", "c", "d"}));  // b changed, c removed, d new; a kept its value
+  EXPECT_TRUE(seen[0].nodes.empty()) << "n was set to the value it had";
+  // A replica that merges the rewrite reports the same.
+  Peer b(2);
+  std::vector<ChangeBatch> merged;
+  b.receive_all(a);
+  b.g.subscribe([&](const ChangeBatch& c) { merged.push_back(c); });
+  {
+    auto tx = a.g.begin();
+    ASSERT_TRUE(tx.insert_edge(x, y, Symbol("e"), {{Symbol("a"), Value(1.0)}, {Symbol("b"), Value(8.0)},
+                                                  {Symbol("d"), Value(4.0)}}).ok());
+    ASSERT_TRUE(tx.commit().ok());
+  }
+  b.receive_all(a);
+  ASSERT_EQ(merged.size(), 1u);
+  ASSERT_EQ(merged[0].edges.size(), 1u);
+  ASSERT_EQ(merged[0].edges[0].attrs.size(), 1u);
+  EXPECT_EQ(merged[0].edges[0].attrs[0].str(), "b");
 }
 
 TEST(GraphEventsTest, DeleteAndReinsertInOneTransactionReportsRemovedAttributes) {

@@ -59,9 +59,9 @@ enum class ChangeKind : std::uint8_t { kCreated, kUpdated, kDeleted };
 /// Thread-safe.
 const char* to_string(ChangeKind k);
 
-/// A node created, deleted or updated. Updated means: the values of some attributes changed
-/// (what attr_values() returns: a write, a removal, a concurrent value arriving or going), or its
-/// visible name changed (an earlier namesake arrived, or the one that held the name left).
+/// A node created, deleted or updated. Updated: some attributes' values changed (attr_values():
+/// another value written, a removal, a concurrent value arriving or going; rewriting the same
+/// value is none, as in DSR), or its name changed (an earlier namesake came, the holder left).
 struct NodeChange {
   NodeId id;
   ChangeKind kind;
