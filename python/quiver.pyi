@@ -77,6 +77,12 @@ class NodeChange:
     def attrs(self) -> list[str]: ...
     @property
     def renamed(self) -> bool: ...
+    @property
+    def name(self) -> str:
+        """deleted: the node's last name (else empty)."""
+    @property
+    def values(self) -> dict[str, Any]:
+        """deleted: the node's last attribute values (else empty)."""
 
 class EdgeChange:
     @property
@@ -85,6 +91,9 @@ class EdgeChange:
     def kind(self) -> str: ...
     @property
     def attrs(self) -> list[str]: ...
+    @property
+    def values(self) -> dict[str, Any]:
+        """deleted: the edge's last attribute values (else empty)."""
 
 class ChangeBatch:
     @property

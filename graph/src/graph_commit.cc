@@ -130,6 +130,16 @@ Result<CommitInfo> Transaction::commit() {
     g.claimants.reserve(g.claimants.size() + more);
     g.claim_parent_refs.reserve(g.claim_parent_refs.size() + more);
   }
+  // What the nodes and edges this transaction deletes held before it (their deletion events carry
+  // it), saved before any of its writes.
+  if (g.tracker.enabled)
+    for (const TxnOp& op : ops_) {
+      if (op.kind == TxnOp::Kind::kDeleteNode) {
+        if (NodeRec* n = g.find_node(op.node)) g.save_last(n);
+      } else if (op.kind == TxnOp::Kind::kDeleteEdge) {
+        if (EdgeRec* e = g.find_edge(EdgeKey{op.node, op.other, op.type})) g.save_last(*e);
+      }
+    }
   for (std::uint32_t k : order) {
     TxnOp& op = ops_[k];
     NodeRec* n = !stale && hints[k] ? const_cast<NodeRec*>(static_cast<const NodeRec*>(hints[k])) : g.find_node(op.node);

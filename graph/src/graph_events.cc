@@ -91,6 +91,39 @@ void Graph::Impl::touch_edge_attr(const EdgeRec& e, Symbol name) {
   save_attr(tracker.touch_edge(e.key, false)->attrs, name, e.attrs);
 }
 
+namespace {
+
+std::vector<std::pair<Symbol, Value>> winning_values(const AttrList& attrs) {
+  std::vector<std::pair<Symbol, Value>> out;
+  out.reserve(attrs.size());
+  for (const AttrSlot& a : attrs)
+    if (const auto* w = winner(a.reg)) out.emplace_back(a.name, w->value);
+  return out;
+}
+
+}  // namespace
+
+void Graph::Impl::save_last(NodeRec* r) {
+  if (!tracker.enabled || !r->alive) return;
+  auto* t = tracker.touch_node(r->id, r->alive, r->type);
+  if (!t->last_saved) {
+    t->last_saved = true;
+    t->last_name = visible_name(*r);
+    t->last_values = winning_values(r->attrs);
+  }
+  for (EdgeRec* e : r->incident()) save_last(*e);
+}
+
+void Graph::Impl::save_last(const EdgeRec& e) {
+  if (!tracker.enabled || !edge_visible(e)) return;
+  touch_edge(e);
+  auto* t = tracker.find_edge_touch(e.key);
+  if (t != nullptr && !t->last_saved) {
+    t->last_saved = true;
+    t->last_values = winning_values(e.attrs);
+  }
+}
+
 void Graph::Impl::touch_incident_edges(NodeRec* r) {
   if (!tracker.enabled) return;
   for (EdgeRec* e : r->out) touch_edge(*e);
@@ -112,7 +145,8 @@ void Graph::Impl::finish_tracking(bool local, ReplicaId origin,
         c.attrs.push_back(a.name);  // all of them, whenever they came
       b.nodes.push_back(std::move(c));
     } else if (t.was_alive && !now) {
-      b.nodes.push_back(NodeChange{t.id, ChangeKind::kDeleted, t.type, {}, false});
+      NodeChange c{t.id, ChangeKind::kDeleted, t.type, {}, false, std::move(t.last_name), std::move(t.last_values)};
+      b.nodes.push_back(std::move(c));
     } else if (now) {
       NodeChange c{t.id, ChangeKind::kUpdated, r->type, {}, false};
       for (const auto& [name, fp] : t.attrs)
@@ -129,7 +163,7 @@ void Graph::Impl::finish_tracking(bool local, ReplicaId origin,
       for (const AttrSlot& a : e->attrs) c.attrs.push_back(a.name);
       b.edges.push_back(std::move(c));
     } else if (t.was_visible && !now) {
-      b.edges.push_back(EdgeChange{t.key, ChangeKind::kDeleted, {}});
+      b.edges.push_back(EdgeChange{t.key, ChangeKind::kDeleted, {}, std::move(t.last_values)});
     } else if (now) {
       EdgeChange c{t.key, ChangeKind::kUpdated, {}};
       for (const auto& [name, fp] : t.attrs)

@@ -91,9 +91,10 @@ class ChangeTracker {
     edges_.clear();
     rt_before_.clear();
   }
-  // Attributes are compared by a fingerprint of their register (its dots and fences: a dot's
-  // value never changes), saved before the first change in the batch.
+  // Attributes are compared by a fingerprint of their register (the values a reader sees),
+  // saved before the first change in the batch.
   using AttrBefore = std::vector<std::pair<Symbol, std::uint64_t>>;
+  using Values = std::vector<std::pair<Symbol, Value>>;
   struct NodeTouch {
     NodeId id;
     bool was_alive;
@@ -101,6 +102,9 @@ class ChangeTracker {
     AttrBefore attrs;
     bool name_saved = false;  // its visible name may change: name_before holds the old one
     std::string name_before;
+    bool last_saved = false;  // it may be deleted: its name and values before (save_last())
+    std::string last_name;
+    Values last_values;
   };
   struct EdgeTouch {
     EdgeKey key;
@@ -108,11 +112,21 @@ class ChangeTracker {
     AttrBefore attrs;
     bool version_saved = false;  // its existence dots may change: version_before fingerprints them
     std::uint64_t version_before = 0;
+    bool last_saved = false;  // it may be deleted: its values before (save_last())
+    Values last_values;
   };
   NodeTouch* touch_node(NodeId id, bool was_alive, Symbol type) {
     auto [it, fresh] = node_index_.try_emplace(id, nodes_.size());
-    if (fresh) nodes_.push_back(NodeTouch{id, was_alive, type, {}, false, {}});
+    if (fresh) nodes_.push_back(NodeTouch{id, was_alive, type, {}, false, {}, false, {}, {}});
     return &nodes_[it->second];
+  }
+  NodeTouch* find_node_touch(NodeId id) {
+    auto it = node_index_.find(id);
+    return it == node_index_.end() ? nullptr : &nodes_[it->second];
+  }
+  EdgeTouch* find_edge_touch(const EdgeKey& key) {
+    auto it = edge_index_.find(key);
+    return it == edge_index_.end() ? nullptr : &edges_[it->second];
   }
   bool node_was_alive(NodeId id, bool current) const {
     auto it = node_index_.find(id);
@@ -120,7 +134,7 @@ class ChangeTracker {
   }
   EdgeTouch* touch_edge(const EdgeKey& key, bool was_visible) {
     auto [it, fresh] = edge_index_.try_emplace(key, edges_.size());
-    if (fresh) edges_.push_back(EdgeTouch{key, was_visible, {}, false, 0});
+    if (fresh) edges_.push_back(EdgeTouch{key, was_visible, {}, false, 0, false, {}});
     return &edges_[it->second];
   }
   bool edge_touched(const EdgeKey& key) const { return edge_index_.count(key) != 0; }
@@ -271,6 +285,10 @@ struct Graph::Impl {
   /// What name_of() returns for a visible node.
   std::string visible_name(const NodeRec& r) const;
   void touch_incident_edges(NodeRec* r);
+  /// Call before a change that may delete a visible node (with its incident edges) or a visible
+  /// edge: saves what its deletion event carries (last name, attribute values). Once per batch.
+  void save_last(NodeRec* r);
+  void save_last(const EdgeRec& e);
   /// Saves r's RT view before the batch changes it (a no-op after the first call per batch).
   void touch_rt(const NodeRec* r) {
     if (tracker.enabled && !tracker.rt_saved(r->id)) tracker.save_rt(r->id, rt_view(*r));

@@ -92,6 +92,7 @@ void Graph::Impl::merge_ops(const GraphDelta& d) {
       if (!adds) continue;
       e = &edge_record(op.key);
     }
+    if (!op.removed.empty()) save_last(*e);
     touch_edge(*e);
     if (!op.removed.empty() || !op.added.empty()) touch_edge_version(*e);
     for (std::uint32_t i = op.removed.begin; i < op.removed.end; ++i) e->exists.erase(d.removed[i]);
@@ -160,6 +161,19 @@ void Graph::Impl::after_merge(const GraphDelta& d, bool full_gc) {
 void Graph::Impl::merge_delta(const GraphDelta& d) {
   ++epoch;
   begin_tracking();
+  if (tracker.enabled) {
+    // Nodes and edges the delta may delete (a node by its own removal, or by any removed dot that
+    // is its id: after_merge()): their deletion events carry what they held before the delta.
+    for (const GraphDelta::NodeOp& op : d.nodes)
+      if (op.removed)
+        if (NodeRec* r = find_node(op.id)) save_last(r);
+    for (const Dot& x : d.removed)
+      if (NodeRec* r = find_node(NodeId{x})) save_last(r);
+    // An edge written and then deleted in one transaction comes as two operations.
+    for (const GraphDelta::EdgeOp& op : d.edges)
+      if (!op.removed.empty())
+        if (EdgeRec* e = find_edge(op.key)) save_last(*e);
+  }
   merge_ops(d);
   after_merge(d, false);
 }
@@ -184,6 +198,7 @@ void Graph::Impl::merge_state(const GraphDelta& s) {
   for (auto& [id, r] : nodes) {
     bool touched = false;
     if (r.alive && removed_there(id.dot)) {
+      save_last(&r);
       pending_kills.push_back(id);
       touched = true;
     }
@@ -216,6 +231,7 @@ void Graph::Impl::merge_state(const GraphDelta& s) {
     for (const AttrSlot& slot : e.attrs)
       for (const auto& en : slot.reg) hit = hit || removed_there(en.dot);
     if (!hit) continue;
+    save_last(e);
     touch_edge(e);
     touch_edge_version(e);
     crdt::DotSet kept;

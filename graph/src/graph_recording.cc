@@ -179,6 +179,7 @@ void Graph::Impl::record_attr_removals(std::vector<GraphDelta::AttrOp>& ops, Att
 
 void Graph::Impl::local_delete_node(NodeRec* r) {
   NodeId id = r->id;
+  save_last(r);
   touch_node(r);
   touch_incident_edges(r);
   {
@@ -273,6 +274,7 @@ void Graph::Impl::record_edge_removal(EdgeRec& e) {
 }
 
 void Graph::Impl::local_delete_edge(EdgeRec* e) {
+  save_last(*e);
   touch_edge(*e);
   // A re-insert in the same transaction turns this into an update: its removed attributes count.
   for (const AttrSlot& a : e->attrs) touch_edge_attr(*e, a.name);

@@ -16,6 +16,12 @@ using graph::NodeChange;
 using graph::NodeId;
 using graph::Symbol;
 
+py::dict values_dict(const std::vector<std::pair<Symbol, graph::Value>>& values) {
+  py::dict d;
+  for (const auto& [name, v] : values) d[py::str(name.str())] = from_value(v);
+  return d;
+}
+
 std::vector<std::string> names(const std::vector<Symbol>& syms) {
   std::vector<std::string> out;
   out.reserve(syms.size());
@@ -73,6 +79,10 @@ void bind_graph(py::module_& m) {
       .def_property_readonly("type", [](const NodeChange& c) { return c.type.str(); })
       .def_property_readonly("attrs", [](const NodeChange& c) { return names(c.attrs); })
       .def_readonly("renamed", &NodeChange::renamed)
+      .def_readonly("name", &NodeChange::name, "deleted: the node's last name (else empty)")
+      .def_property_readonly(
+          "values", [](const NodeChange& c) { return values_dict(c.values); },
+          "deleted: the node's last attribute values, a dict (else empty)")
       .def("__repr__", [](const NodeChange& c) {
         return std::string("<NodeChange ") + to_string(c.kind) + " " + c.type.str() + " " + c.id.to_string() + ">";
       });
@@ -80,6 +90,9 @@ void bind_graph(py::module_& m) {
       .def_readonly("key", &EdgeChange::key)
       .def_property_readonly("kind", [](const EdgeChange& c) { return std::string(to_string(c.kind)); })
       .def_property_readonly("attrs", [](const EdgeChange& c) { return names(c.attrs); })
+      .def_property_readonly(
+          "values", [](const EdgeChange& c) { return values_dict(c.values); },
+          "deleted: the edge's last attribute values, a dict (else empty)")
       .def("__repr__", [](const EdgeChange& c) {
         return std::string("<EdgeChange ") + to_string(c.kind) + " " + c.key.to_string() + ">";
       });

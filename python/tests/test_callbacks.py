@@ -22,6 +22,21 @@ def test_subscribers_see_each_commit(world):
     assert len(seen) == 1
 
 
+def test_a_deletion_carries_what_was_deleted(world):
+    with world.transaction() as t:
+        cup = t.create_node("cup", "cup", {"full": True, "colour": "blue"})
+        t.insert_edge(cup, "robot", "near", {"distance": 0.5})
+    seen = []
+    world.subscribe(seen.append)
+    with world.transaction() as t:
+        t.delete_node(cup)
+    gone = [c for c in seen[0].nodes if c.kind == "deleted"]
+    assert len(gone) == 1 and gone[0].name == "cup" and gone[0].type == "cup"
+    assert gone[0].values == {"full": True, "colour": "blue"}
+    edges = [e for e in seen[0].edges if e.kind == "deleted"]
+    assert len(edges) == 1 and edges[0].values == {"distance": 0.5}
+
+
 def test_edge_events_and_remote_origin(world):
     other = quiver.Graph("other")
     batches = []

@@ -37,13 +37,21 @@ std::string values_text(const std::vector<AttrValue>& vs) {
 struct NodeView {
   std::string name, type;
   std::map<std::string, std::string> attrs;
+  std::string last;  // what its deletion event carries: name and winning values
   bool operator==(const NodeView&) const = default;
 };
 struct EdgeView {
   std::string version;
   std::map<std::string, std::string> attrs;
+  std::string last;  // what its deletion event carries: winning values
   bool operator==(const EdgeView&) const = default;
 };
+
+std::string last_text(const std::string& name, const std::map<std::string, std::string>& winners) {
+  std::string s = " {" + name;
+  for (const auto& [k, v] : winners) s += " " + k + "=" + v;
+  return s + "}";
+}
 
 // Everything a reader can observe, keyed by text so that two replicas compare too.
 struct Observable {
@@ -56,8 +64,13 @@ struct Observable {
   static Observable of(const Graph& g) {
     Observable o;
     for (NodeId id : g.nodes()) {
-      NodeView v{g.name_of(id), g.type_of(id).str(), {}};
-      for (Symbol a : g.attr_names(id)) v.attrs[a.str()] = values_text(g.attr_values(id, a));
+      NodeView v{g.name_of(id), g.type_of(id).str(), {}, {}};
+      std::map<std::string, std::string> winners;
+      for (Symbol a : g.attr_names(id)) {
+        v.attrs[a.str()] = values_text(g.attr_values(id, a));
+        winners[a.str()] = g.attr(id, a)->to_string();
+      }
+      v.last = last_text(v.name, winners);
       o.nodes.emplace(id, std::move(v));
       for (const EdgeKey& k : g.edges_from(id)) {
         if (k.type == symbols::rt()) {
@@ -70,8 +83,13 @@ struct Observable {
           o.rt[key(k)] = s.str();
           continue;
         }
-        EdgeView ev{g.edge_version(k)->to_string(), {}};
-        for (Symbol a : g.edge_attr_names(k)) ev.attrs[a.str()] = values_text(g.edge_attr_values(k, a));
+        EdgeView ev{g.edge_version(k)->to_string(), {}, {}};
+        std::map<std::string, std::string> winners;
+        for (Symbol a : g.edge_attr_names(k)) {
+          ev.attrs[a.str()] = values_text(g.edge_attr_values(k, a));
+          winners[a.str()] = g.edge_attr(k, a)->to_string();
+        }
+        ev.last = last_text("", winners);
         o.edges.emplace(key(k), std::move(ev));
       }
     }
@@ -112,7 +130,7 @@ std::set<std::string> expected_changes(const Observable& before, const Observabl
     }
   }
   for (const auto& [id, v] : before.nodes)
-    if (!after.nodes.count(id)) out.insert(text("node " + id.to_string(), "deleted", {}, false));
+    if (!after.nodes.count(id)) out.insert(text("node " + id.to_string(), "deleted", {}, false) + v.last);
   for (const auto& [k, v] : after.edges) {
     auto it = before.edges.find(k);
     if (it == before.edges.end()) {
@@ -123,7 +141,7 @@ std::set<std::string> expected_changes(const Observable& before, const Observabl
     }
   }
   for (const auto& [k, v] : before.edges)
-    if (!after.edges.count(k)) out.insert(text("edge " + k, "deleted", {}, false));
+    if (!after.edges.count(k)) out.insert(text("edge " + k, "deleted", {}, false) + v.last);
   for (const auto& [k, v] : after.rt) {
     auto it = before.rt.find(k);
     if (it == before.rt.end()) out.insert(text("edge " + k, "created", {"pose"}, false));
@@ -144,6 +162,11 @@ std::set<std::string> reported_changes(const std::vector<ChangeBatch>& batches) 
       for (const auto& a : attrs) s += a + ",";
       s += "]";
       if (c.renamed) s += " renamed";
+      if (c.kind == ChangeKind::kDeleted) {
+        std::map<std::string, std::string> winners;
+        for (const auto& [k, v] : c.values) winners[k.str()] = v.to_string();
+        s += last_text(c.name, winners);
+      }
       EXPECT_TRUE(out.insert(s).second) << "reported twice: " << s;
     }
     for (const EdgeChange& c : b.edges) {
@@ -151,7 +174,13 @@ std::set<std::string> reported_changes(const std::vector<ChangeBatch>& batches) 
       std::set<std::string> attrs;
       for (Symbol a : c.attrs) attrs.insert(a.str());
       for (const auto& a : attrs) s += a + ",";
-      EXPECT_TRUE(out.insert(s + "]").second) << "reported twice: " << s;
+      s += "]";
+      if (c.kind == ChangeKind::kDeleted && c.key.type != symbols::rt()) {
+        std::map<std::string, std::string> winners;
+        for (const auto& [k, v] : c.values) winners[k.str()] = v.to_string();
+        s += last_text("", winners);
+      }
+      EXPECT_TRUE(out.insert(s).second) << "reported twice: " << s;
     }
   }
   return out;
@@ -309,6 +338,88 @@ TEST(GraphEventsTest, ARewriteReportsOnlyTheAttributesWhoseValuesChanged) {
   ASSERT_EQ(merged[0].edges.size(), 1u);
   ASSERT_EQ(merged[0].edges[0].attrs.size(), 1u);
   EXPECT_EQ(merged[0].edges[0].attrs[0].str(), "b");
+}
+
+// DSR's deletion signals carry the deleted node or edge; a change batch carries its last name
+// and attribute values, for a local delete and for the same delete merged by another replica.
+TEST(GraphEventsTest, ADeletionCarriesWhatWasDeleted) {
+  Peer a(1), b(2);
+  NodeId x, y;
+  {
+    auto tx = a.g.begin();
+    x = *tx.create_node("mug", "mug", {{"colour", Value(std::string("red"))}, {"full", Value(true)}});
+    y = *tx.create_node("table", "table");
+    ASSERT_TRUE(tx.insert_edge(x, y, "on", {{"stable", Value(0.5)}}).ok());
+    ASSERT_TRUE(tx.insert_edge(y, x, "holds").ok());
+    ASSERT_TRUE(tx.commit().ok());
+  }
+  {
+    auto tx = a.g.begin();
+    ASSERT_TRUE(tx.set(x, "full", Value(false)).ok());
+    ASSERT_TRUE(tx.commit().ok());
+  }
+  b.receive_all(a);
+  std::vector<ChangeBatch> here, there;
+  a.g.subscribe([&](const ChangeBatch& c) { here.push_back(c); });
+  b.g.subscribe([&](const ChangeBatch& c) { there.push_back(c); });
+  {
+    auto tx = a.g.begin();
+    ASSERT_TRUE(tx.delete_node(x).ok());
+    ASSERT_TRUE(tx.commit().ok());
+  }
+  b.receive_all(a);
+  for (auto* batches : {&here, &there}) {
+    ASSERT_EQ(batches->size(), 1u);
+    const ChangeBatch& c = batches->front();
+    ASSERT_EQ(c.nodes.size(), 1u);
+    EXPECT_EQ(c.nodes[0].kind, ChangeKind::kDeleted);
+    EXPECT_EQ(c.nodes[0].type.str(), "mug");
+    EXPECT_EQ(c.nodes[0].name, "mug");
+    std::map<std::string, std::string> values;
+    for (const auto& [k, v] : c.nodes[0].values) values[k.str()] = v.to_string();
+    EXPECT_EQ(values, (std::map<std::string, std::string>{{"colour", Value(std::string("red")).to_string()},
+                                                          {"full", Value(false).to_string()}}));
+    ASSERT_EQ(c.edges.size(), 2u);  // both incident edges went with it
+    for (const EdgeChange& e : c.edges) {
+      EXPECT_EQ(e.kind, ChangeKind::kDeleted);
+      if (e.key.type.str() == "on") {
+        ASSERT_EQ(e.values.size(), 1u);
+        EXPECT_EQ(e.values[0].first.str(), "stable");
+        EXPECT_EQ(e.values[0].second, Value(0.5));
+      } else {
+        EXPECT_TRUE(e.values.empty());
+      }
+    }
+  }
+  // An edge deleted alone carries its values too; an update carries none.
+  here.clear();
+  NodeId z;
+  {
+    auto tx = a.g.begin();
+    z = *tx.create_node("cup", "cup");
+    ASSERT_TRUE(tx.insert_edge(z, y, "on", {{"stable", Value(0.25)}}).ok());
+    ASSERT_TRUE(tx.commit().ok());
+  }
+  here.clear();
+  {
+    auto tx = a.g.begin();
+    ASSERT_TRUE(tx.delete_edge(z, y, "on").ok());
+    ASSERT_TRUE(tx.commit().ok());
+  }
+  ASSERT_EQ(here.size(), 1u);
+  ASSERT_EQ(here[0].edges.size(), 1u);
+  EXPECT_EQ(here[0].edges[0].kind, ChangeKind::kDeleted);
+  ASSERT_EQ(here[0].edges[0].values.size(), 1u);
+  EXPECT_EQ(here[0].edges[0].values[0].second, Value(0.25));
+  here.clear();
+  {
+    auto tx = a.g.begin();
+    ASSERT_TRUE(tx.set(y, "wood", Value(true)).ok());
+    ASSERT_TRUE(tx.commit().ok());
+  }
+  ASSERT_EQ(here.size(), 1u);
+  EXPECT_TRUE(here[0].nodes[0].values.empty());
+  EXPECT_TRUE(here[0].nodes[0].name.empty());
 }
 
 TEST(GraphEventsTest, DeleteAndReinsertInOneTransactionReportsRemovedAttributes) {
