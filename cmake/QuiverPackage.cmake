@@ -69,3 +69,9 @@ foreach(component ${QUIVER_COMPONENTS})
     DESTINATION ${CMAKE_INSTALL_LIBDIR}/pkgconfig
     COMPONENT ${component})
 endforeach()
+
+# The examples (programs, worlds, grammars, URDF, AGM files) with the package, so that the files
+# the docs cite are on a machine that has only the package: PREFIX/share/quiver/examples.
+install(DIRECTORY ${PROJECT_SOURCE_DIR}/examples/
+  DESTINATION ${CMAKE_INSTALL_DATADIR}/quiver/examples
+  COMPONENT graph)

@@ -49,6 +49,8 @@ void build_app(CLI::App& app) {
   add_kinematics_commands(app);  // adds to `bench`: after add_bench_commands
   add_interop_commands(app);
   add_agent_commands(app);
+  add_echo_command(app);
+  add_launch_command(app);
   add_gateway_command(app);
   add_dds_bench_commands(app);
   add_agents_bench_commands(app);

@@ -13,6 +13,10 @@ void add_bench_commands(CLI::App& app);
 /// lookup, import-urdf, bench transforms, bench scene (needs add_bench_commands first).
 void add_kinematics_commands(CLI::App& app);
 void add_agent_commands(CLI::App& app);
+/// echo (the graph's changes on a live domain, as they arrive).
+void add_echo_command(CLI::App& app);
+/// launch (a set of agents from a launch file, stopped together).
+void add_launch_command(CLI::App& app);
 /// gateway (a robot team).
 void add_gateway_command(CLI::App& app);
 void add_dds_bench_commands(CLI::App& app);

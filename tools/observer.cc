@@ -17,12 +17,7 @@ Result<std::unique_ptr<agents::DdsReplica>> open_observer(const DdsFlags& dds,
   return dds.create_agent(o);
 }
 
-Result<std::unique_ptr<agents::DdsReplica>> join_as_observer(const DdsFlags& dds,
-                                                             const std::string& name,
-                                                             double timeout_s) {
-  auto created = open_observer(dds, name);
-  if (!created.ok()) return created.error();
-  agents::DdsReplica& a = **created;
+Status wait_for_graph(agents::DdsReplica& a, const DdsFlags& dds, double timeout_s) {
   const std::int64_t timeout = static_cast<std::int64_t>(timeout_s * 1e9);
   char seconds[32];
   std::snprintf(seconds, sizeof seconds, "%.1f s", timeout_s);
@@ -45,6 +40,15 @@ Result<std::unique_ptr<agents::DdsReplica>> join_as_observer(const DdsFlags& dds
     return make_error(ErrorCode::kTimeout, "could not sync with the " +
                                                std::to_string(a.replicator().live_peer_count()) +
                                                " live agents within " + seconds);
+  return {};
+}
+
+Result<std::unique_ptr<agents::DdsReplica>> join_as_observer(const DdsFlags& dds,
+                                                             const std::string& name,
+                                                             double timeout_s) {
+  auto created = open_observer(dds, name);
+  if (!created.ok()) return created.error();
+  if (Status s = wait_for_graph(**created, dds, timeout_s); !s.ok()) return s.error();
   return created;
 }
 

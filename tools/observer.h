@@ -29,6 +29,12 @@ Result<std::unique_ptr<agents::DdsReplica>> open_observer(const DdsFlags& dds,
                                                           const std::string& name,
                                                           ObserverMode mode = {});
 
+/// Waits up to `timeout_s` for a live peer, then until `r` is synced (it holds everything every
+/// live peer says it holds) and stays so for 150 ms. @returns kTimeout saying which wait ended
+/// ("no agent answered on DDS domain 7 within 10.0 s", "could not sync with the 2 live agents
+/// within 10.0 s").
+Status wait_for_graph(agents::DdsReplica& r, const DdsFlags& dds, double timeout_s);
+
 /// Joins the domain `dds` names as an observer called `name` (open_observer()), waits for a live
 /// peer, then until the replica is synced (it holds everything every live peer says it holds) and
 /// stays so for 150 ms. @returns the replica, or the error of its creation, or kTimeout saying

@@ -73,6 +73,19 @@ std::string Graph::name_of(NodeId id) const {
   return r == nullptr ? std::string() : impl_->visible_name(*r);
 }
 
+std::optional<std::string> Graph::find_name(NodeId id) const {
+  const NodeRec* r = impl_->visible_node(id);
+  if (r == nullptr) return std::nullopt;
+  return impl_->visible_name(*r);
+}
+
+std::optional<EdgeKey> Graph::find_edge(std::string_view from, std::string_view to, std::string_view type) const {
+  const auto a = find_node(from), b = find_node(to);
+  const Symbol t = Symbol::find(type);
+  if (!a || !b || t.is_null() || !has_edge(*a, *b, t)) return std::nullopt;
+  return EdgeKey{*a, *b, t};
+}
+
 std::vector<NodeId> Graph::namesakes(std::string_view name) const {
   std::vector<NodeId> out;
   auto it = impl_->by_name.find(std::string(name));

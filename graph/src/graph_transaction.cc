@@ -230,6 +230,37 @@ Status Transaction::insert_edge(NodeId from, NodeId to, std::string_view type,
   return insert_edge(from, to, *t, std::move(attrs));
 }
 
+namespace {
+
+// The nodes two names answer to, or kNotFound naming the first that answers to none.
+Result<std::pair<NodeId, NodeId>> named_endpoints(const Graph& g, const char* what, std::string_view from,
+                                                  std::string_view to) {
+  const auto a = g.find_node(from);
+  if (!a) return make_error(ErrorCode::kNotFound, std::string(what) + ": no node named '" + std::string(from) + "'");
+  const auto b = g.find_node(to);
+  if (!b) return make_error(ErrorCode::kNotFound, std::string(what) + ": no node named '" + std::string(to) + "'");
+  return std::make_pair(*a, *b);
+}
+
+}  // namespace
+
+Status Transaction::insert_edge(std::string_view from, std::string_view to, std::string_view type,
+                                std::vector<std::pair<Symbol, Value>> attrs) {
+  auto ends = named_endpoints(*graph_, "insert_edge()", from, to);
+  if (!ends.ok()) return ends.error();
+  return insert_edge(ends->first, ends->second, type, std::move(attrs));
+}
+
+Status Transaction::delete_edge(std::string_view from, std::string_view to, std::string_view type) {
+  auto ends = named_endpoints(*graph_, "delete_edge()", from, to);
+  if (!ends.ok()) return ends.error();
+  const Symbol t = Symbol::find(type);  // a type never named has no edge
+  if (t.is_null())
+    return make_error(ErrorCode::kNotFound, "delete_edge(): no edge '" + std::string(from) + "' -[" + std::string(type) +
+                                                "]-> '" + std::string(to) + "'");
+  return delete_edge(ends->first, ends->second, t);
+}
+
 Status Transaction::insert_edge(NodeId from, NodeId to, Symbol type, std::vector<std::pair<Symbol, Value>> attrs) {
   if (!node_usable(from)) return not_found("insert_edge()", from);
   if (!node_usable(to)) return not_found("insert_edge()", to);

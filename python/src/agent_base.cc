@@ -138,7 +138,7 @@ void bind_agent_base(py::module_& m) {
       "run_agent",
       [](agents::Agent& agent, std::uint32_t domain, const std::string& dds_config,
          std::optional<std::string> world, std::optional<std::string> world_text, double run_for,
-         std::uint64_t seed, int status_ms, double join_wait, int loss_permille, double hang) {
+         std::uint64_t seed, int status_ms, double join_wait, int loss_permille, double hang, bool final_status) {
         if (current_run() != nullptr)
           raise(make_error(ErrorCode::kInvalidArgument,
                            "run_agent(): this thread already runs an agent"));
@@ -150,6 +150,7 @@ void bind_agent_base(py::module_& m) {
         f.run_for_s = run_for;
         f.seed = seed;
         f.status_ms = status_ms;
+        f.final_status = final_status;
         f.join_wait_s = join_wait;
         f.loss_permille = loss_permille;
         f.hang_s = hang;
@@ -172,7 +173,7 @@ void bind_agent_base(py::module_& m) {
       py::arg("agent"), py::kw_only(), py::arg("domain") = 0, py::arg("dds_config") = "loopback",
       py::arg("world") = py::none(), py::arg("world_text") = py::none(), py::arg("run_for") = 0.0,
       py::arg("seed") = 1, py::arg("status_ms") = 0, py::arg("join_wait") = 1.5,
-      py::arg("loss_permille") = 0, py::arg("hang") = 1.0,
+      py::arg("loss_permille") = 0, py::arg("hang") = 1.0, py::arg("final_status") = true,
       "Runs `agent` (an AgentBase) as this process's agent over Cyclone DDS until SIGINT/SIGTERM, "
       "or `run_for` "
       "seconds (0: until a signal). The GIL is released meanwhile and taken for every callback. A "
@@ -182,7 +183,7 @@ void bind_agent_base(py::module_& m) {
       "world file "
       "`world` (or `world_text`) seeds the shared graph. Prints a JSON status line on stdout every "
       "`status_ms` "
-      "and one at the end. Raises the first exception a callback raised (which stops the agent), "
+      "and one at the end (final_status=False: none at the end). Raises the first exception a callback raised (which stops the agent), "
       "or "
       "quiver.Error if the agent could not start. Meant for a dedicated process: SIGINT/SIGTERM "
       "stop the agent "

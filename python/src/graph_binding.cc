@@ -143,6 +143,8 @@ void bind_graph(py::module_& m) {
              Graph& g = h.get("name_of");
              return g.name_of(to_node(g, n));
            }, py::arg("node"))
+      .def("find_name", [](const GraphHandle& h, const NodeId& id) { return h.get("find_name").find_name(id); },
+           py::arg("node"), "The name of a visible node, or None (where name_of() gives '').")
       .def("namesakes", [](const GraphHandle& h, const std::string& name) { return h.get("namesakes").namesakes(name); },
            py::arg("name"))
       .def("get", [](const GraphHandle& h, py::handle n, py::handle name, py::object default_value, py::handle type) {

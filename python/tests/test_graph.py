@@ -79,3 +79,11 @@ def test_version_is_the_projects():
     top = pathlib.Path(__file__).resolve().parents[2] / "CMakeLists.txt"
     version = re.search(r"project\(quiver VERSION ([0-9.]+)", top.read_text()).group(1)
     assert quiver.__version__ == version
+
+
+def test_find_name_gives_none_for_an_absent_node(world):
+    hall = world.find_node("hallway")
+    assert world.find_name(hall) == "hallway"
+    with world.transaction() as t:
+        t.delete_node(hall)
+    assert world.find_name(hall) is None and world.name_of(hall) == ""

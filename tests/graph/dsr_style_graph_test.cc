@@ -104,6 +104,35 @@ TEST_F(Fixture, StringOverloads) {
   EXPECT_EQ(g.get<std::int64_t>(in, "since").value(), 13);
 }
 
+// DSR's by-name calls: get_edge(from, to, type), insert_or_assign_edge and delete_edge by the
+// endpoints' names, and get_name_from_id, which gives nothing for an absent node.
+TEST_F(Fixture, ByNameOverloadsAndFindName) {
+  ASSERT_TRUE(g.find_edge("robot", "kitchen", "in").has_value());
+  EXPECT_EQ(*g.find_edge("robot", "kitchen", "in"), (EdgeKey{robot, room, Symbol("in")}));
+  EXPECT_FALSE(g.find_edge("robot", "kitchen", "on").has_value());
+  EXPECT_FALSE(g.find_edge("robot", "nowhere", "in").has_value());
+  EXPECT_FALSE(g.find_edge("robot", "kitchen", "type_nobody_ever_named").has_value());
+  EXPECT_TRUE(Symbol::find("type_nobody_ever_named").is_null()) << "a lookup interns nothing";
+  EXPECT_EQ(g.find_name(mug), std::optional<std::string>("mug1"));
+  {
+    auto tx = g.begin();
+    ASSERT_TRUE(tx.insert_edge("mug1", "robot", "near", {{Symbol("d"), Value(0.2)}}).ok());
+    ASSERT_TRUE(tx.delete_edge("mug1", "kitchen", "in").ok());
+    auto missing = tx.delete_edge("mug1", "garage", "in");
+    ASSERT_FALSE(missing.ok());
+    EXPECT_EQ(missing.error().code, ErrorCode::kNotFound);
+    EXPECT_EQ(missing.error().message, "delete_edge(): no node named 'garage'");
+    EXPECT_EQ(tx.insert_edge("ghost", "robot", "near").error().message, "insert_edge(): no node named 'ghost'");
+    EXPECT_EQ(tx.delete_edge("mug1", "robot", "never_named_type").error().code, ErrorCode::kNotFound);
+    ASSERT_TRUE(tx.delete_node(mug).ok());
+    ASSERT_TRUE(tx.commit().ok());
+  }
+  EXPECT_FALSE(g.find_edge("mug1", "kitchen", "in").has_value());
+  EXPECT_EQ(g.find_name(mug), std::nullopt) << "deleted: nothing, where name_of() gives \"\"";
+  EXPECT_EQ(g.name_of(mug), "");
+  EXPECT_EQ(g.find_name(NodeId{}), std::nullopt);
+}
+
 TEST_F(Fixture, TypedEdgeGetters) {
   const EdgeKey in{robot, room, Symbol("in")};
   EXPECT_EQ(g.get<std::int64_t>(in, "since").value(), 12);

@@ -25,6 +25,10 @@ for lib in crdt graph interop kinematics replication grammar locks runtime secur
   find "$prefix" -name "libquiver_$lib.a" | grep -q . || { echo "FAIL: no libquiver_$lib.a" >&2; exit 1; }
   find "$prefix" -name "libquiver_$lib.so" | grep -q . || { echo "FAIL: no libquiver_$lib.so" >&2; exit 1; }
 done
+# The examples and their sample data come with the package (the docs cite them).
+for f in CMakeLists.txt worlds/kitchen.json grammars/speech.aggl graph_basics/graph_basics.cc; do
+  test -f "$prefix/share/quiver/examples/$f" || { echo "FAIL: the package lacks share/quiver/examples/$f" >&2; exit 1; }
+done
 config_dir=$(dirname "$(find "$prefix" -name quiverConfig.cmake | head -1)")
 if grep -E "CycloneDDS|fcl|urdfdom|Eigen3|nlohmann" "$config_dir/quiver-graph-targets.cmake"; then
   echo "FAIL: the graph component's targets name a third-party package" >&2

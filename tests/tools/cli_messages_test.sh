@@ -28,4 +28,9 @@ tty=$(script -qec "$q sim --steps 2000" /dev/null | tr '\r' '\n')
 echo "$tty" | grep -q "^2000/2000 steps (100%)" || fail "no progress line on a terminal: $tty"
 echo "$tty" | grep -q '"steps":2000' || fail "the result follows the progress line: $tty"
 if $q sim --steps 2000 2>&1 >/dev/null | grep -q "/2000 steps"; then fail "a progress line while stdout is a pipe"; fi
+# An agent process prints one status line after a clean stop, unless --no-final-status.
+out=$($q agent --name final-status-test --domain 197 --run-for 0.2 --join-wait 0 --hand-over 0 2>/dev/null)
+echo "$out" | grep -q '^{.*"name":"final-status-test"' || fail "no final status line by default: $out"
+out=$($q agent --name final-status-test --domain 197 --run-for 0.2 --join-wait 0 --hand-over 0 --no-final-status 2>/dev/null)
+[ -z "$out" ] || fail "--no-final-status still printed: $out"
 echo "cli messages: ok"

@@ -38,6 +38,7 @@ std::vector<std::string> required(const std::vector<std::string>& path) {
   if (path == std::vector<std::string>{"bench", "planner"}) return {"d.aggl:w.xml:m.aggt"};
   if (path == std::vector<std::string>{"keys", "add-agent"}) return {"a", "--dir", "/nonexistent"};
   if (path == std::vector<std::string>{"gateway"}) return {"--robot", "A", "--team", "/dev/null"};
+  if (path == std::vector<std::string>{"launch"}) return {"/dev/null"};
   return {};
 }
 

@@ -39,6 +39,8 @@ std::string Replicator::name_of(const PeerId& id) const {
   if (id == self_) return opt_.name.empty() ? id.to_string() : opt_.name;
   if (auto p = peers_.find(id); p != peers_.end() && !p->second.info.name.empty()) return p->second.info.name;
   if (auto n = names_.find(id.agent); n != names_.end()) return n->second;
+  // A world seed's changes (graph::world_seed(): incarnation 0, never an agent's) have no agent.
+  if (id.incarnation == 0) return "world seed " + id.to_string().substr(0, 16);
   return id.to_string();
 }
 

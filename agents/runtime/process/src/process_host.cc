@@ -121,6 +121,8 @@ void ProcessFlags::add_all(CLI::App* cmd) {
   cmd->add_option("--world", world, "seed the shared graph from this JSON world file (idempotent)");
   cmd->add_option("--seed", seed, "the agent's random seed")->check(CLI::NonNegativeNumber);
   cmd->add_option("--status-ms", status_ms, "print a JSON status line this often")->check(CLI::Range(0, 3'600'000));
+  cmd->add_flag("!--no-final-status", final_status,
+                "print no status line after a clean stop (by default one is printed, whatever --status-ms says)");
   cmd->add_option("--run-for", run_for_s, "exit after this many seconds (default 0: until SIGINT/SIGTERM)")
       ->check(CLI::Range(0.0, 1e7));
   cmd->add_option("--join-wait", join_wait_s, "before starting, wait this long to join the peers")
@@ -279,7 +281,7 @@ int run_process(Agent& agent, const ProcessFlags& f, Error* why_not_started) {
   const auto hand_over = static_cast<std::int64_t>(f.hand_over_s * 1e9);
   if (hand_over > 0 && !r.hand_over(hand_over))
     log->warn("left before every peer held all this replica holds (--hand-over {} s)", f.hand_over_s);
-  std::cout << status(agent, r, rt).dump() << std::endl;
+  if (f.final_status) std::cout << status(agent, r, rt).dump() << std::endl;
   return 0;
 }
 

@@ -193,6 +193,12 @@ class Transaction {
   /// @returns as the Symbol overload.
   /// @throws std::length_error if `type` is a new name and the table of names is full.
   Status delete_edge(NodeId from, NodeId to, std::string_view type) { return delete_edge(from, to, Symbol(type)); }
+  /// By the endpoints' names (as Graph::find_node() resolves them), as DSR's
+  /// insert_or_assign_edge and delete_edge(from_name, to_name, type) take them. Owner thread only.
+  /// @returns kNotFound naming a name no visible node answers to; else as the NodeId overloads.
+  Status insert_edge(std::string_view from, std::string_view to, std::string_view type,
+                     std::vector<std::pair<Symbol, Value>> attrs = {});
+  Status delete_edge(std::string_view from, std::string_view to, std::string_view type);
   /// Writes attribute `attr` of a symbolic edge (RT edges have none). Owner thread only.
   /// @returns kNotFound (no such edge visible to this transaction, or `key` is an RT edge),
   ///          kInvalidArgument (`attr` null or not UTF-8), kTooLarge (a name or value over the
@@ -308,6 +314,13 @@ class Graph {
   /// concurrent namesakes), "name~<id>" to the namesake with that id. Owner thread only.
   /// @returns the node, or nullopt if no visible node answers to `name`.
   std::optional<NodeId> find_node(std::string_view name) const;
+  /// The name of a visible node (as name_of() gives it), or nullopt when the node is not visible
+  /// (DSR's get_name_from_id gives nothing there; name_of() gives ""). Owner thread only.
+  std::optional<std::string> find_name(NodeId id) const;
+  /// The edge (from, to, type) by its endpoints' names, as DSR's get_edge(from, to, type) finds
+  /// it. Owner thread only.
+  /// @returns its key, or nullopt if a name answers to no visible node or the edge is not visible.
+  std::optional<EdgeKey> find_edge(std::string_view from, std::string_view to, std::string_view type) const;
   /// @returns the visible nodes of type `type`, sorted by id (empty for the null symbol).
   /// Owner thread only.
   std::vector<NodeId> nodes_of_type(Symbol type) const;

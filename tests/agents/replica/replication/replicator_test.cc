@@ -242,6 +242,21 @@ TEST(ReplicatorTest, MembershipJoinProbesAndGoodbyeGossip) { membership_join_lea
 // holds something the newcomer lacks (found by store_state_transfer_crash_test: a joiner writing
 // 200 times a second never pulled the 60,000-node world). The peer's addressed beats say how many
 // of the newcomer's own changes they count; the rest shows it.
+// A change batch names its origin's agent; a world seed's changes have none (incarnation 0) and
+// are named as a world seed rather than by a bare id (quiver echo, transcripts, lock messages).
+TEST(ReplicatorTest, AWorldSeedIsNamedAsSuch) {
+  Net net;
+  const int a = net.add(1);
+  auto world = graph::world_seed(R"({"quiver_world": 1, "nodes": [{"name": "world", "type": "thing"}]})", "test");
+  ASSERT_TRUE(world.ok()) << world.error().to_string();
+  std::vector<std::string> origins;
+  net.nodes[a].g->subscribe([&](const graph::ChangeBatch& b) { origins.push_back(b.origin_name); });
+  ASSERT_TRUE(net.nodes[a].rep->seed(world->delta).ok());
+  ASSERT_EQ(origins.size(), 1u);
+  EXPECT_EQ(origins[0], "world seed " + world->delta.origin.to_string().substr(0, 16));
+  EXPECT_EQ(net.nodes[a].rep->name_of(graph::ReplicaId{0x7b, 3}), "000000000000007b.3") << "an unknown agent: its id";
+}
+
 TEST(ReplicatorTest, ANewcomerThatKeepsCommittingStillPullsWhatOnlyItsPeerHeld) {
   Net net;
   const int a = net.add(1);

@@ -36,6 +36,7 @@ struct ProcessFlags {
   std::string world_text;  ///< a world given as text (when `world` names no file), e.g. embedded
   std::uint64_t seed = 1;
   int status_ms = 0;
+  bool final_status = true;  ///< print one status line after a clean stop (--no-final-status: none)
   double run_for_s = 0;
   double join_wait_s = 1.5;
   double hand_over_s = 2;  ///< on a clean stop, replicate up to this long until the peers hold all it published
@@ -55,8 +56,8 @@ struct ProcessFlags {
   /// And --security. The options write into this object. @pre `cmd` is not null; this object
   ///      outlives the parse.
   void add_dds(CLI::App* cmd);
-  /// The DDS ones and --world, --seed, --status-ms, --run-for, --join-wait, --hang, --hand-over, --store,
-  /// --durability.
+  /// The DDS ones and --world, --seed, --status-ms, --no-final-status, --run-for, --join-wait,
+  /// --hang, --hand-over, --store, --durability.
   /// And --store-compact-mb. @pre as add_dds().
   void add_all(CLI::App* cmd);
   /// The replicator options these flags choose (--membership) on `o`.
