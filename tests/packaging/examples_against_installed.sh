@@ -129,6 +129,21 @@ step "graph_basics";      "$work/examples/graph_basics"
 step "kinematics_lookup"; "$work/examples/kinematics_lookup"
 step "grammar_agent";     timeout 60 "$work/examples/grammar_agent"
 step "dds_agent";         timeout 60 "$work/examples/dds_agent" speech 1
+# The tutorial of docs/agents.md, as it tells a newcomer to run it: the greeter beside an agent
+# named speech, both seeding the kitchen world; the person ends greeted, and the greeter hears speech.
+step "tutorial: greeter beside quiver agent --name speech"
+"$prefix/bin/quiver" agent --name speech --world examples/worlds/kitchen.json --domain 192 --run-for 15 \
+  >"$work/speech.out" 2>"$work/speech.err" &
+speech=$!
+timeout 60 "$work/examples/greeter" --world examples/worlds/kitchen.json --domain 192 --text "Good morning" \
+  --status-ms 500 --run-for 6 >"$work/greeter.out" 2>"$work/greeter.err"
+grep '^{' "$work/greeter.out" | tail -1 | grep -q '"actions_finished":1' ||
+  { echo "FAIL: the greeter did not greet once: $(tail -1 "$work/greeter.out")" >&2; kill "$speech"; exit 1; }
+grep -q "speech is here" "$work/greeter.err" || { echo "FAIL: the greeter did not hear speech" >&2; kill "$speech"; exit 1; }
+"$prefix/bin/quiver" dump --domain 192 --json --timeout 10 | grep -q '"greeting": *"Good morning"' ||
+  { echo "FAIL: the person was not greeted in the shared graph" >&2; kill "$speech"; exit 1; }
+kill "$speech"
+wait "$speech" 2>/dev/null || true
 # Your own agents and checks in the simulator: three seeded runs of a scenario file with a
 # partition, loss and kill -9; it exits non-zero when a check fails.
 step "sim_scenario";      timeout 120 "$work/examples/sim_scenario" examples/sim_scenario/pingpong.json 1 3
