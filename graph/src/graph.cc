@@ -236,7 +236,17 @@ std::optional<Dot> Graph::edge_version(const EdgeKey& key) const {
   return best;
 }
 
+namespace {
+
+// An RT edge's attribute `name`: its child's `rt:<name>` (never interned here: null if unknown).
+Symbol rt_attr(Symbol name) {
+  return name.is_null() ? Symbol() : Symbol::find(std::string(kRtAttrPrefix) + name.str());
+}
+
+}  // namespace
+
 const Value* Graph::edge_attr(const EdgeKey& key, Symbol name) const {
+  if (key.type == symbols::rt()) return has_edge(key.from, key.to, key.type) ? attr(key.to, rt_attr(name)) : nullptr;
   const EdgeRec* e = impl_->find_edge(key);
   if (e == nullptr || !impl_->edge_visible(*e)) return nullptr;
   const AttrSlot* s = find_slot(e->attrs, name);
@@ -246,6 +256,8 @@ const Value* Graph::edge_attr(const EdgeKey& key, Symbol name) const {
 }
 
 std::vector<AttrValue> Graph::edge_attr_values(const EdgeKey& key, Symbol name) const {
+  if (key.type == symbols::rt())
+    return has_edge(key.from, key.to, key.type) ? attr_values(key.to, rt_attr(name)) : std::vector<AttrValue>{};
   const EdgeRec* e = impl_->find_edge(key);
   if (e == nullptr || !impl_->edge_visible(*e)) return {};
   const AttrSlot* s = find_slot(e->attrs, name);
@@ -254,6 +266,16 @@ std::vector<AttrValue> Graph::edge_attr_values(const EdgeKey& key, Symbol name) 
 
 std::vector<Symbol> Graph::edge_attr_names(const EdgeKey& key) const {
   std::vector<Symbol> out;
+  if (key.type == symbols::rt()) {
+    if (!has_edge(key.from, key.to, key.type)) return out;
+    for (Symbol a : attr_names(key.to)) {
+      const std::string& n = a.str();
+      if (n.size() <= kRtAttrPrefix.size() || n.compare(0, kRtAttrPrefix.size(), kRtAttrPrefix) != 0) continue;
+      if (auto s = Symbol::make(std::string_view(n).substr(kRtAttrPrefix.size())); s.ok()) out.push_back(*s);
+    }
+    std::sort(out.begin(), out.end(), text_less);
+    return out;
+  }
   const EdgeRec* e = impl_->find_edge(key);
   if (e == nullptr || !impl_->edge_visible(*e)) return out;
   for (const AttrSlot& s : e->attrs)

@@ -265,8 +265,21 @@ Status Transaction::insert_edge(NodeId from, NodeId to, Symbol type, std::vector
   if (!node_usable(from)) return not_found("insert_edge()", from);
   if (!node_usable(to)) return not_found("insert_edge()", to);
   if (type.is_null()) return make_error(ErrorCode::kInvalidArgument, "insert_edge(): the edge type is empty");
-  if (type == symbols::rt())
-    return make_error(ErrorCode::kInvalidArgument, "insert_edge(): type 'RT' is reserved; use set_rt()");
+  if (type == symbols::rt()) {
+    // An RT edge is made by set_rt() (it needs a pose); inserting it again replaces its attributes.
+    if (!rt_parent_is(from, to))
+      return make_error(ErrorCode::kInvalidArgument, "insert_edge(): an RT edge " + from.to_string() + " -> " +
+                                                         to.to_string() +
+                                                         " is made with set_rt(parent, child, pose, stamp); "
+                                                         "insert_edge() then replaces its attributes");
+    if (Status s = check_attrs("insert_edge()", attrs); !s.ok()) return s;
+    for (Symbol a : graph_->edge_attr_names(EdgeKey{from, to, type}))
+      if (std::none_of(attrs.begin(), attrs.end(), [&](const auto& kv) { return kv.first == a; }))
+        if (auto r = remove_edge_attr(EdgeKey{from, to, type}, a); !r.ok()) return r.error();
+    for (auto& [a, v] : attrs)
+      if (Status s = set_edge_attr(EdgeKey{from, to, type}, a, std::move(v)); !s.ok()) return s;
+    return {};
+  }
   if (Status s = check_name("insert_edge(): the edge type", type.str()); !s.ok()) return s;
   if (Status s = check_attrs("insert_edge()", attrs); !s.ok()) return s;
   if (Status s = add_bytes("insert_edge()", op_bytes(type.str()) + attrs_bytes(attrs)); !s.ok()) return s;
@@ -281,16 +294,17 @@ Status Transaction::insert_edge(NodeId from, NodeId to, Symbol type, std::vector
   return {};
 }
 
+bool Transaction::rt_parent_is(NodeId from, NodeId to) const {
+  if (!node_usable(from) || !node_usable(to)) return false;
+  std::optional<NodeId> p;
+  if (auto it = book_->parent.find(to); it != book_->parent.end()) p = it->second;
+  else p = graph_->rt_parent(to);
+  return p && *p == from;
+}
+
 Status Transaction::delete_edge(NodeId from, NodeId to, Symbol type) {
   if (type == symbols::rt()) {
-    bool known = false;
-    std::optional<NodeId> p;
-    if (auto it = book_->parent.find(to); it != book_->parent.end()) {
-      known = true;
-      p = it->second;
-    }
-    if (!known) p = graph_->rt_parent(to);
-    if (!p || *p != from)
+    if (!rt_parent_is(from, to))
       return make_error(ErrorCode::kNotFound, "delete_edge(): no RT edge " + from.to_string() + " -> " + to.to_string());
     return remove_rt(to);
   }
@@ -308,7 +322,15 @@ Status Transaction::delete_edge(NodeId from, NodeId to, Symbol type) {
 }
 
 Status Transaction::set_edge_attr(const EdgeKey& key, Symbol attr, Value value) {
-  if (key.type == symbols::rt() || !edge_usable(key.from, key.to, key.type))
+  if (key.type == symbols::rt()) {  // kept on the child as rt:<attr>
+    if (!rt_parent_is(key.from, key.to))
+      return make_error(ErrorCode::kNotFound, "set_edge_attr(): no edge " + key.to_string());
+    if (attr.is_null()) return make_error(ErrorCode::kInvalidArgument, "set_edge_attr(): the attribute name is empty");
+    auto name = Symbol::make(std::string(kRtAttrPrefix) + attr.str());
+    if (!name.ok()) return make_error(name.error().code, "set_edge_attr(): " + name.error().message);
+    return set(key.to, *name, std::move(value));
+  }
+  if (!edge_usable(key.from, key.to, key.type))
     return make_error(ErrorCode::kNotFound, "set_edge_attr(): no edge " + key.to_string());
   if (attr.is_null()) return make_error(ErrorCode::kInvalidArgument, "set_edge_attr(): the attribute name is empty");
   if (Status s = check_name("set_edge_attr(): the attribute name", attr.str()); !s.ok()) return s;
@@ -327,7 +349,15 @@ Status Transaction::set_edge_attr(const EdgeKey& key, Symbol attr, Value value) 
 }
 
 Result<bool> Transaction::remove_edge_attr(const EdgeKey& key, Symbol attr) {
-  if (key.type == symbols::rt() || !edge_usable(key.from, key.to, key.type))
+  if (key.type == symbols::rt()) {
+    if (!rt_parent_is(key.from, key.to))
+      return make_error(ErrorCode::kNotFound, "remove_edge_attr(): no edge " + key.to_string());
+    if (attr.is_null()) return make_error(ErrorCode::kInvalidArgument, "remove_edge_attr(): the attribute name is empty");
+    const Symbol name = Symbol::find(std::string(kRtAttrPrefix) + attr.str());
+    if (name.is_null()) return false;  // never named: no node has it
+    return remove_attr(key.to, name);
+  }
+  if (!edge_usable(key.from, key.to, key.type))
     return make_error(ErrorCode::kNotFound, "remove_edge_attr(): no edge " + key.to_string());
   if (attr.is_null()) return make_error(ErrorCode::kInvalidArgument, "remove_edge_attr(): the attribute name is empty");
   // Whether the edge has it as this transaction sees it (as remove_attr()): the replica's values,

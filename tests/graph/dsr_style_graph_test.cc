@@ -133,6 +133,55 @@ TEST_F(Fixture, ByNameOverloadsAndFindName) {
   EXPECT_EQ(g.find_name(NodeId{}), std::nullopt);
 }
 
+// One story for RT edges, as DSR has: set_rt() makes one (it needs a pose); set_edge_attr,
+// remove_edge_attr, insert_edge (replacing the attributes) and delete_edge work on it, and
+// has_edge/edge_attr read it. Its attributes (rt_covariance, custom) are the child's rt: ones.
+TEST_F(Fixture, RtEdgesHoldAttributes) {
+  const EdgeKey rt{room, mug, symbols::rt()};
+  {
+    auto tx = g.begin();
+    ASSERT_TRUE(tx.set_rt(room, mug, Pose{}, 1).ok());
+    ASSERT_TRUE(tx.commit().ok());
+  }
+  ASSERT_TRUE(g.has_edge(room, mug, "RT"));
+  {
+    auto tx = g.begin();
+    ASSERT_TRUE(tx.set_edge_attr(rt, "rt_covariance", Value(graph::FloatVec{0.1f, 0.2f})).ok());
+    ASSERT_TRUE(tx.set_edge_attr(rt, "calibrated", Value(true)).ok());
+    ASSERT_TRUE(tx.commit().ok());
+  }
+  EXPECT_EQ(*g.edge_attr(rt, "calibrated"), Value(true));
+  EXPECT_EQ(*g.attr(mug, "rt:calibrated"), Value(true)) << "kept on the child, as the importers keep them";
+  EXPECT_EQ(g.get<bool>(rt, "calibrated").value(), true);
+  std::vector<std::string> names;
+  for (Symbol a : g.edge_attr_names(rt)) names.push_back(a.str());
+  EXPECT_EQ(names, (std::vector<std::string>{"calibrated", "rt_covariance"}));
+  {
+    auto tx = g.begin();
+    EXPECT_TRUE(*tx.remove_edge_attr(rt, "calibrated"));
+    EXPECT_FALSE(*tx.remove_edge_attr(rt, "never_named_attribute_of_rt"));
+    // Inserting it again replaces its attributes (rt_covariance goes, offset comes).
+    ASSERT_TRUE(tx.insert_edge(room, mug, "RT", {{Symbol("offset"), Value(0.5)}}).ok());
+    ASSERT_TRUE(tx.commit().ok());
+  }
+  EXPECT_EQ(g.edge_attr(rt, "calibrated"), nullptr);
+  EXPECT_EQ(g.edge_attr(rt, "rt_covariance"), nullptr);
+  EXPECT_EQ(*g.edge_attr(rt, "offset"), Value(0.5));
+  // Not its parent: no such edge, and insert_edge says how an RT edge is made.
+  const EdgeKey wrong{robot, mug, symbols::rt()};
+  auto tx = g.begin();
+  EXPECT_EQ(tx.set_edge_attr(wrong, "x", Value(1)).error().code, ErrorCode::kNotFound);
+  EXPECT_EQ(g.edge_attr(wrong, "offset"), nullptr);
+  auto refused = tx.insert_edge(robot, mug, "RT");
+  ASSERT_FALSE(refused.ok());
+  EXPECT_NE(refused.error().message.find("is made with set_rt(parent, child, pose, stamp)"), std::string::npos)
+      << refused.error().message;
+  ASSERT_TRUE(tx.delete_edge(room, mug, "RT").ok());
+  ASSERT_TRUE(tx.commit().ok());
+  EXPECT_FALSE(g.has_edge(room, mug, "RT"));
+  EXPECT_EQ(g.edge_attr(rt, "offset"), nullptr) << "no edge: no attribute";
+}
+
 TEST_F(Fixture, TypedEdgeGetters) {
   const EdgeKey in{robot, room, Symbol("in")};
   EXPECT_EQ(g.get<std::int64_t>(in, "since").value(), 12);

@@ -19,8 +19,8 @@ namespace quiver::interop::internal {
 
 using Attrs = std::vector<std::pair<std::string, graph::Value>>;
 
-/// Prefix of the child attributes that hold an RT link's attributes.
-inline constexpr std::string_view kRtAttrPrefix = "rt:";
+/// Prefix of the child attributes that hold an RT link's attributes (the graph's own).
+using graph::kRtAttrPrefix;
 
 struct PlanNode {
   std::string id;    ///< the source id, as text

@@ -55,6 +55,9 @@ struct AttrValue {
   std::uint64_t fence = 0;  ///< the writer's lock epoch for the node's scope (0: unlocked)
 };
 
+/// An RT edge's attributes are its child's attributes of this prefix (Transaction::set_edge_attr()).
+inline constexpr std::string_view kRtAttrPrefix = "rt:";
+
 /// The current RT edge of a child: its parent and the latest pose.
 struct RtEdge {
   NodeId parent;
@@ -169,11 +172,11 @@ class Transaction {
   /// @throws std::length_error if `attr` is a new name and the table of names is full.
   Result<bool> remove_attr(NodeId id, std::string_view attr) { return remove_attr(id, Symbol(attr)); }
   /// Inserts (or re-inserts, replacing its attributes) a symbolic edge. A self-loop (from == to) is a
-  /// unary predicate, as in AGM and CORTEX files (docs/world-format.md). The type "RT" is reserved
-  /// for set_rt(). Owner thread only.
+  /// unary predicate, as in AGM and CORTEX files (docs/world-format.md). An RT edge is made by
+  /// set_rt(); insert_edge() of an existing one replaces its attributes. Owner thread only.
   /// @returns kNotFound (`from` or `to` not visible to this transaction), kInvalidArgument (`type`
-  ///          null or "RT", a name not UTF-8, an empty attribute name), kTooLarge (a name or value
-  ///          over the limits table).
+  ///          null, "RT" where `from` is not `to`'s parent, a name not UTF-8, an empty attribute
+  ///          name), kTooLarge (a name or value over the limits table).
   Status insert_edge(NodeId from, NodeId to, Symbol type, std::vector<std::pair<Symbol, Value>> attrs = {});
   /// The same with the type named by a string (interned with Symbol::make()). Owner thread only.
   /// @returns as the Symbol overload; kTooLarge also when the table of names is full.
@@ -199,10 +202,12 @@ class Transaction {
   Status insert_edge(std::string_view from, std::string_view to, std::string_view type,
                      std::vector<std::pair<Symbol, Value>> attrs = {});
   Status delete_edge(std::string_view from, std::string_view to, std::string_view type);
-  /// Writes attribute `attr` of a symbolic edge (RT edges have none). Owner thread only.
-  /// @returns kNotFound (no such edge visible to this transaction, or `key` is an RT edge),
-  ///          kInvalidArgument (`attr` null or not UTF-8), kTooLarge (a name or value over the
-  ///          limits table).
+  /// Writes attribute `attr` of an edge. An RT edge's attributes (DSR's rt_covariance, custom
+  /// ones) are kept on its child as `rt:<attr>`, as the importers keep a file's RT link
+  /// attributes: they stay with the child when it moves. Owner thread only.
+  /// @returns kNotFound (no such edge visible to this transaction; for "RT": `from` is not
+  ///          `to`'s parent), kInvalidArgument (`attr` null or not UTF-8), kTooLarge (a name or
+  ///          value over the limits table).
   Status set_edge_attr(const EdgeKey& key, Symbol attr, Value value);
   /// The same with the attribute named by a string. Owner thread only.
   /// @returns as the Symbol overload.
@@ -210,10 +215,9 @@ class Transaction {
   Status set_edge_attr(const EdgeKey& key, std::string_view attr, Value value) {
     return set_edge_attr(key, Symbol(attr), std::move(value));
   }
-  /// Removes attribute `attr` of a symbolic edge as this transaction sees it (lacking it is no error).
+  /// Removes attribute `attr` of an edge (RT too) as this transaction sees it (lacking it is no error).
   /// @returns true if the edge had it (as remove_attr()), false if not; kNotFound (no such edge
-  ///          visible to this transaction, or an RT edge), kInvalidArgument (`attr` null). Owner
-  ///          thread only.
+  ///          visible to this transaction), kInvalidArgument (`attr` null). Owner thread only.
   Result<bool> remove_edge_attr(const EdgeKey& key, Symbol attr);
   /// The same with the attribute named by a string. Owner thread only.
   /// @returns as the Symbol overload.
@@ -265,6 +269,8 @@ class Transaction {
   explicit Transaction(Graph* g);
   bool node_usable(NodeId id) const;
   bool edge_usable(NodeId from, NodeId to, Symbol type) const;
+  /// `from` is `to`'s RT parent as this transaction sees it.
+  bool rt_parent_is(NodeId from, NodeId to) const;
   Status check_attrs(const char* fn, const std::vector<std::pair<Symbol, Value>>& attrs) const;
   Status cycle_check(NodeId parent, NodeId child) const;
   Status add_bytes(const char* fn, std::uint64_t n);
@@ -405,7 +411,8 @@ class Graph {
   /// an RT edge, the epoch of the move. Nullopt if the edge is not visible. Owner thread only.
   std::optional<Dot> edge_version(const EdgeKey& key) const;
   /// The winning value of an edge attribute, as attr(). Owner thread only.
-  /// @returns nullptr if the edge is not visible or lacks the attribute (RT edges have none).
+  /// @returns nullptr if the edge is not visible or lacks the attribute (an RT edge's are its
+  ///          child's `rt:` attributes, set_edge_attr()).
   const Value* edge_attr(const EdgeKey& key, Symbol name) const;
   /// The same with the attribute named by a string (never interns it). Owner thread only.
   const Value* edge_attr(const EdgeKey& key, std::string_view name) const { return edge_attr(key, Symbol::find(name)); }
