@@ -1,5 +1,7 @@
 // quiver echo: the graph's changes on a live DDS domain, as they arrive (who, what, when), until
 // interrupted; what `ros2 topic echo` is for a topic.
+#include <unistd.h>
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -122,7 +124,9 @@ class Printer {
 
 int run_echo(const EchoFlags& f) {
   auto log = agents::named_logger("quiver echo");
-  auto opened = open_observer(f.dds, "quiver-echo");
+  // A name of its own: an agent's id is its name's hash, and a second echo (or a restart) under
+  // one name would retire the first as an older incarnation of the same agent.
+  auto opened = open_observer(f.dds, "quiver-echo-" + std::to_string(::getpid()));
   if (!opened.ok()) {
     log->error("{}", opened.error().to_string());
     return 2;

@@ -12,8 +12,13 @@ trap 'for p in $pids; do kill "$p" 2>/dev/null; done; rm -rf "$work"' EXIT
 fail() { echo "FAILED: $*"; for f in "$work"/*; do echo "--- $f"; tail -5 "$f"; done; exit 1; }
 # A writer that seeds the world, then changes the graph at random for 8 s.
 "$q" agent --name echo-writer --domain $domain --world "$world" --churn-hz 20 --churn-for 8 --run-for 10 --hand-over 0 \
-  >"$work/writer.out" 2>"$work/writer.err" &
+  --status-ms 100 >"$work/writer.out" 2>"$work/writer.err" &
 pids="$pids $!"
+# The writer is up (its world seeded) before echo joins: the world is not news to echo.
+i=0
+while ! grep -q '^{' "$work/writer.out" 2>/dev/null; do
+  i=$((i + 1)); [ $i -lt 100 ] || fail "the writer did not start"; sleep 0.1
+done
 "$q" echo --domain $domain --json --count 12 --timeout 30 >"$work/all.jsonl" 2>"$work/all.err" &
 e1=$!
 "$q" echo --domain $domain --json --type person --count 3 --timeout 30 >"$work/person.jsonl" 2>"$work/person.err" &
