@@ -70,6 +70,15 @@ netns_up() {  # ROBOT...: the bridge namespace, then one namespace per robot joi
     NETNS_ADDR[$r]=$NETNS_NET.$i
   done
 }
+netns_team_file() {  # FILE ROBOT...: a team file (team domain 7) listing the robots netns_up made
+  local file=$1 r sep=""
+  shift
+  {
+    echo "{\"team\": \"$NS_TAG\", \"domain\": 7, \"lease_s\": 1, \"robots\": ["
+    for r in "$@"; do echo "$sep{\"name\": \"$r\", \"address\": \"${NETNS_ADDR[$r]}\"}"; sep=","; done
+    echo "]}"
+  } >"$file"
+}
 netns_cut()  { ip -n "$NS_TAG-br" link set "v-$1" down; }   # ROBOT: unplug it at the switch
 netns_heal() { ip -n "$NS_TAG-br" link set "v-$1" up; }
 netns_slow() { tc -n "$NS_TAG-$1" qdisc replace dev eth0 root tbf rate "$2" burst 32kbit latency 400ms; }  # ROBOT RATE

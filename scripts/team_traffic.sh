@@ -18,13 +18,7 @@ trap 'netns_cleanup; rm -rf "$WORK"' EXIT
 names=()
 for ((i = 0; i < ROBOTS; ++i)); do names+=("R$i"); done
 netns_up "${names[@]}" || { echo "could not build the namespaces" >&2; exit 1; }
-{
-  echo "{\"team\": \"$NS_TAG\", \"domain\": 7, \"lease_s\": 1, \"robots\": ["
-  for ((i = 0; i < ROBOTS; ++i)); do
-    echo "$([ $i -gt 0 ] && echo ,){\"name\": \"R$i\", \"address\": \"${NETNS_ADDR[R$i]}\"}"
-  done
-  echo "]}"
-} >"$WORK/team.json"
+netns_team_file "$WORK/team.json" "${names[@]}"
 tx_total() { local r s=0; for r in "${names[@]}"; do s=$((s + $(netns_tx_bytes "$r"))); done; echo $s; }
 now_ns() { date +%s%N; }
 measure() {  # TOPOLOGY: after the processes settled: idle rate, then the writer's run

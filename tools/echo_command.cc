@@ -139,17 +139,11 @@ int run_echo(const EchoFlags& f) {
             r.replicator().live_peer_count());
   const std::int64_t t0 = agents::monotonic_ns();
   Printer printer(f, r.graph(), t0);
-  graph::ChangeFilter filter;
-  filter.node_types = f.types;
-  filter.edge_types = f.types;
-  filter.attributes = f.attrs;
-  if (!f.types.empty() && !f.attrs.empty()) filter.attributes.clear();  // --type and --attr: both must hold (below)
-  r.graph().subscribe(filter, [&](const graph::ChangeBatch& b) {
-    if (f.types.empty() || f.attrs.empty()) return printer.batch(b);
-    graph::ChangeFilter by_attr;
-    by_attr.attributes = f.attrs;
-    printer.batch(by_attr.select(b));
-  });
+  // A filter's lists are alternatives; --type and --attr must both hold: one filter after the other.
+  graph::ChangeFilter by_type, by_attr;
+  by_type.node_types = by_type.edge_types = f.types;
+  by_attr.attributes = f.attrs;
+  r.graph().subscribe(by_type, [&](const graph::ChangeBatch& b) { printer.batch(by_attr.select(b)); });
   agents::stop_on_signals();
   const std::int64_t deadline = f.timeout_s > 0 ? t0 + static_cast<std::int64_t>(f.timeout_s * 1e9) : 0;
   while (!agents::stop_requested() && (f.count == 0 || printer.printed() < f.count) &&

@@ -36,13 +36,7 @@ die() { say "$*"; for f in "$WORK"/*.log; do echo "--- $f" >&2; grep -v '^{' "$f
 names=()
 for ((i = 0; i < ROBOTS; ++i)); do names+=("R$i"); done
 netns_up "${names[@]}" || die "could not build the namespaces"
-{
-  echo "{\"team\": \"$NS_TAG\", \"domain\": 7, \"lease_s\": 1, \"robots\": ["
-  for ((i = 0; i < ROBOTS; ++i)); do
-    echo "$([ $i -gt 0 ] && echo ,){\"name\": \"R$i\", \"address\": \"${NETNS_ADDR[R$i]}\"}"
-  done
-  echo "]}"
-} >"$WORK/team.json"
+netns_team_file "$WORK/team.json" "${names[@]}"
 last_of() { grep '^{' "$WORK/$1.log" 2>/dev/null | tail -1; }
 field() { last_of "$1" | grep -o "\"$2\":[^,}]*" | head -1 | cut -d: -f2 | tr -d '"'; }  # NAME KEY
 wait_until() {  # TIMEOUT_S CMD...: polls every 50 ms

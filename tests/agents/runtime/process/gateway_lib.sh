@@ -8,12 +8,7 @@ WORK=$(mktemp -d)
 trap 'netns_cleanup; [ -n "${QUIVER_KEEP:-}" ] && echo "kept $WORK" || rm -rf "$WORK"' EXIT
 team_up() {  # ROBOT...: their namespaces, and a team file listing them (team domain 7)
   netns_up "$@" || { echo "FAIL: could not build the namespaces"; exit 1; }
-  local r sep=""
-  {
-    echo "{\"team\": \"$NS_TAG\", \"domain\": 7, \"lease_s\": 1, \"robots\": ["
-    for r in "$@"; do echo "$sep{\"name\": \"$r\", \"address\": \"${NETNS_ADDR[$r]}\"}"; sep=","; done
-    echo "]}"
-  } >"$WORK/team.json"
+  netns_team_file "$WORK/team.json" "$@"
 }
 fail() {
   echo "FAIL: $*"
