@@ -63,6 +63,7 @@ void build_app(CLI::App& app) {
   add_grammar_commands(app);
   add_planner_commands(app);
   add_keys_commands(app);
+  add_schema_commands(app);
   require_known_subcommand(&app, "quiver");
   for (CLI::App* sub : commands_of(&app))
     if (!commands_of(sub).empty()) require_known_subcommand(sub, "quiver " + sub->get_name());

@@ -40,6 +40,8 @@ void add_interop_commands(CLI::App& app);
 void add_grammar_commands(CLI::App& app);
 /// mission check, plan, bench planner (needs add_bench_commands first).
 void add_planner_commands(CLI::App& app);
+/// schema infer, schema check (the shared vocabulary).
+void add_schema_commands(CLI::App& app);
 /// keys init, keys add-agent, keys revoke, keys list (DDS Security credentials).
 void add_keys_commands(CLI::App& app);
 /// The process exit status the command that ran has chosen.

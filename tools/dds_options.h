@@ -28,6 +28,7 @@ struct DdsFlags : agents::ProcessFlags {
     if (!security.empty())
       if (Status s = agents::enable_security(o, security); !s.ok()) return make_error(s.error().code, "--security: " + s.error().message);
     if (!graph_security) o.permissions = nullptr;
+    if (Status s = apply_schema(o); !s.ok()) return s.error();
     return agents::DdsReplica::create(o);
   }
 };

@@ -3,10 +3,12 @@
 
 #include <iostream>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "commands.h"
+#include "grammar_schema.h"
 #include "quiver/agents/rules/grammar/grammar.h"
 
 namespace quiver::tools {
@@ -16,6 +18,7 @@ struct CheckArgs {
   std::vector<std::string> files;
   std::vector<std::string> include_dirs;
   bool notes = false;
+  std::string schema;  // empty: no vocabulary check
 };
 
 std::string summary(const agents::Grammar& g, const agents::GrammarChecker& checker) {
@@ -46,6 +49,15 @@ std::string summary(const agents::Grammar& g, const agents::GrammarChecker& chec
 
 void run_check(const CheckArgs& a) {
   int failed = 0;
+  std::optional<agents::schema::Schema> vocabulary;
+  if (!a.schema.empty()) {
+    auto s = agents::schema::Schema::load(a.schema);
+    if (!s.ok()) {
+      std::cout << "error: " << s.error().message << "\n";
+      return set_exit_code(1);
+    }
+    vocabulary = std::move(*s);
+  }
   for (const std::string& file : a.files) {
     auto g = agents::load_grammar_file(file, a.include_dirs);
     if (!g.ok()) {
@@ -54,6 +66,14 @@ void run_check(const CheckArgs& a) {
       continue;
     }
     std::vector<std::string> notes = g->notes;
+    if (vocabulary) {
+      const auto errors = grammar_schema_errors(*g, *vocabulary);
+      for (const std::string& e : errors) std::cout << file << ": error: " << e << "\n";
+      if (!errors.empty()) {
+        ++failed;
+        continue;
+      }
+    }
     agents::GrammarChecker checker(std::move(*g));
     notes.insert(notes.end(), checker.notes().begin(), checker.notes().end());
     std::cout << file << ": ok: " << summary(checker.grammar(), checker) << "\n";
@@ -85,6 +105,10 @@ void add_grammar_commands(CLI::App& app) {
   check->add_flag("--notes", args->notes,
                   "also print the notes: what loads with a remark (undeclared types, combo "
                   "choices left out, ...)");
+  check->add_option("--schema", args->schema,
+                    "also check the grammar's node types and edge labels against this schema (docs/schema.md): "
+                    "each one it does not declare, or an edge between types it never joins, is an error")
+      ->check(CLI::ExistingFile);
   check->callback([args] { run_check(*args); });
 }
 

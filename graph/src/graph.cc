@@ -290,6 +290,14 @@ std::optional<NodeId> Graph::rt_parent(NodeId child) const {
   return r->rt_parent->id;
 }
 
+std::optional<std::size_t> Graph::rt_level(NodeId id) const {
+  const NodeRec* r = impl_->visible_node(id);
+  if (r == nullptr || (r->rt_parent == nullptr && r->rt_children.empty())) return std::nullopt;
+  std::size_t level = 0;
+  for (const NodeRec* p = r->rt_parent; p != nullptr; p = p->rt_parent) ++level;  // the tree has no cycles
+  return level;
+}
+
 std::vector<NodeId> Graph::rt_children(NodeId parent) const {
   std::vector<NodeId> out;
   const NodeRec* r = impl_->visible_node(parent);
@@ -326,6 +334,7 @@ void Graph::set_delta_sink(std::function<void(const GraphDelta&)> sink) {
 }
 void Graph::set_commit_validator(CommitValidator v) { impl_->validator = std::move(v); }
 void Graph::set_permission_check(CommitValidator v) { impl_->permission_check = std::move(v); }
+void Graph::set_type_change_check(std::function<bool(Symbol)> allows) { impl_->type_change_allowed = std::move(allows); }
 void Graph::set_fence_provider(FenceProvider f) { impl_->fence_of = std::move(f); }
 Graph::ObserverId Graph::add_merge_observer(MergeObserver o) {
   const ObserverId id = impl_->next_observer++;

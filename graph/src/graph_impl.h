@@ -203,6 +203,7 @@ struct Graph::Impl {
   std::function<void(const GraphDelta&)> sink;
   CommitValidator validator;
   CommitValidator permission_check;
+  std::function<bool(Symbol)> type_change_allowed;
   FenceProvider fence_of;
   Graph::OriginNamer origin_namer;
   std::vector<std::pair<Graph::ObserverId, MergeObserver>> merge_observers;

@@ -156,6 +156,7 @@ Status Transaction::set(NodeId id, Symbol attr, Value value) {
   if (attr.is_null()) return make_error(ErrorCode::kInvalidArgument, "set(): the attribute name is empty");
   if (Status s = check_name("set(): the attribute name", attr.str()); !s.ok()) return s;
   if (Status s = check_value("set(): attribute '" + attr.str() + "'", value); !s.ok()) return s;
+  if (Status s = type_kept("set()", graph_->attr(id, attr), value, id, attr, nullptr); !s.ok()) return s;
   if (Status s = add_bytes("set()", op_bytes(attr.str()) + value.payload_bytes()); !s.ok()) return s;
   book_->hints.resize(ops_.size());
   book_->hints.push_back(rec);
@@ -168,12 +169,29 @@ Status Transaction::set(NodeId id, Symbol attr, Value value) {
   return {};
 }
 
-Result<bool> Transaction::remove_attr(NodeId id, Symbol attr) {
-  if (!node_usable(id)) return not_found("remove_attr()", id);
-  if (attr.is_null()) return make_error(ErrorCode::kInvalidArgument, "remove_attr(): the attribute name is empty");
-  // Whether the node has it as this transaction sees it: the replica's values, then this
-  // transaction's own writes in order. Without it there is nothing to remove (and nothing to
-  // publish: a remove takes away only the values it has seen).
+Status Transaction::type_kept(const char* fn, const Value* current, const Value& value, NodeId node, Symbol attr,
+                              const EdgeKey* edge) const {
+  if (current == nullptr || current->type() == value.type()) return {};
+  const auto& allows = graph_->impl_->type_change_allowed;
+  if (allows && allows(attr)) return {};
+  // Removed earlier in this transaction: the write starts it afresh.
+  for (auto op = ops_.rbegin(); op != ops_.rend(); ++op)
+    if (op->node == node && op->attr == attr &&
+        ((op->kind == TxnOp::Kind::kRemoveAttr && edge == nullptr) ||
+         (op->kind == TxnOp::Kind::kRemoveEdgeAttr && edge != nullptr && op->other == edge->to && op->type == edge->type)))
+      return {};
+  const std::string what =
+      "attribute '" + attr.str() + "' of " +
+      (edge == nullptr ? "node '" + graph_->name_of(node) + "'"
+                       : "edge '" + graph_->name_of(edge->from) + "' -[" + edge->type.str() + "]-> '" +
+                             graph_->name_of(edge->to) + "'");
+  return make_error(ErrorCode::kTypeMismatch, std::string(fn) + ": " + what + " holds a " + to_string(current->type()) +
+                                                  "; a " + to_string(value.type()) +
+                                                  " would change its type (remove it first in the same transaction, "
+                                                  "or declare it \"any\" in the schema)");
+}
+
+bool Transaction::has_attr(NodeId id, Symbol attr) const {
   bool present = !graph_->attr_values(id, attr).empty();
   for (const TxnOp& op : ops_) {
     if (!(op.node == id)) continue;
@@ -184,7 +202,29 @@ Result<bool> Transaction::remove_attr(NodeId id, Symbol attr) {
     else if (op.kind == TxnOp::Kind::kRemoveAttr && op.attr == attr)
       present = false;
   }
-  if (!present) return false;
+  return present;
+}
+
+Status Transaction::add(NodeId id, Symbol attr, Value value) {
+  if (node_usable(id) && !attr.is_null() && has_attr(id, attr))
+    return make_error(ErrorCode::kAlreadyExists, "add(): node '" + graph_->name_of(id) + "' already has the attribute '" +
+                                                     attr.str() + "' (set() overwrites)");
+  return set(id, attr, std::move(value));
+}
+
+Status Transaction::modify(NodeId id, Symbol attr, Value value) {
+  if (node_usable(id) && !attr.is_null() && !has_attr(id, attr))
+    return make_error(ErrorCode::kNotFound, "modify(): node '" + graph_->name_of(id) + "' has no attribute '" +
+                                                attr.str() + "' (set() adds it)");
+  return set(id, attr, std::move(value));
+}
+
+Result<bool> Transaction::remove_attr(NodeId id, Symbol attr) {
+  if (!node_usable(id)) return not_found("remove_attr()", id);
+  if (attr.is_null()) return make_error(ErrorCode::kInvalidArgument, "remove_attr(): the attribute name is empty");
+  // Without it (as this transaction sees it) there is nothing to remove (and nothing to publish:
+  // a remove takes away only the values it has seen).
+  if (!has_attr(id, attr)) return false;
   if (Status s = add_bytes("remove_attr()", op_bytes(attr.str())); !s.ok()) return s.error();
   TxnOp op{};
   op.kind = TxnOp::Kind::kRemoveAttr;
@@ -335,6 +375,8 @@ Status Transaction::set_edge_attr(const EdgeKey& key, Symbol attr, Value value) 
   if (attr.is_null()) return make_error(ErrorCode::kInvalidArgument, "set_edge_attr(): the attribute name is empty");
   if (Status s = check_name("set_edge_attr(): the attribute name", attr.str()); !s.ok()) return s;
   if (Status s = check_value("set_edge_attr(): attribute '" + attr.str() + "'", value); !s.ok()) return s;
+  if (Status s = type_kept("set_edge_attr()", graph_->edge_attr(key, attr), value, key.from, attr, &key); !s.ok())
+    return s;
   if (Status s = add_bytes("set_edge_attr()", op_bytes(attr.str(), key.type.str()) + value.payload_bytes()); !s.ok())
     return s;
   TxnOp op{};

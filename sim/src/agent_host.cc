@@ -2,6 +2,7 @@
 // CDR over the simulated network, kills and restarts them.
 #include "quiver/sim/agent_host.h"
 
+#include "quiver/agents/rules/schema/schema_admission.h"
 #include "quiver/graph/world_file.h"
 #include "quiver/base/hash.h"
 #include "quiver/sim/simulator.h"
@@ -13,6 +14,7 @@ struct AgentHost::Slot {
   int incarnation = 0;
   bool up = false;
   std::unique_ptr<graph::Graph> graph;
+  std::unique_ptr<agents::schema::SchemaAdmission> schema;  // outlives the replicator
   std::unique_ptr<agents::Replicator> replicator;
   std::unique_ptr<agents::Agent> agent;
   std::unique_ptr<agents::Engine> engine;  // from boot on; runs the agent once it is set up
@@ -95,6 +97,10 @@ void AgentHost::boot(int i) {
   ro.name = s.spec.name;
   // The network introduces peers as DDS discovery does (a hello then needs only a few answers).
   s.replicator = std::make_unique<agents::Replicator>(*s.graph, net_.endpoint(i), ro);
+  if (opt_.schema) {
+    s.schema = std::make_unique<agents::schema::SchemaAdmission>(opt_.schema, nullptr);
+    s.schema->install(*s.graph, *s.replicator);
+  }
   net_.discover(i, {s.graph->replica(), ro.name, ro.observer}, [this, i](const agents::PeerCard& c) {
     if (auto& t = agents_[static_cast<std::size_t>(i)]; t->replicator) t->replicator->introduce(c);
   });

@@ -69,7 +69,12 @@ int Churn::step(graph::Graph& g, Rng& rng, std::int64_t now) {
     if (take(mix_.delete_node)) {
       if (tx.delete_node(a).ok()) std::erase(nodes, a);
     } else if (take(mix_.set_attr)) {
-      (void)tx.set(a, Symbol(kAttrs[rng.below(kAttrs.size())]), random_value(rng));
+      // A value of another type than the attribute holds is written as DSR would have it: removed
+      // first (a write alone never changes an attribute's type), so types still change and clash.
+      const Symbol attr(kAttrs[rng.below(kAttrs.size())]);
+      Value v = random_value(rng);
+      if (Status s = tx.set(a, attr, v); !s.ok() && s.error().code == ErrorCode::kTypeMismatch)
+        if (tx.remove_attr(a, attr).ok()) (void)tx.set(a, attr, std::move(v));
     } else if (take(mix_.remove_attr)) {
       (void)tx.remove_attr(a, Symbol(kAttrs[rng.below(kAttrs.size())]));
     } else if (take(mix_.insert_edge)) {
@@ -85,7 +90,11 @@ int Churn::step(graph::Graph& g, Rng& rng, std::int64_t now) {
       auto out = g.edges_from(a);
       if (!out.empty()) {
         const auto& k = rng.pick(out);
-        if (k.type != graph::symbols::rt()) (void)tx.set_edge_attr(k, Symbol("w"), random_value(rng));
+        if (k.type != graph::symbols::rt()) {
+          Value v = random_value(rng);
+          if (Status s = tx.set_edge_attr(k, Symbol("w"), v); !s.ok() && s.error().code == ErrorCode::kTypeMismatch)
+            if (tx.remove_edge_attr(k, Symbol("w")).ok()) (void)tx.set_edge_attr(k, Symbol("w"), std::move(v));
+        }
       }
     } else if (take(mix_.rt_move)) {
       (void)tx.set_rt(a, b, random_pose(rng), now);

@@ -8,6 +8,7 @@
 #include <future>
 
 #include "quiver/agents/runtime/process/dds_replica.h"
+#include "quiver/agents/rules/schema/schema_admission.h"
 #include "quiver/agents/runtime/engine/engine.h"
 #include "quiver/agents/runtime/process/process_host.h"
 #include "quiver/interop/dsr.h"
@@ -73,6 +74,10 @@ TEST(DsrApiTable, EveryListedNameCompilesAndRuns) {
     robot = tx.create_node("robot", "robot", {{"speed", 0.5}}).value();               // 9
     person = tx.create_node("person", "patient").value();                              // 9
     EXPECT_TRUE(tx.set(robot, "battery", 0.9).ok());                                   // 10, 19 update_node / add_or_modify_attrib_local
+    const Status added = tx.add(robot, graph::Symbol("battery"), Value(0.8));           // 19 add_attrib_local
+    EXPECT_TRUE(!added.ok() && added.error().code == ErrorCode::kAlreadyExists);
+    const Status modified = tx.modify(robot, graph::Symbol("mood"), Value(1.0));         // 19 modify_attrib_local
+    EXPECT_TRUE(!modified.ok() && modified.error().code == ErrorCode::kNotFound);
     EXPECT_TRUE(tx.remove_attr(robot, "battery").ok());                                // 20 remove_attrib_local
     EXPECT_TRUE(tx.insert_edge(robot, person, "is_with", {{"distance", 1.2}}).ok());   // 14 insert_or_assign_edge
     EXPECT_TRUE(tx.set_edge_attr(EdgeKey{robot, person, Symbol("is_with")}, "distance", 1.0).ok());  // 14, 19
@@ -102,6 +107,8 @@ TEST(DsrApiTable, EveryListedNameCompilesAndRuns) {
   EXPECT_EQ(g.edge_attr(EdgeKey{robot, person, Symbol("is_with")}, "distance"), nullptr);  // 18
   EXPECT_EQ(g.rt_parent(robot).value(), root);                                         // 21 get_parent_id / get_parent_node
   EXPECT_EQ(g.rt_children(root).size(), 2u);                                           // 21
+  EXPECT_EQ(g.rt_level(robot).value(), 1u);                                            // 21 get_node_level
+  EXPECT_EQ(g.node_count(), 3u);                                                       // 38 size
   ASSERT_TRUE(g.rt_edge(robot).has_value());                                           // 23 get_edge_RT
   EXPECT_EQ(g.rt_history(robot).size(), 1u);                                           // 23 (timed RT history)
   EXPECT_EQ(kinematics::translation(g.rt_edge(robot)->pose).x(), 1.0);                 // 24 get_translation(n, to)
@@ -135,6 +142,9 @@ TEST(DsrApiTable, EveryListedNameCompilesAndRuns) {
   EXPECT_TRUE(graph::load_world(h, json).ok());                                        // 32 read_from_json_file
   EXPECT_EQ(Value(4).type(), graph::ValueType::kInt64);                                // 36 Attribute(int)
   EXPECT_EQ(Value::int32(4).type(), graph::ValueType::kInt32);                         // 36
+  auto vocabulary = agents::schema::Schema::parse(R"({"quiver_schema": 1, "open": true})", "s");  // 37 type registry
+  ASSERT_TRUE(vocabulary.ok());
+  g.set_type_change_check([](graph::Symbol) { return false; });                        // 37
   EXPECT_EQ(g.check_invariants().size(), 0u);
 }
 

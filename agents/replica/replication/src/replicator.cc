@@ -44,6 +44,16 @@ std::string Replicator::name_of(const PeerId& id) const {
   return id.to_string();
 }
 
+std::string Replicator::who(const PeerId& id) const {
+  std::string name = name_of(id);
+  const std::string hex = id.to_string();
+  return name == hex ? hex : "'" + name + "' (" + hex + ")";
+}
+
+std::string Replicator::delta_of(const PeerId& origin, std::uint64_t lo, std::uint64_t hi) const {
+  return "(" + who(origin) + ", " + std::to_string(lo) + (hi == lo ? "" : ".." + std::to_string(hi)) + ")";
+}
+
 // ------------------------------------------------------------------ local deltas
 
 void Replicator::on_local_delta(const graph::GraphDelta& d) {

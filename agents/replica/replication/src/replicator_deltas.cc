@@ -10,7 +10,6 @@
 
 namespace quiver::agents::inline replica {
 using internal::digest_of;
-using internal::interval;
 
 Replicator::Buffered* Replicator::recorded(const PeerId& origin, std::uint64_t lo) {
   auto it = buffer_index_.find(origin);
@@ -20,7 +19,7 @@ Replicator::Buffered* Replicator::recorded(const PeerId& origin, std::uint64_t l
 }
 
 Status Replicator::decode_delta(const PeerId& from, const DeltaMsg& m) {
-  const std::string what = "delta " + interval(m.origin, m.lo, m.hi) + " relayed by " + from.to_string();
+  const std::string what = "delta " + delta_of(m.origin, m.lo, m.hi) + " relayed by " + who(from);
   Status s = graph::decode(*m.payload, scratch_);
   if (!s.ok()) return make_error(s.error().code, what + ": " + s.error().message);
   if (!(scratch_.origin == m.origin) || scratch_.kind != graph::GraphDelta::Kind::kDelta)
@@ -96,8 +95,8 @@ Status Replicator::admission_verdict(const PeerId& from, const DeltaMsg& m) {
   Status s = admission_->admit_delta(scratch_, *m.payload, sig);
   if (s.ok()) return s;
   ++stats_.deltas_refused;
-  return make_error(ErrorCode::kPermissionDenied, "delta " + interval(m.origin, m.lo, m.hi) + " relayed by " +
-                                                      from.to_string() + " refused: " + s.error().message);
+  return make_error(ErrorCode::kPermissionDenied, "delta " + delta_of(m.origin, m.lo, m.hi) + " relayed by " +
+                                                      who(from) + " refused: " + s.error().message);
 }
 
 // Two payloads under one (origin, seq): one of them is forged (or a replica is broken). Which,
@@ -109,7 +108,7 @@ Status Replicator::admission_verdict(const PeerId& from, const DeltaMsg& m) {
 // second version sends it to all, with the version it had (from its relay buffer), once per
 // version; every replica does the same, so the versions flood and every replica joins all of them.
 void Replicator::equivocate(const PeerId& from, const DeltaMsg& m, std::uint64_t digest, const std::string& what) {
-  equivocation("delta " + interval(m.origin, m.lo, m.hi) + " relayed by " + from.to_string() + " " + what +
+  equivocation("delta " + delta_of(m.origin, m.lo, m.hi) + " relayed by " + who(from) + " " + what +
                ": both are joined");
   if (Status s = decode_delta(from, m); !s.ok()) return reject(s.error());
   if (Status a = admission_verdict(from, m); !a.ok()) return reject(a.error());
@@ -156,7 +155,7 @@ void Replicator::handle_own(const PeerId& from, const DeltaMsg& m) {
   skip_own_numbers_to(m.hi);
   if (overlaps) return equivocate(from, m, digest, "claims to be ours but differs from what we published");
   if (!admitted(from, m, digest)) return;
-  equivocation("delta " + interval(m.origin, m.lo, m.hi) + " relayed by " + from.to_string() +
+  equivocation("delta " + delta_of(m.origin, m.lo, m.hi) + " relayed by " + who(from) +
                " was published under this replica's name, which never published it; later deltas take sequence "
                "numbers beyond it");
   apply_delta(from, m, digest);

@@ -301,7 +301,7 @@ void Replicator::handle_gossip(const PeerId& from, Peer& p, const SummaryMsg& m)
     } else if (++p.digest_mismatches >= 2) {
       p.digest_mismatches = 0;
       ++stats_.divergences;
-      equivocation("replica " + from.to_string() +
+      equivocation("replica " + who(from) +
                    " holds the same deltas as this one but another state: pulling its whole state");
       pull_from(from, true);
     }

@@ -96,7 +96,7 @@ void Replicator::answer_with_state(const PeerId& from, const PullMsg& m) {
   const std::size_t chunk = std::clamp<std::size_t>(opt_.chunk_bytes, 1024, opt_.limits.max_chunk_bytes);
   const std::uint64_t count = std::max<std::uint64_t>(1, (state.size() + chunk - 1) / chunk);
   if (count > opt_.limits.max_chunks) {
-    return reject(make_error(ErrorCode::kTooLarge, "pull from " + from.to_string() + ": this replica's state (" +
+    return reject(make_error(ErrorCode::kTooLarge, "pull from " + who(from) + ": this replica's state (" +
                                                        std::to_string(state.size()) + " bytes) exceeds what one "
                                                        "transfer may carry"));
   }
@@ -131,7 +131,7 @@ void Replicator::handle(const PeerId& from, const StateMsg& m) {
   if (ra.chunks[m.index]) return;  // duplicate
   if (ra.bytes + m.chunk->size() > opt_.max_state_bytes) {
     state_ = Reassembly{};
-    return reject(make_error(ErrorCode::kTooLarge, "state from " + from.to_string() + " exceeds max_state_bytes (" +
+    return reject(make_error(ErrorCode::kTooLarge, "state from " + who(from) + " exceeds max_state_bytes (" +
                                                        std::to_string(opt_.max_state_bytes) + ")"));
   }
   pull_sent_ns_ = now_;  // progress: the pull is alive
@@ -149,14 +149,14 @@ void Replicator::handle(const PeerId& from, const StateMsg& m) {
   state_ = Reassembly{};
   pulling_ = false;
   Status s = graph::decode(all, scratch_);
-  if (!s.ok()) return reject(make_error(s.error().code, "state from " + from.to_string() + ": " + s.error().message));
+  if (!s.ok()) return reject(make_error(s.error().code, "state from " + who(from) + ": " + s.error().message));
   if (scratch_.kind != graph::GraphDelta::Kind::kState)
-    return reject(make_error(ErrorCode::kMalformed, "state from " + from.to_string() + ": not a state"));
+    return reject(make_error(ErrorCode::kMalformed, "state from " + who(from) + ": not a state"));
   if (admission_ != nullptr)
     if (Status a = admission_->admit_state(from, scratch_); !a.ok()) {
       ++stats_.states_refused;
       peers_[from].state_refused = true;
-      return reject(make_error(ErrorCode::kPermissionDenied, "state from " + from.to_string() + " refused: " + a.error().message));
+      return reject(make_error(ErrorCode::kPermissionDenied, "state from " + who(from) + " refused: " + a.error().message));
     }
   g_.merge(scratch_);
   ++state_version_;

@@ -47,7 +47,7 @@ void Replicator::check_digest(const PeerId& from, Peer& p, std::uint64_t digest)
   if (++p.digest_mismatches < 2) return;
   p.digest_mismatches = 0;
   ++stats_.divergences;
-  equivocation("replica " + from.to_string() + " holds the same deltas as this one but another state: pulling its whole state");
+  equivocation("replica " + who(from) + " holds the same deltas as this one but another state: pulling its whole state");
   pull_from(from, true);
 }
 
@@ -55,7 +55,7 @@ void Replicator::check_digest(const PeerId& from, Peer& p, std::uint64_t digest)
 bool Replicator::take_peer_set(const PeerId& from, Peer& p, crdt::CausalContext applied) {
   const std::size_t total = peer_ranges_ - p.applied.range_count() + applied.range_count();
   if (total > opt_.max_peer_ranges) {
-    reject(make_error(ErrorCode::kTooLarge, "summary from " + from.to_string() + ": " +
+    reject(make_error(ErrorCode::kTooLarge, "summary from " + who(from) + ": " +
                                                 std::to_string(applied.range_count()) +
                                                 " ranges would exceed the peer table's limit"));
     return false;

@@ -71,6 +71,12 @@ Result<std::unique_ptr<DdsReplica>> DdsReplica::create(DdsReplicaOptions options
     a->replicator_->set_admission(a->opt_.permissions.get());
     a->graph_->set_permission_check(a->opt_.permissions->commit_check(a->graph_->replica().agent));
   }
+  if (a->opt_.schema) {
+    a->schema_ = std::make_unique<schema::SchemaAdmission>(a->opt_.schema, a->opt_.permissions.get());
+    a->schema_->install(*a->graph_, *a->replicator_,
+                        a->opt_.permissions ? a->opt_.permissions->commit_check(a->graph_->replica().agent)
+                                            : graph::Graph::CommitValidator{});
+  }
   EngineOptions eo = a->opt_.engine;
   eo.clock = monotonic_ns;
   eo.seed ^= a->graph_->replica().incarnation;  // each incarnation draws its own numbers

@@ -53,7 +53,7 @@ nlohmann::json status(Agent& agent, DdsReplica& r, const Engine& rt) {
   j["rejected"] = st.rejected;
   j["equivocations"] = st.equivocations;
   j["divergences"] = st.divergences;
-  j["refused"] = st.deltas_refused + st.states_refused;  // by the graph-level permissions (docs/security.md)
+  j["refused"] = st.deltas_refused + st.states_refused;  // by the permissions (docs/security.md) or the schema (docs/schema.md)
   j["peers_known"] = r.replicator().peers().size();
   j["rss_kb"] = resident_kb();
   j["actions_started"] = rt.stats().started;
@@ -114,6 +114,10 @@ void ProcessFlags::add_dds(CLI::App* cmd) {
                   "DDS Security and graph-level permissions: the credentials directory of `quiver keys`; the "
                   "agent authenticates under its name, signs its deltas, and meets only agents of the same CA "
                   "(docs/security.md)");
+  cmd->add_option("--schema", schema,
+                  "the shared vocabulary (node types, edge types, attributes) every agent of the domain loads: "
+                  "checked on every commit and every change received (docs/schema.md)")
+      ->check(CLI::ExistingFile);
 }
 
 void ProcessFlags::add_all(CLI::App* cmd) {
@@ -172,6 +176,14 @@ Status ProcessFlags::apply_to(DdsConfig& c) const {
   return {};
 }
 
+Status ProcessFlags::apply_schema(DdsReplicaOptions& o) const {
+  if (schema.empty()) return {};
+  auto s = schema::Schema::load(schema);
+  if (!s.ok()) return make_error(s.error().code, "--schema: " + s.error().message);
+  o.schema = std::make_shared<const schema::Schema>(std::move(*s));
+  return {};
+}
+
 Result<DdsReplicaOptions> replica_options(const std::string& name, const ProcessFlags& f) {
   DdsReplicaOptions o;
   o.name = name;
@@ -180,6 +192,7 @@ Result<DdsReplicaOptions> replica_options(const std::string& name, const Process
   if (!f.security.empty())
     if (Status s = enable_security(o, f.security); !s.ok())
       return make_error(s.error().code, "--security: " + s.error().message);
+  if (Status s = f.apply_schema(o); !s.ok()) return s.error();
   if (!f.store.empty()) {
     StoreOptions so;
     so.dir = f.store;

@@ -79,15 +79,24 @@ Status check_pixels(const char* fn, std::string_view what, std::int64_t w, std::
                                               " (kMaxImagePixels)");
 }
 
+// One image attribute written whatever the node held: a value of another type (left by a broken
+// peer) is removed first, since a write alone never changes an attribute's type.
+Status put(Transaction& tx, NodeId node, std::string_view attr, Value v) {
+  Status s = tx.set(node, attr, v);
+  if (s.ok() || s.error().code != ErrorCode::kTypeMismatch) return s;
+  if (auto removed = tx.remove_attr(node, attr); !removed.ok()) return removed.error();
+  return tx.set(node, attr, std::move(v));
+}
+
 // Writes the four attributes; the bytes first, so that a refusal of the largest write leaves
 // the transaction as it was.
 Status write_attrs(Transaction& tx, NodeId node, Bytes bytes, std::int64_t w, std::int64_t h,
                    ImageEncoding e, std::string_view prefix) {
   const ImageAttrNames names = image_attr_names(prefix);
-  if (Status s = tx.set(node, names.bytes, Value(std::move(bytes))); !s.ok()) return s;
-  if (Status s = tx.set(node, names.width, Value(w)); !s.ok()) return s;
-  if (Status s = tx.set(node, names.height, Value(h)); !s.ok()) return s;
-  return tx.set(node, names.encoding, Value(std::string(to_string(e))));
+  if (Status s = put(tx, node, names.bytes, Value(std::move(bytes))); !s.ok()) return s;
+  if (Status s = put(tx, node, names.width, Value(w)); !s.ok()) return s;
+  if (Status s = put(tx, node, names.height, Value(h)); !s.ok()) return s;
+  return put(tx, node, names.encoding, Value(std::string(to_string(e))));
 }
 
 // One typed attribute of the image, or an error naming the node and the attribute.

@@ -155,13 +155,23 @@ class Transaction {
   /// (concurrent writes elsewhere survive as a conflict, see Graph::attr_values()). Owner thread
   /// only.
   /// @returns kNotFound (node not visible to this transaction), kInvalidArgument (`attr` null or
-  ///          not UTF-8), kTooLarge (a name or value over the limits table).
+  ///          not UTF-8), kTooLarge (a name or value over the limits table), kTypeMismatch (the
+  ///          attribute holds a value of another type: a write never changes it silently; remove
+  ///          it first in this transaction, or let the schema allow it, Graph::set_type_change_check).
   Status set(NodeId id, Symbol attr, Value value);
   /// The same with the attribute named by a string (interned with Symbol::make()). Owner thread
   /// only.
   /// @returns as the Symbol overload (an empty `attr` is kInvalidArgument); kTooLarge also when
   ///          the table of names is full.
   Status set(NodeId id, std::string_view attr, Value value);
+  /// DSR's add_attrib_local(): set() for an attribute the node does not have yet (as this
+  /// transaction sees it). Owner thread only.
+  /// @returns kAlreadyExists if it has it; otherwise as set().
+  Status add(NodeId id, Symbol attr, Value value);
+  /// DSR's modify_attrib_local(): set() for an attribute the node has (as this transaction sees
+  /// it). Owner thread only.
+  /// @returns kNotFound if it does not have it; otherwise as set().
+  Status modify(NodeId id, Symbol attr, Value value);
   /// Removes attribute `attr` of node `id` (all its concurrent values) as this transaction sees it;
   /// removing one the node does not have is not an error and publishes nothing. Owner thread only.
   /// @returns true if the node had it (DSR's remove_attrib_local), false if not; kNotFound (node
@@ -274,6 +284,14 @@ class Transaction {
   Status check_attrs(const char* fn, const std::vector<std::pair<Symbol, Value>>& attrs) const;
   Status cycle_check(NodeId parent, NodeId child) const;
   Status add_bytes(const char* fn, std::uint64_t n);
+  /// Whether node `id` has attribute `attr` as this transaction sees it (the replica's values,
+  /// then this transaction's own writes and removals in order).
+  bool has_attr(NodeId id, Symbol attr) const;
+  /// kTypeMismatch when `current` (the attribute's visible value, or null) has another type than
+  /// `value` and neither the graph's type-change check nor a removal earlier in this transaction
+  /// allows the change. `edge`: the edge whose attribute it is (null: node `node`'s).
+  Status type_kept(const char* fn, const Value* current, const Value& value, NodeId node, Symbol attr,
+                   const EdgeKey* edge) const;
   TxnOp& record(TxnOp op);
   Status revalidate() const;
   void release();
@@ -426,6 +444,10 @@ class Graph {
   /// @returns the current RT parent of `child`, or nullopt if it is not visible or is a root.
   ///          Owner thread only.
   std::optional<NodeId> rt_parent(NodeId child) const;
+  /// DSR's get_node_level(): how many RT edges lie between the node and its tree's root (0 for a
+  /// root with children). Owner thread only.
+  /// @returns nullopt if the node is not visible or is in no tree (no parent, no children).
+  std::optional<std::size_t> rt_level(NodeId id) const;
   /// @returns the RT children of `parent`, sorted by id; empty if it is not visible.
   ///          Owner thread only.
   std::vector<NodeId> rt_children(NodeId parent) const;
@@ -485,6 +507,10 @@ class Graph {
   /// locks never replace: the agent's graph-level permissions (agents/rules/permissions). Null: none.
   /// Replaces the previous check. Owner thread only.
   void set_permission_check(CommitValidator v);
+  /// Whether attribute `attr` may change its value type (e.g. the schema declares it "any").
+  /// Without a check (null, the default), no write changes an existing attribute's type: set()
+  /// and set_edge_attr() refuse it with kTypeMismatch. Replaces the previous check. Owner thread only.
+  void set_type_change_check(std::function<bool(Symbol attr)> allows);
   /// Attaches a rule claim to the delta of the next (or in-progress) commit; typically called by
   /// a commit validator that matched the transaction to a rule. A refused commit drops it.
   /// Owner thread only.

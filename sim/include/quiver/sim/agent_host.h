@@ -15,6 +15,7 @@
 
 #include "quiver/agents/rules/locks/locks.h"
 #include "quiver/agents/replica/replication/replicator.h"
+#include "quiver/agents/rules/schema/schema.h"
 #include "quiver/agents/runtime/engine/engine.h"
 #include "quiver/sim/fault_model.h"
 #include "quiver/sim/network.h"
@@ -35,6 +36,8 @@ struct AgentHostOptions {
   std::int64_t tick_ns = 10'000'000;
   std::int64_t join_wait_ns = 300'000'000;  ///< before a (re)started agent's setup(): to sync first
   std::string world_json;                   ///< seeded into every replica at boot (may be empty)
+  /// The shared vocabulary every agent loads (docs/schema.md): checked on commit and merge. Null: none.
+  std::shared_ptr<const agents::schema::Schema> schema;
   std::function<void(std::int64_t t_ns, const std::string& line)> log;
 };
 

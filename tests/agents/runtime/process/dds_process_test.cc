@@ -44,6 +44,36 @@ TEST_F(DdsProcessTest, FiveAgentsWritingAtOnceConverge) {
   EXPECT_EQ(dump_digest(domain), d) << "a fresh observer syncs to the same state";
 }
 
+// The schema over DDS (docs/schema.md): two agents load one that has no "object" node type; a
+// third loads none and creates objects among other changes. Both agents with the schema refuse
+// every delta that holds one, report it, and end equal to each other, while the one without the
+// schema keeps what they refuse.
+TEST_F(DdsProcessTest, AgentsWithTheSchemaRefuseWhatBreaksItAndStayEqual) {
+  const std::uint32_t domain = 178;
+  const std::string schema = ::testing::TempDir() + "/no_objects.schema.json";
+  std::ofstream(schema) << R"({"quiver_schema": 1,
+    "node_types": {"robot": {}, "person": {}, "room": {}},
+    "edge_types": {"in": {}, "is_with": {}, "sees": {}, "speaking": {}, "RT": {}},
+    "attributes": {"x": {"type": "any"}, "label": {"type": "any"}, "battery": {"type": "any"},
+                   "pos": {"type": "any"}, "count": {"type": "any"}, "w": {"type": "any"}}})";
+  std::vector<std::unique_ptr<AgentProc>> agents;
+  agents.push_back(start("vocab0", domain, {"--schema", schema}));
+  agents.push_back(start("vocab1", domain, {"--schema", schema}));
+  agents.push_back(start("freehand", domain, {"--churn-hz", "40", "--churn-for", "3", "--seed", "301"}));
+  auto refused_and_equal = [&] {
+    for (auto& a : agents)
+      if (!a->last.is_object() || a->last["churning"].get<bool>() || a->last["peers"].get<std::size_t>() < 2) return false;
+    return agents[0]->last["refused"].get<std::uint64_t>() > 0 && agents[1]->last["refused"].get<std::uint64_t>() > 0 &&
+           agents[0]->last["digest"] == agents[1]->last["digest"] && agents[0]->last["synced"].get<bool>() &&
+           agents[1]->last["synced"].get<bool>();
+  };
+  ASSERT_TRUE(poll_until(agents, 60'000, 100, refused_and_equal))
+      << agents[0]->last.dump() << "\n" << agents[1]->last.dump() << "\n" << agents[2]->last.dump();
+  EXPECT_NE(agents[0]->last["digest"], agents[2]->last["digest"]) << "the one without the schema kept what they refused";
+  EXPECT_GT(agents[2]->last["nodes"].get<std::size_t>(), agents[0]->last["nodes"].get<std::size_t>());
+  EXPECT_GT(agents[0]->last["nodes"].get<std::size_t>(), 0u) << "what the schema allows reached them";
+}
+
 TEST_F(DdsProcessTest, ConvergeWithTwentyPercentPacketLoss) {
   const std::uint32_t domain = 172;
   std::vector<std::unique_ptr<AgentProc>> agents;

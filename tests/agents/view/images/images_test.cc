@@ -70,9 +70,11 @@ class ImagesTest : public ::testing::Test {
     ASSERT_TRUE(s.ok()) << s.error().to_string();
     ASSERT_TRUE(tx.commit().ok());
   }
-  // Writes raw attributes, as a peer with a bug (or a forger) could.
+  // Writes raw attributes, as a peer with a bug (or a forger) could: removed first, since a write
+  // alone never changes an attribute's value type.
   void set_raw(std::string_view attr, Value v) {
     auto tx = a.g.begin();
+    ASSERT_TRUE(tx.remove_attr(camera, attr).ok());
     ASSERT_TRUE(tx.set(camera, attr, std::move(v)).ok());
     ASSERT_TRUE(tx.commit().ok());
   }

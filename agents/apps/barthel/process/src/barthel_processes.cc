@@ -31,9 +31,8 @@ void remember(pid_t old_pid, pid_t new_pid) {
 
 }  // namespace
 
-BarthelProcesses::BarthelProcesses(BarthelProcessOptions o) : o_(std::move(o)) {
+BarthelProcesses::BarthelProcesses(BarthelProcessOptions o) : o_(std::move(o)), launcher_(o_.out + "/logs", o_.exe) {
   ::mkdir(o_.out.c_str(), 0755);
-  ::mkdir((o_.out + "/logs").c_str(), 0755);
   std::signal(SIGINT, stop_agents_and_exit);
   std::signal(SIGTERM, stop_agents_and_exit);
 }
@@ -41,7 +40,7 @@ BarthelProcesses::BarthelProcesses(BarthelProcessOptions o) : o_(std::move(o)) {
 BarthelProcesses::~BarthelProcesses() { stop_all(); }
 
 std::vector<std::string> BarthelProcesses::argv_of(const std::string& role, const std::string& name) const {
-  std::vector<std::string> a = {o_.exe,       "run",         role,          "--domain",    std::to_string(o_.domain),
+  std::vector<std::string> a = {"run",         role,          "--domain",    std::to_string(o_.domain),
                                 "--dds-config", o_.dds_config, "--out",   o_.out,        "--script",
                                 o_.script_path, "--join-wait", "1",       "--answer-timeout", std::to_string(o_.answer_timeout_s)};
   if (!name.empty()) a.insert(a.end(), {"--name", name});
@@ -51,42 +50,26 @@ std::vector<std::string> BarthelProcesses::argv_of(const std::string& role, cons
 
 bool BarthelProcesses::start(const std::string& role, const std::string& name) {
   const std::string key = name.empty() ? role : name;
-  auto p = Subprocess::spawn(argv_of(role, name), o_.out + "/logs/" + key + ".log");
-  if (!p) return false;
-  if (auto old = procs_.find(key); old != procs_.end()) {
-    remember(old->second.pid(), 0);
-    procs_.erase(old);
-  }
-  remember(0, p->pid());
-  procs_.emplace(key, std::move(*p));
+  LaunchAgent a;
+  a.name = key;
+  a.args = argv_of(role, name);  // this executable's `run ROLE`; restarted by the scenario, not by policy
+  const pid_t old = launcher_.pids()[key];
+  if (!launcher_.start(std::move(a)).ok()) return false;
+  remember(old, 0);
+  remember(0, launcher_.pids()[key]);
   return true;
 }
 
-int BarthelProcesses::kill(const std::string& name, int sig) {
-  auto it = procs_.find(name);
-  if (it == procs_.end()) return -1;
-  it->second.kill(sig);
-  if (sig == SIGKILL) it->second.wait(2000);
-  return it->second.pid();
-}
+int BarthelProcesses::kill(const std::string& name, int sig) { return launcher_.kill(name, sig); }
 
 void BarthelProcesses::stop_all() {
-  for (auto& [name, p] : procs_) p.kill(SIGTERM);
-  for (auto& [name, p] : procs_) {
-    p.wait(5000);
-    remember(p.pid(), 0);
-  }
+  const auto pids = launcher_.pids();
+  launcher_.stop_all(5);
+  for (const auto& [name, pid] : pids) remember(pid, 0);
 }
 
 std::optional<nlohmann::json> BarthelProcesses::last_status(const std::string& name) {
-  auto it = procs_.find(name);
-  if (it == procs_.end()) return std::nullopt;
-  std::optional<nlohmann::json> last;
-  while (auto line = it->second.read_line(0)) {
-    auto j = nlohmann::json::parse(*line, nullptr, false);
-    if (j.is_object()) last = std::move(j);
-  }
-  return last;
+  return launcher_.last_status(name);
 }
 
 }  // namespace quiver::agents::inline apps::barthel

@@ -205,6 +205,9 @@ class Replicator {
   /// (also after it left, if its name hashes to its id), or id.to_string() when unknown. The
   /// graph's change batches carry it (ChangeBatch::origin_name). Owner thread only.
   std::string name_of(const PeerId& id) const;
+  /// A replica as errors name it: "'speech' (00000000000000ab.3)" when its name is known, else
+  /// its id. Owner thread only.
+  std::string who(const PeerId& id) const;
   /// @returns the number of peers currently heard from. Owner thread only.
   std::size_t live_peer_count() const;
   /// Calls `cb` when a peer joins (once its first summary named it) or leaves (goodbye, lease,
@@ -387,6 +390,8 @@ class Replicator {
     if (joined_cb_) joined_cb_(m);
   }
   void equivocation(const std::string& what);
+  /// A delta interval as errors name it: its origin by who(), then its numbers.
+  std::string delta_of(const PeerId& origin, std::uint64_t lo, std::uint64_t hi) const;
   void equivocate(const PeerId& from, const DeltaMsg& m, std::uint64_t digest, const std::string& what);
   void skip_own_numbers_to(std::uint64_t hi);
   bool counts(const Peer& p) const;

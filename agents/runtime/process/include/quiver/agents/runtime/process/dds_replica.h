@@ -27,6 +27,7 @@
 #include "quiver/agents/replica/replication/replicator.h"
 #include "quiver/agents/replica/store/store.h"
 #include "quiver/agents/rules/permissions/policy_admission.h"
+#include "quiver/agents/rules/schema/schema_admission.h"
 #include "quiver/agents/runtime/engine/engine.h"
 #include "quiver/agents/runtime/engine/liveness_keeper.h"
 #include "quiver/agents/transport/dds/dds_transport.h"
@@ -56,6 +57,9 @@ struct DdsReplicaOptions {
   /// Graph-level permissions and signed deltas (docs/security.md): the replicator's Admission and
   /// the graph's permission check. Null: every well-formed change is joined.
   std::shared_ptr<permissions::PolicyAdmission> permissions;
+  /// The shared vocabulary (docs/schema.md): checked on every local commit and on every delta
+  /// and state received (after the permissions). Null: none.
+  std::shared_ptr<const schema::Schema> schema;
 };
 
 /// A new incarnation number for a process start: microseconds of the wall clock shifted left
@@ -181,6 +185,7 @@ class DdsReplica {
   std::optional<Error> store_recovery_;
   std::unique_ptr<graph::Graph> graph_;
   std::unique_ptr<DdsTransport> transport_;
+  std::unique_ptr<schema::SchemaAdmission> schema_;  // outlives the replicator, whose Admission it is
   std::unique_ptr<Replicator> replicator_;
   std::unique_ptr<Engine> engine_;
   std::unique_ptr<LivenessKeeper> keeper_;  // stopped before the engine and the transport

@@ -47,13 +47,15 @@ struct ProcessFlags {
   /// DDS Security credentials directory (`quiver keys`, docs/security.md); empty: unsecured.
   /// run_process() and DdsFlags authenticate as the agent's name (enable_security()).
   std::string security;
+  /// The shared vocabulary every agent of the domain loads (docs/schema.md); empty: none.
+  std::string schema;
   /// "gossip" (the default; ReplicatorOptions::gossip: constant-size beats to one peer per
   /// period; docs/protocol.md) or "all-to-all" (every heartbeat, the whole (origin, seq) set to
   /// every peer).
   std::string membership = "gossip";
 
   /// --domain, --dds-config, --loss-permille, --lease, --membership (the DDS ones) on `cmd`.
-  /// And --security. The options write into this object. @pre `cmd` is not null; this object
+  /// And --security, --schema. The options write into this object. @pre `cmd` is not null; this object
   ///      outlives the parse.
   void add_dds(CLI::App* cmd);
   /// The DDS ones and --world, --seed, --status-ms, --no-final-status, --run-for, --join-wait,
@@ -67,6 +69,9 @@ struct ProcessFlags {
   /// (enable_security()).
   /// @returns kIo if that file cannot be read (`c` may be partly set then).
   Status apply_to(DdsConfig& c) const;
+  /// Loads --schema (if given) into `o.schema`.
+  /// @returns the schema file's error, naming --schema.
+  Status apply_schema(DdsReplicaOptions& o) const;
 };
 
 /// The replica options the flags choose for an agent named `name`: DDS configuration, membership,

@@ -16,11 +16,23 @@
 #include <cstring>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 extern char** environ;
 
 namespace quiver::agents::inline runtime {
+
+/// How Subprocess::spawn() starts a process.
+struct SpawnOptions {
+  std::string stderr_path;  ///< its stderr goes to this file (empty: to ours)
+  bool append = false;      ///< append to stderr_path rather than truncate it
+  /// Added to our environment (replacing a variable of the same name).
+  std::vector<std::pair<std::string, std::string>> env;
+  bool own_group = false;    ///< its own process group: a Ctrl-C at the terminal reaches only us
+  bool search_path = false;  ///< an argv[0] without '/' is looked up in PATH
+  bool null_stdin = true;    ///< its stdin is /dev/null (else ours)
+};
 
 class Subprocess {
  public:
@@ -28,24 +40,57 @@ class Subprocess {
   /// goes to ours.
   /// With `stderr_path`, its stderr goes to that file instead.
   static std::optional<Subprocess> spawn(const std::vector<std::string>& argv, const std::string& stderr_path = "") {
+    SpawnOptions o;
+    o.stderr_path = stderr_path;
+    o.null_stdin = false;
+    return spawn(argv, o);
+  }
+  /// The same with options. `error` (if given) receives posix_spawn's error
+  /// number when it fails.
+  static std::optional<Subprocess> spawn(const std::vector<std::string>& argv, const SpawnOptions& o,
+                                         int* error = nullptr) {
     int fds[2];
-    if (pipe(fds) != 0) return std::nullopt;
+    if (argv.empty() || pipe(fds) != 0) return std::nullopt;
     posix_spawn_file_actions_t fa;
     posix_spawn_file_actions_init(&fa);
     posix_spawn_file_actions_adddup2(&fa, fds[1], STDOUT_FILENO);
-    if (!stderr_path.empty())
-      posix_spawn_file_actions_addopen(&fa, STDERR_FILENO, stderr_path.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+    if (!o.stderr_path.empty())
+      posix_spawn_file_actions_addopen(&fa, STDERR_FILENO, o.stderr_path.c_str(),
+                                       O_WRONLY | O_CREAT | (o.append ? O_APPEND : O_TRUNC), 0644);
+    if (o.null_stdin) posix_spawn_file_actions_addopen(&fa, STDIN_FILENO, "/dev/null", O_RDONLY, 0);
     posix_spawn_file_actions_addclose(&fa, fds[0]);
     posix_spawn_file_actions_addclose(&fa, fds[1]);
     std::vector<char*> args;
     for (const auto& a : argv) args.push_back(const_cast<char*>(a.c_str()));
     args.push_back(nullptr);
+    std::vector<std::string> env;
+    for (char** e = environ; *e != nullptr; ++e) {
+      std::string kv = *e;
+      const std::string key = kv.substr(0, kv.find('='));
+      bool replaced = false;
+      for (const auto& [k, v] : o.env) replaced = replaced || k == key;
+      if (!replaced) env.push_back(std::move(kv));
+    }
+    for (const auto& [k, v] : o.env) env.push_back(k + "=" + v);
+    std::vector<char*> envp;
+    for (auto& s : env) envp.push_back(s.data());
+    envp.push_back(nullptr);
+    posix_spawnattr_t attr;
+    posix_spawnattr_init(&attr);
+    if (o.own_group) {
+      posix_spawnattr_setflags(&attr, POSIX_SPAWN_SETPGROUP);
+      posix_spawnattr_setpgroup(&attr, 0);
+    }
     pid_t pid = 0;
-    int rc = posix_spawn(&pid, args[0], &fa, nullptr, args.data(), environ);
+    const bool search = o.search_path && argv[0].find('/') == std::string::npos;
+    int rc = search ? posix_spawnp(&pid, args[0], &fa, &attr, args.data(), envp.data())
+                    : posix_spawn(&pid, args[0], &fa, &attr, args.data(), envp.data());
     posix_spawn_file_actions_destroy(&fa);
+    posix_spawnattr_destroy(&attr);
     close(fds[1]);
     if (rc != 0) {
       close(fds[0]);
+      if (error != nullptr) *error = rc;
       return std::nullopt;
     }
     fcntl(fds[0], F_SETFL, fcntl(fds[0], F_GETFL) | O_NONBLOCK);

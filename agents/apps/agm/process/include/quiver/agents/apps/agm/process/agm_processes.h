@@ -1,9 +1,9 @@
 #pragma once
 /// @file
 /// The AGM agents as OS processes over DDS on loopback (`EXE run ROLE`, e.g. `quiver run
-/// navigation`): started, killed -9 and restarted by role, each with its stderr in
-/// OUT/logs/ROLE.log (ROLE-2.log for its second incarnation), stopped with the final JSON status
-/// line it prints. The runs of agm_runs.h are built on it.
+/// navigation`): started, killed -9 and restarted by role through the launcher `quiver launch`
+/// uses (launcher.h), each with its output in OUT/logs/ROLE.log (every incarnation appended),
+/// stopped with the final JSON status line it prints. The runs of agm_runs.h are built on it.
 #include <map>
 #include <nlohmann/json.hpp>
 #include <optional>
@@ -11,7 +11,7 @@
 #include <vector>
 
 #include "quiver/agents/runtime/process/process_host.h"
-#include "quiver/agents/runtime/process/subprocess.h"
+#include "quiver/agents/runtime/process/launcher.h"
 
 namespace quiver::agents::inline apps::agm {
 
@@ -42,9 +42,8 @@ class AgmProcesses {
 
  private:
   AgmProcessOptions o_;
-  std::map<std::string, Subprocess> procs_;
+  Launcher launcher_;
   std::map<std::string, std::vector<std::string>> args_;
-  std::map<std::string, int> starts_;
 };
 
 }  // namespace quiver::agents::inline apps::agm

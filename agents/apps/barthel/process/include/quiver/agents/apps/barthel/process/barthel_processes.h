@@ -1,8 +1,9 @@
 #pragma once
 /// @file
 /// The Barthel agents as one OS process each (`EXE run ROLE`), over DDS on loopback: started,
-/// killed and restarted by name, their stderr logged in OUT/logs/NAME.log. The runs of
-/// barthel_runs.h (`quiver scenario barthel`, `quiver bench reaction`) are built on it.
+/// killed and restarted by name through the launcher `quiver launch` uses (launcher.h), their
+/// output logged in OUT/logs/NAME.log. The runs of barthel_runs.h (`quiver scenario barthel`,
+/// `quiver bench reaction`) are built on it.
 #include <cstdint>
 #include <map>
 #include <optional>
@@ -11,7 +12,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "quiver/agents/runtime/process/subprocess.h"
+#include "quiver/agents/runtime/process/launcher.h"
 
 namespace quiver::agents::inline apps::barthel {
 
@@ -46,7 +47,7 @@ class BarthelProcesses {
  private:
   std::vector<std::string> argv_of(const std::string& role, const std::string& name) const;
   BarthelProcessOptions o_;
-  std::map<std::string, Subprocess> procs_;
+  Launcher launcher_;
 };
 
 }  // namespace quiver::agents::inline apps::barthel
