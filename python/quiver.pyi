@@ -1,10 +1,15 @@
 """Type stubs of the `quiver` module (hand-written; python/tests/test_stubs.py keeps them in sync)."""
 from typing import Any, Callable, Iterable, Optional, Sequence, Tuple, Union, overload
 
+import types
+
 import numpy as np
 import numpy.typing as npt
 
 __version__: str
+dsr: types.ModuleType
+"""`quiver.dsr`: pydsr's names (DSRGraph, Node, Edge, Attribute, signals, rt_api) over a quiver.Agent
+(docs/dsr-api.md, "pydsr users"); `from quiver.dsr import DSRGraph, ...`."""
 
 ArrayLike = Union[npt.ArrayLike, Sequence[float]]
 Matrix4 = npt.NDArray[np.float64]
@@ -62,6 +67,7 @@ class EdgeKey:
     def type(self) -> str: ...
 
 def agent_id(name: str) -> int: ...
+def convert_world(path: str) -> str: ...
 def pose_matrix(translation: Sequence[float], rotation: Sequence[float] = ...) -> Matrix4: ...
 
 # ---- changes ----
@@ -253,7 +259,8 @@ class Agent:
     def __init__(self, name: str, *, domain: int = 0, dds_config: str = "loopback",
                  grammar: Optional[str] = None, grammar_text: Optional[str] = None, locks: bool = True,
                  lock_lease: float = 2.0, frames: bool = True, observer: bool = False,
-                 lease: float = 1.0, hand_over: float = 2.0, hang: float = 1.0) -> None: ...
+                 lease: float = 1.0, hand_over: float = 2.0, hang: float = 1.0, world: Optional[str] = None,
+                 world_text: Optional[str] = None, schema: Optional[str] = None) -> None: ...
     @property
     def name(self) -> str: ...
     @property
@@ -381,7 +388,8 @@ def request_stop() -> None: ...
 
 def run_agent(agent: AgentBase, *, domain: int = 0, dds_config: str = "loopback", world: Optional[str] = None,
               world_text: Optional[str] = None, run_for: float = 0.0, seed: int = 1, status_ms: int = 0,
-              join_wait: float = 1.5, loss_permille: int = 0, hang: float = 1.0, final_status: bool = True) -> int: ...
+              join_wait: float = 1.5, loss_permille: int = 0, hang: float = 1.0, final_status: bool = True,
+              schema: Optional[str] = None) -> int: ...
 
 class SimRun:
     """A simulated run as a check sees it at its end."""

@@ -9,6 +9,7 @@
 #include "agent_core.h"
 #include "quiver/agents/rules/grammar/grammar.h"
 #include "quiver/agents/runtime/process/process_host.h"
+#include "quiver/graph/world_file.h"
 
 namespace quiver::python {
 
@@ -272,8 +273,21 @@ void bind_agent(py::module_& m) {
       .def(py::init([](const std::string& name, std::uint32_t domain, const std::string& dds_config,
                        std::optional<std::string> grammar, std::optional<std::string> grammar_text, bool locks,
                        double lock_lease, bool frames, bool observer, double lease, double hand_over,
-                       double hang) {
+                       double hang, std::optional<std::string> world, std::optional<std::string> world_text,
+                       std::optional<std::string> schema) {
              AgentOptions o;
+             if (schema) {
+               auto s = agents::schema::Schema::load(*schema);
+               if (!s.ok()) raise(make_error(s.error().code, "Agent(): schema: " + s.error().message));
+               o.replica.schema = std::make_shared<const agents::schema::Schema>(std::move(*s));
+             }
+             // A seed depends only on the file: agents started together with it hold one world.
+             std::optional<graph::WorldSeed> seed;
+             if (world || world_text) {
+               auto w = world ? graph::world_seed_file(*world) : graph::world_seed(*world_text, "world_text");
+               if (!w.ok()) raise(make_error(w.error().code, "Agent(): world: " + w.error().message));
+               seed = std::move(*w);
+             }
              o.replica.name = name;
              o.replica.observer = observer;
              agents::ProcessFlags flags;
@@ -308,7 +322,10 @@ void bind_agent(py::module_& m) {
              a.graph.owner.agent = core;
              // The graph is created by the time start() returns; it dies with the core's replica.
              graph::Graph* gp = nullptr;
-             run_on(core, [&] { gp = &core->replica().graph(); });
+             run_on(core, [&] {
+               gp = &core->replica().graph();
+               if (seed) (void)core->replica().replicator().seed(seed->delta);
+             });
              a.graph.graph = std::shared_ptr<graph::Graph>(core, gp);
              return a;
            }),
@@ -316,12 +333,15 @@ void bind_agent(py::module_& m) {
            py::arg("grammar") = py::none(), py::arg("grammar_text") = py::none(), py::arg("locks") = true,
            py::arg("lock_lease") = 2.0, py::arg("frames") = true, py::arg("observer") = false,
            py::arg("lease") = 1.0, py::arg("hand_over") = 2.0, py::arg("hang") = 1.0,
+           py::arg("world") = py::none(), py::arg("world_text") = py::none(), py::arg("schema") = py::none(),
            "Starts an agent named `name` (its id derives from it) on DDS domain `domain`. `grammar` (a file) "
            "or `grammar_text` makes every local transaction follow that grammar; `locks` enables priority "
            "locks; `frames` keeps a frame tree for RT lookups (frames()). On stop() the agent keeps "
            "replicating up to `hand_over` seconds until every live agent peer holds all it holds. A callback "
            "that blocks keeps the agent alive for its peers (its heartbeats go on); one running longer than "
-           "`hang` seconds (0: never) is reported on stderr.")
+           "`hang` seconds (0: never) is reported on stderr. `world` (a Quiver world file) or `world_text` seeds the "
+           "shared graph (idempotent: agents started with the same file hold it once); `schema` is the shared "
+           "vocabulary file every agent of the domain loads (docs/schema.md).")
       .def_readonly("name", &PyAgent::name)
       .def_property_readonly("id", [](PyAgent& a) { return a.on_thread([&]() -> graph::ReplicaId { return a.core->replica().id(); }); })
       .def_property_readonly("graph", [](PyAgent& a) { return a.graph; },

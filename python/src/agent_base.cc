@@ -138,7 +138,8 @@ void bind_agent_base(py::module_& m) {
       "run_agent",
       [](agents::Agent& agent, std::uint32_t domain, const std::string& dds_config,
          std::optional<std::string> world, std::optional<std::string> world_text, double run_for,
-         std::uint64_t seed, int status_ms, double join_wait, int loss_permille, double hang, bool final_status) {
+         std::uint64_t seed, int status_ms, double join_wait, int loss_permille, double hang, bool final_status,
+         std::optional<std::string> schema) {
         if (current_run() != nullptr)
           raise(make_error(ErrorCode::kInvalidArgument,
                            "run_agent(): this thread already runs an agent"));
@@ -154,6 +155,7 @@ void bind_agent_base(py::module_& m) {
         f.join_wait_s = join_wait;
         f.loss_permille = loss_permille;
         f.hang_s = hang;
+        if (schema) f.schema = *schema;
         if (domain > 230)
           raise(make_error(ErrorCode::kInvalidArgument,
                            "run_agent(): domain " + std::to_string(domain) + " is above 230"));
@@ -174,6 +176,7 @@ void bind_agent_base(py::module_& m) {
       py::arg("world") = py::none(), py::arg("world_text") = py::none(), py::arg("run_for") = 0.0,
       py::arg("seed") = 1, py::arg("status_ms") = 0, py::arg("join_wait") = 1.5,
       py::arg("loss_permille") = 0, py::arg("hang") = 1.0, py::arg("final_status") = true,
+      py::arg("schema") = py::none(),
       "Runs `agent` (an AgentBase) as this process's agent over Cyclone DDS until SIGINT/SIGTERM, "
       "or `run_for` "
       "seconds (0: until a signal). The GIL is released meanwhile and taken for every callback. A "
@@ -183,7 +186,8 @@ void bind_agent_base(py::module_& m) {
       "world file "
       "`world` (or `world_text`) seeds the shared graph. Prints a JSON status line on stdout every "
       "`status_ms` "
-      "and one at the end (final_status=False: none at the end). Raises the first exception a callback raised (which stops the agent), "
+      "and one at the end (final_status=False: none at the end). `schema`: the shared vocabulary file "
+      "every agent of the domain loads (docs/schema.md). Raises the first exception a callback raised (which stops the agent), "
       "or "
       "quiver.Error if the agent could not start. Meant for a dedicated process: SIGINT/SIGTERM "
       "stop the agent "

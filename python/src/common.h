@@ -147,6 +147,7 @@ void bind_action(py::module_& m);
 void bind_agent_base(py::module_& m);
 void bind_bench(py::module_& m);
 void bind_sim(py::module_& m);
+void bind_dsr_facade(py::module_& m);
 
 /// A ChangeFilter from lists of names (empty lists: everything); the subscribe() calls' filter.
 graph::ChangeFilter to_filter(const std::vector<std::string>& node_types,

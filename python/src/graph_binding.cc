@@ -4,6 +4,10 @@
 #include "common.h"
 #include "quiver/agents/replica/replication/replicator.h"
 #include "quiver/base/hash.h"
+#include "quiver/graph/world_file.h"
+#include "quiver/interop/agm.h"
+#include "quiver/interop/dsr.h"
+#include "quiver/interop/interop.h"
 
 namespace quiver::python {
 namespace {
@@ -73,6 +77,23 @@ struct GraphState {
 }  // namespace
 
 void bind_graph(py::module_& m) {
+  m.def(
+      "convert_world",
+      [](const std::string& path) {
+        std::string text = unwrap(interop::read_file("convert_world()", path));
+        const interop::WorldFormat f = interop::detect_format(text);
+        if (f == interop::WorldFormat::kQuiverJson) return text;
+        graph::Graph g(graph::ReplicaId{fnv1a64("convert_world"), 1});
+        if (f == interop::WorldFormat::kDsrJson) unwrap(interop::import_dsr(g, text, path));
+        else if (f == interop::WorldFormat::kAgmXml) unwrap(interop::import_agm(g, text, path));
+        else
+          raise(make_error(ErrorCode::kMalformed, "convert_world(): " + path + " is " + interop::to_string(f) +
+                                                      ", not a world (Quiver JSON, CORTEX DSR JSON or AGM XML)"));
+        return graph::save_world(g);
+      },
+      py::arg("path"),
+      "A world file of any kind the importers read (Quiver JSON, CORTEX DSR JSON, AGM XML; docs/interop.md) as "
+      "Quiver world JSON text, e.g. for Agent(world_text=...).");
   py::class_<NodeChange>(m, "NodeChange")
       .def_readonly("id", &NodeChange::id)
       .def_property_readonly("kind", [](const NodeChange& c) { return std::string(to_string(c.kind)); })

@@ -21,4 +21,5 @@ PYBIND11_MODULE(quiver, m) {
   bind_agent_base(m);
   bind_bench(m);
   bind_sim(m);
+  bind_dsr_facade(m);
 }
