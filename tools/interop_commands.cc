@@ -2,11 +2,13 @@
 // running graph. quiver export-dsr / export-agm: a world file back to them (docs/interop.md).
 
 #include <memory>
+#include <optional>
 #include <string>
 
 #include "commands.h"
 #include "dds_options.h"
 #include "observer.h"
+#include "quiver/agents/rules/schema/schema_admission.h"
 #include "quiver/agents/runtime/process/logging.h"
 #include "quiver/graph/world_file.h"
 #include "quiver/base/hash.h"
@@ -56,6 +58,17 @@ int run_import(const ImportArgs& a) {
   };
   if (!a.live) {
     graph::Graph g(graph::ReplicaId{fnv1a64(command_name(true, a.format)), 1});
+    // --schema: the file is imported under it, as an agent would commit it (docs/schema.md).
+    agents::DdsReplicaOptions with_schema;
+    if (Status s = a.dds.apply_schema(with_schema); !s.ok()) {
+      log->error("{}", s.error().message);
+      return 2;
+    }
+    std::optional<agents::schema::SchemaAdmission> vocabulary;
+    if (with_schema.schema) {
+      vocabulary.emplace(with_schema.schema, nullptr);
+      g.set_permission_check(vocabulary->commit_check(g.replica().agent));
+    }
     auto r = import_into(g, a);
     if (!r.ok()) {
       log->error("{}", r.error().message);

@@ -43,6 +43,16 @@ printf '{\n  m:mug\n  t:room\n  m->t(in)\n}\n' >"$work/m.aggt"
 grep -q "mission: the node type 'mug' (variable m) is not in the schema" "$work/narrow_mission" ||
   fail "the mission error does not name the type: $(cat "$work/narrow_mission")"
 
+# The importers take it too: a CORTEX world imported under a schema that lacks its types is refused.
+dsr=$src/tests/graph/interop/fixtures/dsr/current_layout.json
+"$q" schema infer "$dsr" -o "$work/dsr_vocab.json" >/dev/null 2>&1 || fail "infer from a DSR world"
+"$q" import-dsr "$dsr" -o "$work/dsr.json" --schema "$work/dsr_vocab.json" >"$work/imp1" 2>&1 ||
+  fail "a DSR world refused by the schema inferred from it: $(cat "$work/imp1")"
+printf '{"quiver_schema": 1, "node_types": {"world": {}}}' >"$work/tiny.json"
+"$q" import-dsr "$dsr" -o "$work/dsr2.json" --schema "$work/tiny.json" >"$work/imp2" 2>&1 && fail "import-dsr ignored --schema"
+grep -q "the schema .*tiny.json declares no" "$work/imp2" || fail "import-dsr's refusal: $(cat "$work/imp2")"
+[ ! -e "$work/dsr2.json" ] || fail "a refused import wrote a world"
+
 # A malformed schema file is refused naming the entry.
 printf '{"quiver_schema": 1, "attributes": {"x": {"type": "float128"}}}' >"$work/bad.json"
 "$q" schema check "$work/bad.json" "$world" >"$work/bad" 2>&1 && fail "a bad schema was accepted"
