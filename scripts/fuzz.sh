@@ -16,10 +16,10 @@ CC=clang CXX=clang++ cmake -S . -B build-fuzz -G Ninja -DCMAKE_BUILD_TYPE=RelWit
   -DQUIVER_BUILD_FUZZERS=ON -DQUIVER_SANITIZE=ON >/dev/null
 dds_targets="dds_summary dds_delta dds_pull dds_state dds_bye"
 cmake --build build-fuzz --target graph_delta_fuzzer replication_samples_fuzzer world_file_fuzzer grammar_file_fuzzer \
-  dsr_file_fuzzer agm_file_fuzzer mission_file_fuzzer store_record_fuzzer recording_file_fuzzer \
+  dsr_file_fuzzer agm_file_fuzzer mission_file_fuzzer schema_file_fuzzer store_record_fuzzer recording_file_fuzzer \
   $(for t in $dds_targets; do printf '%s_fuzzer ' "$t"; done) fuzz_smoke_test
 corpus=build-fuzz/corpus
-mkdir -p "$corpus"/{delta,samples,world,grammar,dsr,agm,mission,store,recording} build-fuzz/findings
+mkdir -p "$corpus"/{delta,samples,world,grammar,dsr,agm,mission,schema,store,recording} build-fuzz/findings
 for t in $dds_targets; do mkdir -p "$corpus/$t"; done
 # Seed inputs: the smoke test writes the real inputs it mutates (the CORTEX and AGM worlds: the
 # interop test fixtures).
@@ -41,7 +41,7 @@ fuzz_one() {
 status=0
 running=0
 for t in delta:graph_delta samples:replication_samples world:world_file grammar:grammar_file \
-         dsr:dsr_file agm:agm_file mission:mission_file store:store_record recording:recording_file \
+         dsr:dsr_file agm:agm_file mission:mission_file schema:schema_file store:store_record recording:recording_file \
          $(for t in $dds_targets; do printf '%s:%s ' "$t" "$t"; done); do
   if [ "$running" -ge "$jobs" ]; then
     wait -n || status=1

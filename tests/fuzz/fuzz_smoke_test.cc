@@ -268,6 +268,31 @@ precondition
   }
 }
 
+TEST(FuzzSmokeTest, SchemaFiles) {
+  const auto base = quiver::testing::base_seed("FuzzSmokeTest.SchemaFiles", 83);
+  Rng rng(base);
+  const std::string full = R"({"quiver_schema": 1,
+  "node_types": {"object": {}, "mug": {"is": "object"}, "cup": {"is": ["object", "mug"]}, "room": {}, "robot": {}},
+  "edge_types": {"in": {"from": ["object", "robot"], "to": ["room"]}, "RT": {}},
+  "attributes": {"battery": {"type": "double", "unit": "1", "min": 0, "max": 1, "on": ["robot"], "writers": ["panel"]},
+                 "label": {"type": "string"}, "note": {"type": "any"}, "since": {"type": "int64", "on": ["in"]}}})";
+  const std::string open = R"({"quiver_schema": 1, "open": true, "attributes": {"label": {"type": "int32", "max": 5}}})";
+  std::vector<std::vector<std::uint8_t>> seeds;
+  for (const std::string* text : {&full, &open}) seeds.emplace_back(text->begin(), text->end());
+  maybe_save("schema", seeds);
+  for (const auto& seed : seeds) {
+    ASSERT_TRUE(schema_file(seed.data(), seed.size()));
+    int accepted = 0;
+    const int n = 5000;
+    for (int i = 0; i < n; ++i) {
+      auto m = mutate(seed, rng);
+      accepted += schema_file(m.data(), m.size());
+    }
+    std::printf("[fuzz] %d of %d mutated schemas parsed\n", accepted, n);
+    EXPECT_GT(accepted, 0);
+  }
+}
+
 TEST(FuzzSmokeTest, GraphDeltaDecoder) {
   const auto base = quiver::testing::base_seed("FuzzSmokeTest.GraphDeltaDecoder", 77);
   Rng rng(base);

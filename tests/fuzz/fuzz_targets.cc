@@ -9,6 +9,7 @@
 #include "quiver/agents/rules/mission/mission.h"
 #include "quiver/agents/rules/planner/planner.h"
 #include "quiver/agents/rules/planner/plan_replay.h"
+#include "quiver/agents/rules/schema/schema_admission.h"
 #include "quiver/agents/transport/wire/cdr_sample.h"
 #include "quiver/agents/replica/replication/replicator.h"
 #include "quiver/agents/replica/store/records.h"
@@ -21,6 +22,7 @@
 #include "quiver/interop/agm.h"
 #include "quiver/interop/dsr.h"
 #include "graph/interop/world_compare.h"
+#include "quiver/base/rng.h"
 
 namespace quiver::fuzz {
 namespace {
@@ -140,6 +142,73 @@ bool grammar_file(const std::uint8_t* data, std::size_t size) {
   (void)agents::replace_node_type(retype, *g.find_node("person"), "patient");
   (void)checker.check(g, retype.ops());
   (void)checker.all_violations(g);
+  return true;
+}
+
+bool schema_file(const std::uint8_t* data, std::size_t size) {
+  namespace sc = agents::schema;
+  auto parsed = sc::Schema::parse(std::string_view(reinterpret_cast<const char*>(data), size), "fuzz.schema.json");
+  if (!parsed.ok()) {
+    if (parsed.error().message.find("fuzz.schema.json: ") != 0) {
+      std::fprintf(stderr, "a schema error without the file's name: %s\n", parsed.error().message.c_str());
+      std::abort();
+    }
+    return false;
+  }
+  // What it writes, it reads back as the same schema.
+  const std::string text = parsed->to_json();
+  auto again = sc::Schema::parse(text, "again");
+  if (!again.ok() || again->to_json() != text) {
+    std::fprintf(stderr, "a schema that does not read back: %s\n", again.ok() ? again->to_json().c_str() : again.error().message.c_str());
+    std::abort();
+  }
+  auto schema = std::make_shared<const sc::Schema>(std::move(*parsed));
+  for (const auto& [a, bases] : schema->node_types())
+    for (const auto& [b, more] : schema->node_types()) (void)schema->is_a(a, b);  // inheritance ends
+  // A replica under it commits what a churn draws, and merges a delta made without it.
+  Graph g(ReplicaId{7, 1});
+  populate(g);
+  sc::SchemaAdmission adm(schema, nullptr);
+  g.set_permission_check(adm.commit_check(g.replica().agent));
+  g.set_type_change_check(adm.type_change_check());
+  Graph free(ReplicaId{8, 1});
+  populate(free);
+  std::vector<GraphDelta> made;
+  free.set_delta_sink([&](const GraphDelta& d) { made.push_back(d); });
+  Rng rng(size);
+  const char* kTypes[] = {"robot", "mug", "room", "ghost"};
+  for (int i = 0; i < 8; ++i) {
+    const auto before = g.digest();
+    auto tx = g.begin();
+    const auto nodes = g.nodes();
+    if (!nodes.empty()) {
+      const NodeId n = nodes[rng.below(nodes.size())];
+      (void)tx.set(n, "label", Value(std::string("x")));
+      (void)tx.set(n, "battery", Value(rng.uniform()));
+      (void)tx.create_node(i % 2 ? "robot" : "mug", "fz" + std::to_string(i));
+      (void)tx.insert_edge(n, nodes[rng.below(nodes.size())], "in");
+    }
+    if (!tx.commit().ok() && g.digest() != before) {
+      std::fprintf(stderr, "a commit the schema refused changed the replica\n");
+      std::abort();
+    }
+    // The same kinds of change by a replica without the schema (a rogue): merged under it below.
+    auto ftx = free.begin();
+    auto made_node = ftx.create_node(kTypes[rng.below(4)], "fr" + std::to_string(i));
+    if (made_node.ok()) {
+      if (rng.chance(0.5)) (void)ftx.set(*made_node, "battery", Value(rng.uniform() * 3 - 1));
+      else (void)ftx.set(*made_node, "label", Value::int32(static_cast<std::int32_t>(i)));
+      const auto fnodes = free.nodes();
+      if (!fnodes.empty()) (void)ftx.insert_edge(*made_node, fnodes[rng.below(fnodes.size())], rng.chance(0.5) ? "in" : "near");
+    }
+    (void)ftx.commit();
+  }
+  for (const GraphDelta& d : made) {
+    std::vector<std::uint8_t> bytes;
+    encode(d, bytes, 1, 1);
+    if (adm.admit_delta(d, bytes, {}).ok()) g.merge(d);
+  }
+  check(g, "schema_file");
   return true;
 }
 

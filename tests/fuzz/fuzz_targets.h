@@ -28,6 +28,10 @@ bool mission_file(const std::uint8_t* data, std::size_t size);
 bool dsr_file(const std::uint8_t* data, std::size_t size);
 /// An AGM XML world, the same way.
 bool agm_file(const std::uint8_t* data, std::size_t size);
+/// A schema file (docs/schema.md): refused naming the file, or written back to the same schema, then
+/// installed on a populated replica that commits and merges changes under it (a refusal leaves the
+/// replica as it was). Accepted = parsed.
+bool schema_file(const std::uint8_t* data, std::size_t size);
 /// A durable store's log record or snapshot (agents/replica/store/records.h), raw and with a valid checksum.
 bool store_record(const std::uint8_t* data, std::size_t size);
 /// A .qrec recording: refused with a message, or every recorded change replays into a graph.
