@@ -124,7 +124,7 @@ Result<nlohmann::json> Scenario::read(const std::string& path) {
   if (!in) return Error{ErrorCode::kIo, path + ": cannot open the scenario file"};
   try {
     return nlohmann::json::parse(in);
-  } catch (const nlohmann::json::parse_error& e) {
+  } catch (const nlohmann::json::exception& e) {  // a syntax error, or a number beyond a double (out_of_range)
     return Error{ErrorCode::kInvalidArgument, path + ": not JSON: " + e.what()};
   }
 }

@@ -112,6 +112,7 @@ TEST(FuzzSmokeTest, Regressions) {
                    Target{"world_file", world_file}, Target{"grammar_file", grammar_file},
                    Target{"recording_file", recording_file}, Target{"dsr_file", dsr_file},
                    Target{"agm_file", agm_file}, Target{"mission_file", mission_file},
+                   Target{"schema_file", schema_file},
                    Target{"store_record", store_record},
                    Target{"dds_summary", kDds[0]}, Target{"dds_delta", kDds[1]}, Target{"dds_pull", kDds[2]},
                    Target{"dds_state", kDds[3]}, Target{"dds_bye", kDds[4]}}) {

@@ -88,6 +88,8 @@ Result<TestResult> decode_test_result(std::string_view text, const std::string& 
     return make_error(ErrorCode::kMalformed, std::string(fn) + ": '" + source +
                                                  "' is not JSON (at byte " +
                                                  std::to_string(e.byte) + "): " + e.what());
+  } catch (const json::exception& e) {  // a number beyond a double (out_of_range)
+    return make_error(ErrorCode::kMalformed, std::string(fn) + ": '" + source + "' is not JSON: " + e.what());
   }
   const json::json_pointer root;
   if (!doc.is_object()) return rd.error(root, "expected an object, got " + Reader::type(doc));

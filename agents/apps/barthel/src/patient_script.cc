@@ -111,7 +111,7 @@ Result<PatientScript> PatientScript::load(const std::string& path) {
     auto s = from_json(nlohmann::json::parse(in));
     if (!s.ok()) return Error{s.error().code, path + ":" + s.error().message};
     return s;
-  } catch (const nlohmann::json::parse_error& e) {
+  } catch (const nlohmann::json::exception& e) {  // a syntax error, or a number beyond a double (out_of_range)
     return Error{ErrorCode::kInvalidArgument, path + ": not JSON: " + e.what()};
   }
 }

@@ -40,7 +40,7 @@ Result<Policy> Policy::parse(std::string_view text, const std::string& where) {
   nlohmann::json j;
   try {
     j = nlohmann::json::parse(text);
-  } catch (const nlohmann::json::parse_error& e) {
+  } catch (const nlohmann::json::exception& e) {  // a syntax error, or a number beyond a double (out_of_range)
     return make_error(ErrorCode::kMalformed, where + ": JSON syntax error: " + e.what());
   }
   auto fail = [&](const std::string& what) { return make_error(ErrorCode::kMalformed, where + ": " + what); };

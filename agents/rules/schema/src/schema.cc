@@ -63,7 +63,7 @@ Result<Schema> Schema::parse(std::string_view text, const std::string& where) {
   json j;
   try {
     j = json::parse(text);
-  } catch (const json::parse_error& e) {
+  } catch (const json::exception& e) {  // a syntax error, or a number beyond a double (out_of_range)
     return make_error(ErrorCode::kMalformed, where + ": JSON syntax error: " + e.what());
   }
   auto fail = [&](const std::string& what) { return make_error(ErrorCode::kMalformed, where + ": " + what); };

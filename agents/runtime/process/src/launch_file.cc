@@ -24,7 +24,7 @@ Result<LaunchFile> load_launch_file(const std::string& path) {
   json j;
   try {
     j = json::parse(in);
-  } catch (const json::parse_error& e) {
+  } catch (const json::exception& e) {  // a syntax error, or a number beyond a double (out_of_range)
     return bad(path, std::string("not JSON: ") + e.what());
   }
   if (!j.is_object()) return bad(path, "expected an object with \"agents\"");

@@ -71,6 +71,7 @@ TEST(PolicyTest, ABadPolicyFileSaysWhichRuleAndWhat) {
       {R"({"rules": [{"action": "write", "target": "x"}]})", "rule 1: \"agents\""},
       {R"({"rulez": []})", "unknown key \"rulez\""},
       {"{", "JSON syntax error"},
+      {R"({"rules": [], "x": 5e555})", "number overflow"},  // nlohmann throws out_of_range, not parse_error
   };
   for (const Case& c : cases) {
     auto p = Policy::parse(c.text, "policy.json");

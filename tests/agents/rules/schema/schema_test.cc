@@ -60,6 +60,7 @@ TEST(SchemaTest, ABadSchemaFileSaysWhatAndWhere) {
       {R"({"quiver_schema": 1, "attributes": {"x": {"type": "double", "on": ["room"]}}})", "\"on\" names 'room'"},
       {R"({"quiver_schema": 1, "attributes": {"x": {"type": "double", "colour": 1}}})", "unknown key \"colour\""},
       {"{", "JSON syntax error"},
+      {R"({"quiver_schema": 1, "attributes": {"x": {"type": "double", "max": 5e555}}})", "number overflow"},
   };
   for (const Case& c : cases) {
     auto s = Schema::parse(c.text, "vocab.json");
