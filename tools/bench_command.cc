@@ -5,6 +5,7 @@
 #include "commands.h"
 #include "quiver/tools/bench/crdt_bench.h"
 #include "quiver/tools/bench/load_bench.h"
+#include "quiver/tools/bench/memory_bench.h"
 #include "quiver/tools/bench/scale_bench.h"
 #include "quiver/tools/bench/team_bench.h"
 #include "quiver/tools/bench/schedules_bench.h"
@@ -33,6 +34,18 @@ void add_bench_commands(CLI::App& app) {
   load->add_option("--frames", l->frames)->check(CLI::Range(2, 10'000'000))->capture_default_str();
   load->add_option("--runs", l->runs)->check(CLI::Range(1, 1000))->capture_default_str();
   load->callback([l] { set_exit_code(bench::run_load_bench(*l)); });
+  auto mb = std::make_shared<bench::MemoryBench>();
+  auto* memory = bench->add_subcommand(
+      "memory",
+      "Heap bytes a replica holds per node, attribute and edge, beside the payload (default: CORTEX's representative "
+      "node, 10 attributes and 3 edges of 2 attributes)");
+  memory->add_option("--nodes", mb->nodes)->check(CLI::Range(2, 10'000'000))->capture_default_str();
+  memory->add_option("--attrs", mb->attrs, "attributes per node")->check(CLI::Range(0, 1000))->capture_default_str();
+  memory->add_option("--edges", mb->edges, "edges per node")->check(CLI::Range(0, 100))->capture_default_str();
+  memory->add_option("--edge-attrs", mb->edge_attrs, "attributes per edge")->check(CLI::Range(0, 100))->capture_default_str();
+  memory->add_option("--runs", mb->runs)->check(CLI::Range(1, 100))->capture_default_str();
+  memory->add_option("--seed", mb->seed)->check(CLI::NonNegativeNumber)->capture_default_str();
+  memory->callback([mb] { set_exit_code(bench::run_memory_bench(*mb)); });
   auto sc = std::make_shared<bench::ScaleBench>();
   auto* scale = bench->add_subcommand(
       "scale",
