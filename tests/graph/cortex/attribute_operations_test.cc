@@ -10,66 +10,33 @@
 #include <gtest/gtest.h>
 
 #include <cstdint>
-#include <filesystem>
 #include <string>
 #include <utility>
 #include <vector>
 
-#include "quiver/graph/graph.h"
-#include "quiver/graph/world_file.h"
+#include "cortex_graph_fixture.h"
 
 namespace quiver::cortex_tests {
 namespace {
 
-using graph::EdgeKey;
-using graph::Graph;
-using graph::NodeId;
-using graph::ReplicaId;
-using graph::Symbol;
-using graph::Value;
 using graph::ValueType;
 
-std::string data_path(const char* file) {
-  return (std::filesystem::path(__FILE__).parent_path() / "data" / file).string();
-}
-
 // The CORTEX fixture: a graph loaded from the edge config file.
-class CortexAttributes : public ::testing::Test {
+class CortexAttributes : public CortexWorldTest {
  protected:
+  CortexAttributes() : CortexWorldTest("edge_world.json", ReplicaId{0xC0, 1}) {}
   void SetUp() override {
-    auto loaded = graph::load_world_file(g, data_path("edge_world.json"));
-    ASSERT_TRUE(loaded.ok()) << loaded.error().to_string();
-    root = g.find_node("root").value();
-    room = g.find_node("room").value();
+    CortexWorldTest::SetUp();
     rt_root_room = EdgeKey{root, room, graph::symbols::rt()};
   }
 
-  // DSR's add_or_modify_attrib_local + update_node: one attribute written and committed.
-  Status set_and_commit(NodeId id, std::string_view attr, Value v) {
-    auto tx = g.begin();
-    if (Status s = tx.set(id, attr, std::move(v)); !s.ok()) return s;
-    auto c = tx.commit();
-    if (!c.ok()) return c.error();
-    return {};
-  }
-  Status set_edge_and_commit(const EdgeKey& key, std::string_view attr, Value v) {
-    auto tx = g.begin();
-    if (Status s = tx.set_edge_attr(key, attr, std::move(v)); !s.ok()) return s;
-    auto c = tx.commit();
-    if (!c.ok()) return c.error();
-    return {};
-  }
   // DSR's remove_attrib_local + update_node; returns what remove_attrib_local returned.
   bool remove_and_commit(NodeId id, std::string_view attr) {
-    auto tx = g.begin();
-    auto had = tx.remove_attr(id, attr);
+    auto had = remove_attr_and_commit(id, attr);
     EXPECT_TRUE(had.ok()) << had.error().to_string();
-    EXPECT_TRUE(tx.commit().ok());
     return had.ok() && *had;
   }
 
-  Graph g{ReplicaId{0xC0, 1}};
-  NodeId root, room;
   EdgeKey rt_root_room;
 };
 
@@ -279,14 +246,6 @@ TEST_F(CortexAttributeOperations, RuntimeCheckedAddOrModifyIsEquivalent) {
     ASSERT_TRUE(tx.commit().ok());
   }
   EXPECT_EQ(g.get<std::string>(root, "string_").value(), stratt);
-}
-
-// DSR's get_attrib_by_name() on the local Node copy before update_node(): the value the open
-// transaction (Quiver's local copy) last wrote to the attribute, or null if it wrote none.
-const Value* written_in(const graph::Transaction& tx, NodeId id, Symbol attr) {
-  for (auto op = tx.ops().rbegin(); op != tx.ops().rend(); ++op)
-    if (op->kind == graph::TxnOp::Kind::kSetAttr && op->node == id && op->attr == attr) return &op->value;
-  return nullptr;
 }
 
 // CORTEX attribute_operations.cpp, "Other attribute operations and checks" /

@@ -10,48 +10,21 @@
 
 #include <algorithm>
 #include <cstdint>
-#include <filesystem>
 #include <optional>
 #include <string>
 
-#include "quiver/graph/graph.h"
-#include "quiver/graph/world_file.h"
+#include "cortex_graph_fixture.h"
 
 namespace quiver::cortex_tests {
 namespace {
 
-using graph::Dot;
-using graph::EdgeKey;
-using graph::Graph;
-using graph::NodeId;
-using graph::ReplicaId;
-
-std::string data_path(const char* file) {
-  return (std::filesystem::path(__FILE__).parent_path() / "data" / file).string();
-}
-
 // An id no node of the graph has: a dot of a replica that never wrote to it.
 NodeId absent_id(std::uint64_t counter) { return NodeId{Dot{ReplicaId{0xDEAD, 7}, counter}}; }
 
-class CortexConvenience : public ::testing::Test {
+class CortexConvenience : public CortexWorldTest {
  protected:
-  void SetUp() override {
-    auto loaded = graph::load_world_file(g, data_path("edge_world.json"));
-    ASSERT_TRUE(loaded.ok()) << loaded.error().to_string();
-    root = g.find_node("root").value();
-    room = g.find_node("room").value();
-    shadow = g.find_node("Shadow").value();
-  }
-  NodeId insert_testtype(std::string_view name) {
-    auto tx = g.begin();
-    auto id = tx.create_node("testtype", name);
-    EXPECT_TRUE(id.ok()) << id.error().to_string();
-    EXPECT_TRUE(tx.commit().ok());
-    return id.ok() ? *id : NodeId{};
-  }
-
-  Graph g{ReplicaId{0xC1, 1}};
-  NodeId root, room, shadow;
+  CortexConvenience() : CortexWorldTest("edge_world.json", ReplicaId{0xC1, 1}) {}
+  NodeId insert_testtype(std::string_view name) { return insert_node("testtype", name); }
 };
 
 using CortexMapsOperations = CortexConvenience;

@@ -188,14 +188,6 @@ TEST_F(CortexDsrApi, OtherRuntimeCheckedAddOrModifyAttribLocalIsEquivalentToAddO
   EXPECT_EQ(g.get<std::string>(root, "test_string").value_or(""), stratt);
 }
 
-// DSR's get_attrib_by_name() on the local Node copy before update_node(): the value the open
-// transaction (Quiver's local copy) last wrote to the attribute, or null if it wrote none.
-const Value* written_in(const graph::Transaction& tx, NodeId id, Symbol attr) {
-  for (auto op = tx.ops().rbegin(); op != tx.ops().rend(); ++op)
-    if (op->kind == graph::TxnOp::Kind::kSetAttr && op->node == id && op->attr == attr) return &op->value;
-  return nullptr;
-}
-
 // CORTEX test_dsr_api.cpp, "Other attribute operations and checks" / "add_attrib_local is
 // equivalent to runtime_checked_add_attrib_local". Class (a): DSR's add_attrib_local is tx.add();
 // its runtime_checked_ form is the same call with the Symbol made from a run-time string. A

@@ -11,32 +11,23 @@
 // (test_int: int32, test_uint: uint32, ...). DSR reports errors by exceptions or false/nullopt;
 // Quiver by Status/Result values (an error code) or nullopt.
 
-#include <gtest/gtest.h>
-
 #include <cstdint>
-#include <memory>
 #include <string>
 #include <string_view>
+#include <utility>
 
-#include "quiver/agents/rules/schema/schema.h"
-#include "quiver/agents/rules/schema/schema_admission.h"
-#include "quiver/graph/graph.h"
+#include "cortex_graph_fixture.h"
 
 namespace quiver::cortex_tests {
 
-using graph::EdgeKey;
-using graph::Graph;
-using graph::NodeId;
 using graph::Pose;
-using graph::ReplicaId;
-using graph::Symbol;
-using graph::Value;
 
 // An id no node has (DSR's 3333333, 75000, 788987...).
 inline NodeId absent_id(std::uint64_t counter) { return NodeId{graph::Dot{ReplicaId{777, 1}, counter}}; }
 
-struct CortexDsrApi : ::testing::Test {
-  Graph g{ReplicaId{1111, 1}};
+struct CortexDsrApi : CortexGraphTest {
+  CortexDsrApi() : CortexGraphTest(ReplicaId{1111, 1}) {}
+
   NodeId root, child, lonely;
 
   void SetUp() override {
@@ -47,54 +38,17 @@ struct CortexDsrApi : ::testing::Test {
     ASSERT_TRUE(tx.set_rt(root, child, Pose::identity(), 1).ok());
     ASSERT_TRUE(tx.commit().ok());
   }
-  NodeId create(const std::string& type, const std::string& name) {
-    auto tx = g.begin();
-    auto id = tx.create_node(type, name);
-    EXPECT_TRUE(id.ok()) << id.error().to_string();
-    EXPECT_TRUE(tx.commit().ok());
-    return id.value_or(NodeId{});
-  }
+  NodeId create(const std::string& type, const std::string& name) { return insert_node(type, name); }
   // DSR's add_or_modify_attrib_local + update_node.
-  Status set(NodeId id, std::string_view attr, Value v) {
-    auto tx = g.begin();
-    Status s = tx.set(id, attr, std::move(v));
-    if (!s.ok()) return s;
-    auto c = tx.commit();
-    if (!c.ok()) return c.error();
-    return Status{};
-  }
-  Result<bool> remove(NodeId id, std::string_view attr) {
-    auto tx = g.begin();
-    auto r = tx.remove_attr(id, attr);
-    EXPECT_TRUE(tx.commit().ok());
-    return r;
-  }
-  Status insert_edge(NodeId from, NodeId to, std::string_view type) {
-    auto tx = g.begin();
-    Status s = tx.insert_edge(from, to, type);
-    if (!s.ok()) return s;
-    auto c = tx.commit();
-    return c.ok() ? Status{} : Status(c.error());
-  }
+  Status set(NodeId id, std::string_view attr, Value v) { return set_and_commit(id, attr, std::move(v)); }
+  Result<bool> remove(NodeId id, std::string_view attr) { return remove_attr_and_commit(id, attr); }
   EdgeKey rt_key() const { return EdgeKey{root, child, graph::symbols::rt()}; }
   // DSR's type registry (built-in "world" and "robot", the file's REGISTER_NODE_TYPE(test_n) and
   // REGISTER_EDGE_TYPE(test_e), and "RT") as Quiver's schema (docs/schema.md), checked on every
   // commit of `g`: a node or edge of an undeclared type is refused with kPermissionDenied.
   void install_registry() {
-    auto parsed = agents::schema::Schema::parse(
-        R"({"quiver_schema": 1, "node_types": {"world": {}, "robot": {}, "test_n": {}},
-            "edge_types": {"test_e": {}, "RT": {}}})",
-        "cortex_registry");
-    ASSERT_TRUE(parsed.ok()) << parsed.error().to_string();
-    auto registry = std::make_shared<const agents::schema::Schema>(*parsed);
-    agents::schema::SchemaAdmission adm(registry, nullptr);
-    g.set_permission_check(adm.commit_check(g.replica().agent));
-    g.set_type_change_check(adm.type_change_check());
-  }
-  // A transaction's commit as a Status.
-  static Status commit(graph::Transaction& tx) {
-    auto c = tx.commit();
-    return c.ok() ? Status{} : Status(c.error());
+    install_schema(g, R"({"quiver_schema": 1, "node_types": {"world": {}, "robot": {}, "test_n": {}},
+            "edge_types": {"test_e": {}, "RT": {}}})");
   }
 };
 

@@ -9,67 +9,35 @@
 #include <gtest/gtest.h>
 
 #include <cstdint>
-#include <filesystem>
 #include <memory>
 #include <optional>
 #include <string>
 
-#include "quiver/agents/rules/schema/schema.h"
-#include "quiver/agents/rules/schema/schema_admission.h"
-#include "quiver/graph/graph.h"
-#include "quiver/graph/world_file.h"
+#include "cortex_graph_fixture.h"
 
 namespace quiver::cortex_tests {
 namespace {
 
-using graph::Dot;
-using graph::EdgeKey;
-using graph::Graph;
-using graph::NodeId;
-using graph::ReplicaId;
-using graph::Symbol;
-using graph::Value;
-
-std::string data_path(const char* file) {
-  return (std::filesystem::path(__FILE__).parent_path() / "data" / file).string();
-}
-
 NodeId absent_id(std::uint64_t counter) { return NodeId{Dot{ReplicaId{0xBEEF, 3}, counter}}; }
 
-class CortexGraphEdgeOperations : public ::testing::Test {
+class CortexGraphEdgeOperations : public CortexWorldTest {
  protected:
-  void SetUp() override {
-    auto loaded = graph::load_world_file(g, data_path("empty_world.json"));
-    ASSERT_TRUE(loaded.ok()) << loaded.error().to_string();
-  }
+  CortexGraphEdgeOperations() : CortexWorldTest("empty_world.json", ReplicaId{0xC2, 1}) {}
   // Two testtype nodes, each inserted on its own (DSR's insert_node per node).
   void insert_two_nodes() {
     for (auto [name, out] : {std::pair{"testtype_a", &id1}, std::pair{"testtype_b", &id2}}) {
-      auto tx = g.begin();
-      auto id = tx.create_node("testtype", name);
+      auto id = try_insert_node("testtype", name);
       ASSERT_TRUE(id.ok()) << id.error().to_string();
-      ASSERT_TRUE(tx.commit().ok());
       *out = *id;
     }
-  }
-  Status insert_edge(NodeId from, NodeId to, std::string_view type,
-                     std::vector<std::pair<Symbol, Value>> attrs = {}) {
-    auto tx = g.begin();
-    if (Status s = tx.insert_edge(from, to, type, std::move(attrs)); !s.ok()) return s;
-    auto c = tx.commit();
-    if (!c.ok()) return c.error();
-    return {};
   }
   template <class... Args>
   Status delete_edge(Args&&... args) {
     auto tx = g.begin();
     if (Status s = tx.delete_edge(std::forward<Args>(args)...); !s.ok()) return s;
-    auto c = tx.commit();
-    if (!c.ok()) return c.error();
-    return {};
+    return commit(tx);
   }
 
-  Graph g{ReplicaId{0xC2, 1}};
   NodeId id1, id2;
 };
 

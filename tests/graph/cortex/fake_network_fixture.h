@@ -1,7 +1,7 @@
 #pragma once
 // Helpers shared by the translations of RoboComp CORTEX tests/synchronization/fake_network_tests.cpp
-// (fake_network_delivery_test.cc, fake_network_ordering_test.cc): robot() (CORTEX's make_robot),
-// level(), the symbolic edge type kLink, and the graph names they use.
+// (fake_network_delivery_test.cc, fake_network_ordering_test.cc): level() and the symbolic edge type
+// kLink; robot() (CORTEX's make_robot) and Recorder come from cortex_graph_fixture.h.
 //
 // CORTEX's FakeNetwork queues the deltas its sync engines emit and lets a test post, drop,
 // partition and reorder them; some cases also call an engine's apply_remote_*() directly.
@@ -20,29 +20,14 @@
 // attributes only. CORTEX runs each case in LWW or CRDT mode; Quiver has one (CRDT) mode, so a
 // CRDT case and its LWW twin run the same scenario.
 
-#include <gtest/gtest.h>
-
 #include <cstdint>
-#include <string>
 
-#include "quiver/graph/graph.h"
+#include "cortex_graph_fixture.h"
 
 namespace quiver::cortex_tests {
 
-using graph::Graph;
-using graph::NodeId;
-using graph::Transaction;
-using graph::Value;
-
 // The symbolic edge type of the attribute cases (CORTEX's plain "RT" edges with a "weight").
 inline constexpr const char* kLink = "link";
-
-// CORTEX's make_robot: a "robot" node with level 0.
-inline NodeId robot(Transaction& tx, const std::string& name, std::int32_t level = 0) {
-  auto id = tx.create_node("robot", name, {{"level", Value::int32(level)}});
-  EXPECT_TRUE(id.ok()) << id.error().to_string();
-  return id.value_or(NodeId{});
-}
 
 inline std::int32_t level(const Graph& g, NodeId id) { return g.get<std::int32_t>(id, "level").value_or(-1); }
 

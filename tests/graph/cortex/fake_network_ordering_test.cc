@@ -18,29 +18,9 @@ namespace quiver::cortex_tests {
 namespace {
 
 using graph::EdgeKey;
-using graph::GraphDelta;
-using graph::ReplicaId;
-using graph::Symbol;
 
-// A replica whose committed deltas are kept, to be delivered by hand in any order.
-struct Recorder {
-  Graph g;
-  std::vector<GraphDelta> out;
-  explicit Recorder(std::uint64_t agent) : g(ReplicaId{agent, 1}) {
-    g.set_delta_sink([this](const GraphDelta& d) { out.push_back(d); });
-  }
-  // Runs `f` in a transaction, commits it and returns the delta it published.
-  template <class F>
-  GraphDelta write(F&& f) {
-    auto tx = g.begin();
-    f(tx);
-    const std::size_t before = out.size();
-    auto c = tx.commit();
-    EXPECT_TRUE(c.ok()) << c.error().to_string();
-    EXPECT_EQ(out.size(), before + 1) << "the commit published no delta";
-    return out.empty() ? GraphDelta{} : out.back();
-  }
-};
+// A Recorder (cortex_graph_fixture.h) is a replica whose committed deltas are kept, to be delivered
+// by hand in any order.
 
 // ---------------------------------------------------------------------------------------------
 // Attribute update ordering. CORTEX stamps each write with a wall-clock timestamp chosen by the

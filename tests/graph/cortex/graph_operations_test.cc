@@ -10,51 +10,25 @@
 #include <gtest/gtest.h>
 
 #include <cstdint>
-#include <filesystem>
 #include <optional>
 #include <string>
 
-#include "quiver/graph/graph.h"
-#include "quiver/graph/world_file.h"
+#include "cortex_graph_fixture.h"
 
 namespace quiver::cortex_tests {
 namespace {
 
-using graph::Graph;
-using graph::NodeId;
-using graph::ReplicaId;
-using graph::Symbol;
-using graph::Value;
-
-std::string data_path(const char* file) {
-  return (std::filesystem::path(__FILE__).parent_path() / "data" / file).string();
-}
-
-class CortexNodeInsertionsUpdatesAndRemovals : public ::testing::Test {
+class CortexNodeInsertionsUpdatesAndRemovals : public CortexWorldTest {
  protected:
-  void SetUp() override {
-    auto loaded = graph::load_world_file(g, data_path("edge_world.json"));
-    ASSERT_TRUE(loaded.ok()) << loaded.error().to_string();
-  }
+  CortexNodeInsertionsUpdatesAndRemovals() : CortexWorldTest("edge_world.json", ReplicaId{0xC4, 1}) {}
   // GIVEN "A new Node" + THEN "The node is inserted and the graph is bigger": a robot node named
   // robot_8 with attribute att = "value", inserted.
-  Result<NodeId> insert_robot_8() {
-    auto tx = g.begin();
-    auto id = tx.create_node("robot", "robot_8", {{"att", Value("value")}});
-    if (!id.ok()) return id;
-    auto c = tx.commit();
-    if (!c.ok()) return c.error();
-    return id;
-  }
+  Result<NodeId> insert_robot_8() { return try_insert_node("robot", "robot_8", {{Symbol("att"), Value("value")}}); }
   // AND_WHEN "The node is updated": int_ = 11 added and the node updated.
   Status update_robot_8() {
     auto id = g.find_node("robot_8");
     if (!id) return make_error(ErrorCode::kNotFound, "robot_8");
-    auto tx = g.begin();
-    if (Status s = tx.set(*id, "int_", Value::int32(11)); !s.ok()) return s;
-    auto c = tx.commit();
-    if (!c.ok()) return c.error();
-    return {};
+    return set_and_commit(*id, "int_", Value::int32(11));
   }
   // AND_WHEN "The node is deleted" (DSR's delete_node by name).
   void delete_robot_8() {
@@ -64,8 +38,6 @@ class CortexNodeInsertionsUpdatesAndRemovals : public ::testing::Test {
     ASSERT_TRUE(tx.delete_node(*id).ok());
     ASSERT_TRUE(tx.commit().ok());
   }
-
-  Graph g{ReplicaId{0xC4, 1}};
 };
 
 // CORTEX graph_operations.cpp, SCENARIO "Node insertions, updates and removals" /

@@ -17,29 +17,15 @@
 
 #include <cmath>
 #include <cstdint>
-#include <filesystem>
 #include <string>
 
 #include <Eigen/Geometry>
 
-#include "quiver/graph/graph.h"
-#include "quiver/graph/world_file.h"
-#include "quiver/kinematics/eigen_pose.h"
+#include "cortex_graph_fixture.h"
 #include "quiver/kinematics/frames.h"
 
 namespace quiver::cortex_tests {
 namespace {
-
-using graph::EdgeKey;
-using graph::FloatVec;
-using graph::Graph;
-using graph::NodeId;
-using graph::ReplicaId;
-using graph::Value;
-
-std::string data_path(const char* file) {
-  return (std::filesystem::path(__FILE__).parent_path() / "data" / file).string();
-}
 
 // A 6x6 diagonal covariance packed row-major into 36 floats (DSR's rt_covariance layout).
 FloatVec diagonal_covariance(double tx, double ty, double tz, double rx, double ry, double rz) {
@@ -49,44 +35,20 @@ FloatVec diagonal_covariance(double tx, double ty, double tz, double rx, double 
   return packed;
 }
 
-Eigen::Isometry3d pose_xyz_euler(const Eigen::Vector3d& t, const Eigen::Vector3d& rxyz) {
-  Eigen::Isometry3d X = Eigen::Isometry3d::Identity();
-  X.translate(t);
-  X.rotate(Eigen::AngleAxisd(rxyz.x(), Eigen::Vector3d::UnitX()) * Eigen::AngleAxisd(rxyz.y(), Eigen::Vector3d::UnitY()) *
-           Eigen::AngleAxisd(rxyz.z(), Eigen::Vector3d::UnitZ()));
-  return X;
-}
-
 double yaw_of(const Eigen::Isometry3d& X) { return std::atan2(X.linear()(1, 0), X.linear()(0, 0)); }
 
-class CortexInnerGaussian : public ::testing::Test {
+class CortexInnerGaussian : public CortexWorldTest {
  protected:
-  void SetUp() override {
-    auto loaded = graph::load_world_file(g, data_path("edge_world.json"));
-    ASSERT_TRUE(loaded.ok()) << loaded.error().to_string();
-    root = g.find_node("root").value();
-    room = g.find_node("room").value();
-    shadow = g.find_node("Shadow").value();
-  }
+  CortexInnerGaussian() : CortexWorldTest("edge_world.json", ReplicaId{0xC9, 1}) {}
   // DSR's insert_or_assign_edge_RT with a covariance.
   Status insert_rt_with_covariance(NodeId parent, NodeId child, const Eigen::Vector3d& t,
                                    const Eigen::Vector3d& rxyz, const FloatVec& covariance, std::int64_t stamp) {
-    auto tx = g.begin();
-    if (Status s = kinematics::set_rt(tx, parent, child, pose_xyz_euler(t, rxyz), stamp); !s.ok()) return s;
-    if (Status s = tx.set_edge_attr(EdgeKey{parent, child, graph::symbols::rt()}, "rt_covariance", Value(covariance));
-        !s.ok())
-      return s;
-    auto c = tx.commit();
-    if (!c.ok()) return c.error();
-    return {};
+    return insert_or_assign_rt(g, parent, child, t, rxyz, stamp, covariance);
   }
   // RT_API::get_covariance_matrix(parent, child): the stored 6x6, row-major.
   Result<FloatVec> covariance_of(NodeId parent, NodeId child) const {
     return g.get<FloatVec>(EdgeKey{parent, child, graph::symbols::rt()}, "rt_covariance");
   }
-
-  Graph g{ReplicaId{0xC9, 1}};
-  NodeId root, room, shadow;
 };
 
 // CORTEX inner_gaussian.cpp, TEST_CASE "InnerGaussian propagates RT chain covariance". (b) The

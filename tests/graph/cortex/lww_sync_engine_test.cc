@@ -11,7 +11,7 @@
 #include <string>
 #include <vector>
 
-#include "quiver/graph/graph.h"
+#include "cortex_graph_fixture.h"
 #include "quiver/interop/dsr.h"
 #include "test_net.h"
 
@@ -19,38 +19,6 @@ namespace quiver::cortex_tests {
 namespace {
 
 using agents::Net;
-using graph::EdgeKey;
-using graph::Graph;
-using graph::GraphDelta;
-using graph::NodeId;
-using graph::ReplicaId;
-using graph::Symbol;
-using graph::Transaction;
-using graph::Value;
-
-struct Recorder {
-  Graph g;
-  std::vector<GraphDelta> out;
-  explicit Recorder(std::uint64_t agent) : g(ReplicaId{agent, 1}) {
-    g.set_delta_sink([this](const GraphDelta& d) { out.push_back(d); });
-  }
-  template <class F>
-  GraphDelta write(F&& f) {
-    auto tx = g.begin();
-    f(tx);
-    const std::size_t before = out.size();
-    auto c = tx.commit();
-    EXPECT_TRUE(c.ok()) << c.error().to_string();
-    EXPECT_EQ(out.size(), before + 1);
-    return out.empty() ? GraphDelta{} : out.back();
-  }
-};
-
-NodeId robot(Transaction& tx, const std::string& name, std::int32_t level) {
-  auto id = tx.create_node("robot", name, {{"level", Value::int32(level)}});
-  EXPECT_TRUE(id.ok()) << id.error().to_string();
-  return id.value_or(NodeId{});
-}
 
 // CORTEX lww_sync_engine.cpp, "LWW tombstones suppress older remote node recreation".
 // Class (b): CORTEX receives a recreation of the deleted id stamped no later than the delete and

@@ -10,29 +10,14 @@
 #include <gtest/gtest.h>
 
 #include <cstdint>
-#include <filesystem>
 #include <memory>
 #include <optional>
 #include <string>
 
-#include "quiver/agents/rules/schema/schema.h"
-#include "quiver/agents/rules/schema/schema_admission.h"
-#include "quiver/graph/graph.h"
-#include "quiver/graph/world_file.h"
+#include "cortex_graph_fixture.h"
 
 namespace quiver::cortex_tests {
 namespace {
-
-using graph::Dot;
-using graph::Graph;
-using graph::NodeId;
-using graph::ReplicaId;
-using graph::Symbol;
-using graph::Value;
-
-std::string data_path(const char* file) {
-  return (std::filesystem::path(__FILE__).parent_path() / "data" / file).string();
-}
 
 NodeId absent_id(std::uint64_t counter) { return NodeId{Dot{ReplicaId{0xF00D, 2}, counter}}; }
 
@@ -40,38 +25,14 @@ NodeId absent_id(std::uint64_t counter) { return NodeId{Dot{ReplicaId{0xF00D, 2}
 // ("root" of the world file, "testtype") and its edge type "in". Installed as DSR has it, on
 // every commit of `g`: a node or edge of an undeclared type is refused with kPermissionDenied.
 void install_registry(Graph& g) {
-  auto parsed = agents::schema::Schema::parse(
-      R"({"quiver_schema": 1, "node_types": {"root": {}, "testtype": {}}, "edge_types": {"in": {}}})",
-      "cortex_registry");
-  ASSERT_TRUE(parsed.ok()) << parsed.error().to_string();
-  auto registry = std::make_shared<const agents::schema::Schema>(*parsed);
-  agents::schema::SchemaAdmission adm(registry, nullptr);
-  g.set_permission_check(adm.commit_check(g.replica().agent));
-  g.set_type_change_check(adm.type_change_check());
+  install_schema(g, R"({"quiver_schema": 1, "node_types": {"root": {}, "testtype": {}}, "edge_types": {"in": {}}})");
 }
 
-class CortexGraphNodeOperations : public ::testing::Test {
+class CortexGraphNodeOperations : public CortexWorldTest {
  protected:
-  void SetUp() override {
-    auto loaded = graph::load_world_file(g, data_path("empty_world.json"));
-    ASSERT_TRUE(loaded.ok()) << loaded.error().to_string();
-  }
+  CortexGraphNodeOperations() : CortexWorldTest("empty_world.json", ReplicaId{0xC5, 1}) {}
   // DSR's insert_node(Node::create<testtype_node_type>(name)).
-  Result<NodeId> insert_testtype(std::string_view name) {
-    auto tx = g.begin();
-    auto id = tx.create_node("testtype", name);
-    if (!id.ok()) return id;
-    auto c = tx.commit();
-    if (!c.ok()) return c.error();
-    return id;
-  }
-  Status commit(graph::Transaction& tx) {
-    auto c = tx.commit();
-    if (!c.ok()) return c.error();
-    return {};
-  }
-
-  Graph g{ReplicaId{0xC5, 1}};
+  Result<NodeId> insert_testtype(std::string_view name) { return try_insert_node("testtype", name); }
 };
 
 // ---- TEST_CASE "Graph node operations" ----

@@ -13,46 +13,16 @@
 
 #include <chrono>
 #include <cstdint>
-#include <filesystem>
 #include <string>
 #include <vector>
 
 #include <Eigen/Geometry>
 
-#include "quiver/graph/graph.h"
-#include "quiver/graph/world_file.h"
-#include "quiver/kinematics/eigen_pose.h"
+#include "cortex_graph_fixture.h"
 #include "quiver/kinematics/frames.h"
 
 namespace quiver::cortex_tests {
 namespace {
-
-using graph::Graph;
-using graph::NodeId;
-using graph::ReplicaId;
-using graph::Value;
-
-std::string data_path(const char* file) {
-  return (std::filesystem::path(__FILE__).parent_path() / "data" / file).string();
-}
-
-Eigen::Isometry3d pose_xyz_euler(const Eigen::Vector3d& t, const Eigen::Vector3d& rxyz) {
-  Eigen::Isometry3d X = Eigen::Isometry3d::Identity();
-  X.translate(t);
-  X.rotate(Eigen::AngleAxisd(rxyz.x(), Eigen::Vector3d::UnitX()) * Eigen::AngleAxisd(rxyz.y(), Eigen::Vector3d::UnitY()) *
-           Eigen::AngleAxisd(rxyz.z(), Eigen::Vector3d::UnitZ()));
-  return X;
-}
-
-// DSR's insert_or_assign_edge_RT: one RT write, committed.
-Status insert_or_assign_rt(Graph& g, NodeId parent, NodeId child, const Eigen::Vector3d& t,
-                           const Eigen::Vector3d& rxyz, std::int64_t stamp) {
-  auto tx = g.begin();
-  if (Status s = kinematics::set_rt(tx, parent, child, pose_xyz_euler(t, rxyz), stamp); !s.ok()) return s;
-  auto c = tx.commit();
-  if (!c.ok()) return c.error();
-  return {};
-}
 
 // Milliseconds since the epoch, the unit of the stamps CORTEX's test writes.
 std::int64_t now_ms() {
@@ -60,16 +30,9 @@ std::int64_t now_ms() {
       .count();
 }
 
-class CortexRtFixture : public ::testing::Test {
+class CortexRtFixture : public CortexWorldTest {
  protected:
-  void SetUp() override {
-    auto loaded = graph::load_world_file(g, data_path("edge_world.json"));
-    ASSERT_TRUE(loaded.ok()) << loaded.error().to_string();
-    root = g.find_node("root").value();
-    room = g.find_node("room").value();
-  }
-  Graph g{ReplicaId{0xC8, 1}};
-  NodeId root, room;
+  CortexRtFixture() : CortexWorldTest("edge_world.json", ReplicaId{0xC8, 1}) {}
 };
 
 using CortexRtTimestamp = CortexRtFixture;
