@@ -12,9 +12,7 @@
 #include "quiver/agents/rules/schema/infer.h"
 #include "quiver/agents/rules/schema/schema_admission.h"
 #include "quiver/base/hash.h"
-#include "quiver/graph/world_file.h"
-#include "quiver/interop/agm.h"
-#include "quiver/interop/dsr.h"
+#include "quiver/interop/any_world.h"
 #include "quiver/interop/interop.h"
 
 namespace quiver::tools {
@@ -34,28 +32,12 @@ bool ends_with(const std::string& path, const std::string& ext) {
 bool is_grammar(const std::string& path) { return ends_with(path, ".aggl"); }
 bool is_mission(const std::string& path) { return ends_with(path, ".aggt"); }
 
-// Loads a world of any kind the importers read into `g` (committed as one transaction, so a
-// schema check installed on `g` sees it whole).
+// Loads a world of any kind the importers read into `g` (one transaction, so a schema check
+// installed on `g` sees it whole).
 Status load_any_world(graph::Graph& g, const std::string& path) {
   auto text = interop::read_file("schema", path);
   if (!text.ok()) return text.error();
-  switch (interop::detect_format(*text)) {
-    case interop::WorldFormat::kQuiverJson: {
-      auto r = graph::load_world(g, *text, path);
-      return r.ok() ? Status{} : Status(r.error());
-    }
-    case interop::WorldFormat::kDsrJson: {
-      auto r = interop::import_dsr(g, *text, path);
-      return r.ok() ? Status{} : Status(r.error());
-    }
-    case interop::WorldFormat::kAgmXml: {
-      auto r = interop::import_agm(g, *text, path);
-      return r.ok() ? Status{} : Status(r.error());
-    }
-    default:
-      return make_error(ErrorCode::kMalformed, path + ": neither a world (Quiver JSON, CORTEX DSR JSON, AGM XML) nor a "
-                                                      "grammar (.aggl)");
-  }
+  return interop::load_any_world(g, *text, path);
 }
 
 void run_infer(const SchemaArgs& a) {

@@ -156,7 +156,12 @@ Status Transaction::set(NodeId id, Symbol attr, Value value) {
   if (attr.is_null()) return make_error(ErrorCode::kInvalidArgument, "set(): the attribute name is empty");
   if (Status s = check_name("set(): the attribute name", attr.str()); !s.ok()) return s;
   if (Status s = check_value("set(): attribute '" + attr.str() + "'", value); !s.ok()) return s;
-  if (Status s = type_kept("set()", graph_->attr(id, attr), value, id, attr, nullptr); !s.ok()) return s;
+  // The attribute's visible value, from the node's record already at hand (a write's hot path).
+  const Value* current = nullptr;
+  if (const NodeRec* r = rec != nullptr ? rec : graph_->impl_->visible_node(id))
+    if (const AttrSlot* slot = find_slot(r->attrs, attr))
+      if (const auto* w = winner(slot->reg)) current = &w->value;
+  if (Status s = type_kept("set()", current, value, id, attr, nullptr); !s.ok()) return s;
   if (Status s = add_bytes("set()", op_bytes(attr.str()) + value.payload_bytes()); !s.ok()) return s;
   book_->hints.resize(ops_.size());
   book_->hints.push_back(rec);

@@ -5,8 +5,7 @@
 #include "quiver/agents/replica/replication/replicator.h"
 #include "quiver/base/hash.h"
 #include "quiver/graph/world_file.h"
-#include "quiver/interop/agm.h"
-#include "quiver/interop/dsr.h"
+#include "quiver/interop/any_world.h"
 #include "quiver/interop/interop.h"
 
 namespace quiver::python {
@@ -81,14 +80,10 @@ void bind_graph(py::module_& m) {
       "convert_world",
       [](const std::string& path) {
         std::string text = unwrap(interop::read_file("convert_world()", path));
-        const interop::WorldFormat f = interop::detect_format(text);
-        if (f == interop::WorldFormat::kQuiverJson) return text;
+        if (interop::detect_format(text) == interop::WorldFormat::kQuiverJson) return text;
         graph::Graph g(graph::ReplicaId{fnv1a64("convert_world"), 1});
-        if (f == interop::WorldFormat::kDsrJson) unwrap(interop::import_dsr(g, text, path));
-        else if (f == interop::WorldFormat::kAgmXml) unwrap(interop::import_agm(g, text, path));
-        else
-          raise(make_error(ErrorCode::kMalformed, "convert_world(): " + path + " is " + interop::to_string(f) +
-                                                      ", not a world (Quiver JSON, CORTEX DSR JSON or AGM XML)"));
+        if (Status s = interop::load_any_world(g, text, path); !s.ok())
+          raise(make_error(s.error().code, "convert_world(): " + s.error().message));
         return graph::save_world(g);
       },
       py::arg("path"),

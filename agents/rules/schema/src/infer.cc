@@ -14,9 +14,10 @@ void add_unique(std::vector<std::string>& v, const std::string& s) {
   }
 }
 
-void widen(Schema& s, std::string name, graph::ValueType t) {
-  if (name.rfind("__", 0) == 0) return;  // the runtime's own
-  if (name.rfind("rt:", 0) == 0) name = name.substr(3);
+void widen(Schema& s, std::string_view attr, graph::ValueType t) {
+  const auto declared = Schema::declared_name(attr);
+  if (!declared) return;  // the runtime's own
+  const std::string& name = *declared;
   auto it = s.attributes().find(name);
   if (it == s.attributes().end()) {
     AttributeSpec a;

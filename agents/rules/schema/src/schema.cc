@@ -55,7 +55,6 @@ std::string list(const std::vector<std::string>& v) {
   return s;
 }
 
-bool internal(const std::string& attr) { return attr.size() >= 2 && attr[0] == '_' && attr[1] == '_'; }
 
 }  // namespace
 
@@ -264,11 +263,12 @@ bool Schema::holder_allowed(const AttributeSpec& a, const std::string& owner) co
 
 Status Schema::check_value(std::uint64_t writer, graph::Symbol owner, bool on_edge, graph::Symbol attr,
                            const graph::Value& v) const {
-  std::string name = attr.str();
-  if (internal(name)) return {};
+  bool rt = false;
+  const auto declared = declared_name(attr.str(), &rt);
+  if (!declared) return {};
+  const std::string& name = *declared;
   std::string holder = owner.str();
-  if (!on_edge && name.rfind("rt:", 0) == 0) {  // an RT edge's attribute, kept on its child
-    name = name.substr(3);
+  if (!on_edge && rt) {
     holder = "RT";
     on_edge = true;
   }
@@ -299,10 +299,17 @@ Status Schema::check_value(std::uint64_t writer, graph::Symbol owner, bool on_ed
   return {};
 }
 
+std::optional<std::string> Schema::declared_name(std::string_view attr, bool* rt) {
+  if (attr.substr(0, 2) == "__") return std::nullopt;
+  const bool on_rt = attr.substr(0, graph::kRtAttrPrefix.size()) == graph::kRtAttrPrefix;
+  if (rt != nullptr) *rt = on_rt;
+  return std::string(on_rt ? attr.substr(graph::kRtAttrPrefix.size()) : attr);
+}
+
 bool Schema::allows_type_change(graph::Symbol attr) const {
-  std::string name = attr.str();
-  if (name.rfind("rt:", 0) == 0) name = name.substr(3);
-  auto it = attributes_.find(name);
+  const auto name = declared_name(attr.str());
+  if (!name) return open_;  // the runtime's own: declared nowhere
+  auto it = attributes_.find(*name);
   return it == attributes_.end() ? open_ : !it->second.type.has_value();
 }
 

@@ -67,15 +67,14 @@ Result<std::unique_ptr<DdsReplica>> DdsReplica::create(DdsReplicaOptions options
     a->replicator_->restore(applied);
     a->replicator_->set_journal(a->store_.get());
   }
-  if (a->opt_.permissions) {
-    a->replicator_->set_admission(a->opt_.permissions.get());
-    a->graph_->set_permission_check(a->opt_.permissions->commit_check(a->graph_->replica().agent));
-  }
-  if (a->opt_.schema) {
+  graph::Graph::CommitValidator permitted;
+  if (a->opt_.permissions) permitted = a->opt_.permissions->commit_check(a->graph_->replica().agent);
+  if (a->opt_.schema) {  // checked after the permissions, which it wraps
     a->schema_ = std::make_unique<schema::SchemaAdmission>(a->opt_.schema, a->opt_.permissions.get());
-    a->schema_->install(*a->graph_, *a->replicator_,
-                        a->opt_.permissions ? a->opt_.permissions->commit_check(a->graph_->replica().agent)
-                                            : graph::Graph::CommitValidator{});
+    a->schema_->install(*a->graph_, *a->replicator_, std::move(permitted));
+  } else if (a->opt_.permissions) {
+    a->replicator_->set_admission(a->opt_.permissions.get());
+    a->graph_->set_permission_check(std::move(permitted));
   }
   EngineOptions eo = a->opt_.engine;
   eo.clock = monotonic_ns;

@@ -33,6 +33,7 @@
 #include <string_view>
 #include <vector>
 
+#include "quiver/graph/graph.h"
 #include "quiver/graph/symbol.h"
 #include "quiver/graph/value.h"
 #include "quiver/base/result.h"
@@ -86,6 +87,10 @@ class Schema {
   /// the value `v`.
   Status check_value(std::uint64_t writer, graph::Symbol owner, bool on_edge, graph::Symbol attr,
                      const graph::Value& v) const;
+  /// The name attribute `attr` is declared under: the runtime's own (`__…`) are not declared
+  /// (nullopt); an RT edge's `rt:<name>`, kept on its child (graph::kRtAttrPrefix), is `<name>`
+  /// (and `*rt`, if given, is set).
+  static std::optional<std::string> declared_name(std::string_view attr, bool* rt = nullptr);
   /// Whether `attr`'s value type may change (declared "any"; or undeclared in an open schema).
   bool allows_type_change(graph::Symbol attr) const;
 
