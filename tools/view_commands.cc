@@ -65,20 +65,40 @@ Result<std::pair<std::string, int>> parse_listen(const std::string& s) {
   return std::pair{s.substr(0, colon), std::stoi(port)};
 }
 
+// This domain's replicas, then the other robots' agents its gateways list (docs/teams.md): each
+// with the robot it runs on ("" outside a team). The robots listed alive are the reachable ones.
 json agents_json(agents::Replicator& r) {
   json out = json::array();
   out.push_back({{"name", r.options().name},
                  {"id", r.graph().replica().to_string()},
+                 {"robot", r.robot_here()},
                  {"observer", true},
                  {"alive", true},
                  {"self", true}});
   for (const agents::PeerInfo& p : r.peers())
     out.push_back({{"name", p.name},
                    {"id", p.id.to_string()},
+                   {"robot", r.robot_of(p.id)},
                    {"observer", p.observer},
+                   {"gateway", p.gateway},
                    {"alive", p.alive},
                    {"self", false}});
+  for (const agents::Member& m : r.remote_members())
+    out.push_back({{"name", m.name},
+                   {"id", m.id.to_string()},
+                   {"robot", m.robot},
+                   {"via", r.name_of(m.via)},
+                   {"remote", true},
+                   {"observer", false},
+                   {"alive", true},
+                   {"self", false}});
   return out;
+}
+
+// A change's writer as the viewer shows it: the agent, and in a team the robot it runs on.
+std::string writer_of(const agents::Replicator& r, const graph::ReplicaId& id) {
+  const std::string robot = r.robot_of(id);
+  return robot.empty() ? r.name_of(id) : r.name_of(id) + " @ " + robot;
 }
 
 // Runs `tick` every few ms until SIGINT/SIGTERM or `run_for_s`.
@@ -201,7 +221,7 @@ int run_view(const ViewFlags& f) {
   agents::viewer::Hooks hooks;
   hooks.run_on_owner = [&a](const std::function<void()>& fn) { a.call(fn).get(); };
   hooks.clock = [start] { return agents::monotonic_ns() - start; };
-  hooks.name_of = [&a](const graph::ReplicaId& r) { return a.replicator().name_of(r); };
+  hooks.name_of = [&a](const graph::ReplicaId& r) { return writer_of(a.replicator(), r); };
   hooks.agents = [&a] { return agents_json(a.replicator()); };
   hooks.decorate = [&](agents::viewer::Decor& d) {
     for (const auto& [root, w] : locks.winners())

@@ -65,7 +65,8 @@ bool Simulation::linked(int x, int y) const {
   // Each robot's gateway lists the other agent among those alive behind it.
   for (auto [agent, other] : {std::pair{x, y}, std::pair{y, x}}) {
     const auto& told = gateways_[robot_of(agent)].replicator[0]->members_behind();
-    if (!std::binary_search(told.begin(), told.end(), agents_[other].graph->replica())) return false;
+    const agents::PeerId want = agents_[other].graph->replica();
+    if (std::none_of(told.begin(), told.end(), [&](const agents::Member& m) { return m.id == want; })) return false;
   }
   for (auto [agent, r] : {std::pair{x, rx}, std::pair{y, ry}}) {
     const Gateway& g = gateways_[r];

@@ -40,6 +40,7 @@ void Simulation::boot_gateway(int r) {
     agents::ReplicatorOptions opt = cfg_.replicator;
     opt.name = name;
     opt.gateway = true;
+    opt.robot = "robot" + std::to_string(r);
     g.replicator[side] = std::make_unique<agents::Replicator>(*g.graph[side], net_.endpoint(node), opt);
     g.replicator[side]->on_error([this, name](const Error& e) {
       const std::string line = name + " rejected: " + e.to_string();

@@ -49,7 +49,7 @@ struct Net {
     n.port = std::make_unique<Port>();
     n.port->net = this;
     n.port->index = static_cast<int>(nodes.size());
-    opt.name = "agent" + std::to_string(agent);
+    if (opt.name.empty()) opt.name = "agent" + std::to_string(agent);
     n.rep = std::make_unique<Replicator>(*n.g, *n.port, opt);
     nodes.push_back(std::move(n));
     Node& ref = nodes.back();

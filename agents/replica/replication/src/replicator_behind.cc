@@ -114,10 +114,35 @@ void Replicator::handle_team_beat(const PeerId& from, Peer& p, const SummaryMsg&
                    return r.peer == e.first && r.status != Liveness::kDead;
                  });
         });
-      for (const Rumor& r : entries) {
+      // Who they are: the gateway's robot, then one "ROBOT<tab>NAME" line per entry (an older
+      // gateway's beat, or one whose lines do not match its entries, says nothing of them).
+      std::vector<std::string_view> lines;
+      for (std::string_view rest = m.name;;) {
+        const auto nl = rest.find('\n');
+        lines.push_back(rest.substr(0, nl));
+        if (nl == std::string_view::npos) break;
+        rest.remove_prefix(nl + 1);
+      }
+      const bool said = lines.size() == entries.size() + 1;
+      if (said && (gateway_robots_.count(from) != 0 || gateway_robots_.size() < kMaxGateways))
+        gateway_robots_[from] = std::string(lines[0]);
+      for (std::size_t k = 0; k < entries.size(); ++k) {
+        const Rumor& r = entries[k];
         // One we hear ourselves is no replica behind it; an entry marked gone names none.
         if (r.status == Liveness::kDead || r.peer == self_ || peers_.count(r.peer) != 0) continue;
-        if (remote_.count(r.peer) != 0 || remote_.size() < opt_.max_peers) remote_[r.peer] = Behind{from, now_};
+        if (remote_.count(r.peer) == 0 && remote_.size() >= opt_.max_peers) continue;
+        Behind& b = remote_[r.peer];
+        b.via = from;
+        b.heard_ns = now_;
+        if (!said) continue;
+        const std::string_view l = lines[k + 1];
+        const auto tab = l.find('\t');
+        if (tab == std::string_view::npos) continue;
+        b.robot = std::string(l.substr(0, tab));
+        // A name is taken only if it hashes to the replica's id (as a beat's own name is).
+        if (remember_name(r.peer, std::string(l.substr(tab + 1)))) b.name = std::string(l.substr(tab + 1));
+        if (!b.robot.empty() && (robots_.count(r.peer.agent) != 0 || robots_.size() < 4 * opt_.max_peers))
+          robots_[r.peer.agent] = b.robot;
       }
       break;
     }
@@ -153,44 +178,84 @@ void Replicator::check_askers(const PeerId* origin) {
   askers_version_ = state_version_;
 }
 
-void Replicator::set_members_behind(std::vector<PeerId> members) {
-  std::sort(members.begin(), members.end());
-  members.erase(std::unique(members.begin(), members.end()), members.end());
+void Replicator::set_members_behind(std::vector<Member> members) {
+  const auto by_id = [](const Member& a, const Member& b) { return a.id < b.id; };
+  std::sort(members.begin(), members.end(), by_id);
+  members.erase(std::unique(members.begin(), members.end(), [](const Member& a, const Member& b) { return a.id == b.id; }),
+                members.end());
   if (members == behind_out_) return;
   // Replicas came: what we vouched for before does not cover them (the generation says so).
-  if (!std::includes(behind_out_.begin(), behind_out_.end(), members.begin(), members.end())) ++behind_generation_;
+  if (!std::includes(behind_out_.begin(), behind_out_.end(), members.begin(), members.end(), by_id)) ++behind_generation_;
   ++behind_version_;
   behind_out_ = std::move(members);
   tell_behind(PeerId{});
   send_queued();
 }
 
-std::vector<PeerId> Replicator::members_here() const {
-  std::vector<PeerId> out;
+std::vector<Member> Replicator::members_here() const {
+  std::vector<Member> out;
+  const std::string here = robot_here();
   for (const auto& [id, p] : peers_)
-    if (p.info.alive && !p.info.observer && !p.info.gateway) out.push_back(id);
+    if (p.info.alive && !p.info.observer && !p.info.gateway) out.push_back(Member{id, p.info.name, here, PeerId{}});
   for (const auto& [id, b] : remote_)
-    if (peer_alive(b.via)) out.push_back(id);
+    if (peer_alive(b.via)) out.push_back(Member{id, b.name, b.robot, PeerId{}});
   return out;
+}
+
+std::vector<Member> Replicator::remote_members() const {
+  std::vector<Member> out;
+  for (const auto& [id, b] : remote_)
+    if (peer_alive(b.via)) out.push_back(Member{id, name_of(id), b.robot, b.via});
+  return out;
+}
+
+std::string Replicator::robot_here() const {
+  if (!opt_.robot.empty()) return opt_.robot;
+  for (const auto& [id, robot] : gateway_robots_)
+    if (peer_alive(id) && !robot.empty()) return robot;
+  return {};
+}
+
+std::string Replicator::robot_of(const PeerId& id) const {
+  if (auto it = remote_.find(id); it != remote_.end() && !it->second.robot.empty()) return it->second.robot;
+  if (id == self_ || peers_.count(id) != 0) {
+    if (auto g = gateway_robots_.find(id); g != gateway_robots_.end() && !g->second.empty()) return g->second;
+    return robot_here();
+  }
+  if (auto it = robots_.find(id.agent); it != robots_.end()) return it->second;
+  return {};
 }
 
 // Always the whole list, versioned: a receiver takes a list no older than the last it took, so a
 // reordered one changes nothing. Each beat: a header (ourselves, with the list's version), then
 // up to per_beat entries. A list that fits one beat says it is whole (its subject is the sender):
 // a receiver then forgets whom it no longer names, even when it missed the list that left them
-// out. An empty list is one such beat.
+// out. An empty list is one such beat. The beat's name field carries who they are: our robot,
+// then one line per entry, "ROBOT<tab>NAME" (docs/teams.md); a beat ends early rather than let
+// it outgrow the name limit.
 void Replicator::tell_behind(const PeerId& to) {
   if (!opt_.gateway || !started_) return;
   const std::size_t per_beat = std::max<std::size_t>(1, std::min<std::size_t>(opt_.limits.max_rumors, 32) - 1);
+  const auto line = [](const Member& e) { return "\n" + e.robot + "\t" + e.name; };
   const std::size_t n = behind_out_.size();
-  for (std::size_t i = 0; i == 0 || i < n; i += per_beat) {
+  std::size_t i = 0;
+  do {
     SummaryMsg m = beat(Beat::kBehind, to, /*rumors=*/false);
-    if (n <= per_beat) m.subject = self_;
+    m.name = robot_here();
     m.rumors.push_back(Rumor{self_, behind_version_, Liveness::kAlive});
-    for (std::size_t k = i; k < std::min(n, i + per_beat); ++k)
-      m.rumors.push_back(Rumor{behind_out_[k], 0, Liveness::kAlive});
+    std::size_t k = i;
+    for (; k < n && k - i < per_beat; ++k) {
+      std::string l = line(behind_out_[k]);
+      if (k > i && m.name.size() + l.size() > opt_.limits.max_name_bytes) break;
+      // One entry's line alone over the limit: listed unnamed.
+      if (m.name.size() + l.size() > opt_.limits.max_name_bytes) l = "\n\t";
+      m.name += l;
+      m.rumors.push_back(Rumor{behind_out_[k].id, 0, Liveness::kAlive});
+    }
+    if (i == 0 && k == n) m.subject = self_;
     queue(to, std::move(m));
-  }
+    i = k;
+  } while (i < n);
 }
 
 // Every probe period a gateway says again who is behind it (a lost change is repaired, a newcomer

@@ -11,7 +11,9 @@
 #include "quiver/agents/replica/replication/replicator.h"
 
 namespace quiver::agents::inline replica {
-
+namespace {
+const std::string kNoName;
+}  // namespace
 
 void Replicator::refresh_set_hash() const {
   if (hash_version_ == state_version_) return;
@@ -36,8 +38,9 @@ SummaryMsg Replicator::beat(Beat b, const PeerId& to, bool rumors) {
   // The name goes in every hello, and in another beat only to a peer we have not named ourselves
   // to yet: it is most of a beat's variable size.
   const auto known = to.is_null() ? peers_.end() : peers_.find(to);
-  if (b == Beat::kHello || to.is_null() || known == peers_.end() || !known->second.told_name ||
-      known->second.info.name.empty()) {
+  // (A kBehind beat's name field lists the replicas behind a gateway instead.)
+  if (b != Beat::kBehind && (b == Beat::kHello || to.is_null() || known == peers_.end() || !known->second.told_name ||
+                             known->second.info.name.empty())) {
     m.name = opt_.name;
     if (known != peers_.end()) known->second.told_name = true;
   }
@@ -208,8 +211,10 @@ void Replicator::handle_gossip(const PeerId& from, Peer& p, const SummaryMsg& m)
     send_beat(Beat::kAck, from);  // carries the rumor of its death first
   }
   // A beat without a name (the sender knows we know it) leaves the name we have.
-  const bool first = !p.announced && (!m.name.empty() || m.beat == Beat::kHello);
-  if (!m.name.empty()) p.info.name = m.name;
+  // A kBehind beat's name field names the replicas behind the gateway, not the gateway.
+  const std::string& own_name = m.beat == Beat::kBehind ? kNoName : m.name;
+  const bool first = !p.announced && (!own_name.empty() || m.beat == Beat::kHello);
+  if (!own_name.empty()) p.info.name = own_name;
   p.info.observer = m.observer;
   // A gateway's acknowledgements count only from its hold answers, and only under its latest
   // generation: replicas that came behind it since have acknowledged nothing (docs/teams.md).
@@ -221,7 +226,7 @@ void Replicator::handle_gossip(const PeerId& from, Peer& p, const SummaryMsg& m)
     ask_again();
   }
   p.info.gateway = m.gateway;
-  remember_name(from, m.name);
+  remember_name(from, own_name);
   if (first) {
     p.announced = true;
     if (membership_cb_ && p.info.alive) membership_cb_(Membership::kJoined, p.info);
@@ -229,6 +234,7 @@ void Replicator::handle_gossip(const PeerId& from, Peer& p, const SummaryMsg& m)
   // A gateway tells a peer new or back at once who is behind it, not at the next refresh.
   if (opt_.gateway && was_new && !opt_.observer) tell_behind(from);
   if (m.set_hash != 0) {
+    p.differing = m.set_hash == set_hash() ? 0 : static_cast<std::uint8_t>(std::min(p.differing + 1, 255));
     p.hash = m.set_hash;
     p.count = m.count;
     p.report_ns = now_;
@@ -458,6 +464,7 @@ void Replicator::gossip_tick() {
       ++it;
     }
   }
+  pull_if_stale();
   if (!pulling_ && opt_.sample_ns > 0 && now_ >= next_sample_) {
     for (const auto& [id, p] : peers_)
       if (counts(p) && behind(p)) {

@@ -18,6 +18,7 @@ void Replicator::start(std::int64_t now_ns) {
   started_ = true;
   started_ns_ = now_ns;
   next_heartbeat_ = now_ns + opt_.heartbeat_ns;
+  next_stale_pull_ns_ = now_ns + opt_.stale_pull_ns;
   if (opt_.gossip) {
     rng_ = Rng(mix64(self_.agent) ^ self_.incarnation);
     // Probes start at a point of the period that depends on the replica, so they do not bunch.

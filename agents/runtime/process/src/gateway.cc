@@ -101,6 +101,7 @@ int run_gateway(const GatewayFlags& f) {
   // Each side vouches for the replicas behind it: a claim's acknowledgement from the gateway
   // means every robot holds it, and the peers learn who is alive beyond (docs/teams.md).
   robot_options->replicator.gateway = team_options->replicator.gateway = true;
+  robot_options->replicator.robot = team_options->replicator.robot = f.robot;
   team_options->dds.xmit_loss_permille = f.team_loss_permille;
   if (!f.team_security.empty()) {
     auto files = security::agent_files(f.team_security, team_options->name);

@@ -367,9 +367,23 @@ function refreshInspector() {
     el.innerHTML = `<h3>${name(e.from)} -[${esc(e.type)}]-> ${name(e.to)}</h3>` + attrRows(e.attrs);
   }
 }
+// The agents heard, and in a team the robots reachable now (those with a live agent listed),
+// each robot's agents after its name; this replica's robot first.
 function showAgents(list) {
-  $('agents').innerHTML = list.filter((a) => !a.self).map((a) =>
-    `<span class="agent ${a.alive ? '' : 'gone'} ${a.observer ? 'observer' : ''}" title="${a.id}">${esc(a.name)}</span>`).join('');
+  const chip = (a) => `<span class="agent ${a.alive ? '' : 'gone'} ${a.observer ? 'observer' : ''} ${a.gateway ? 'gateway' : ''}"` +
+    ` title="${esc(a.id)}${a.via ? ' via ' + esc(a.via) : ''}">${esc(a.name || a.id)}</span>`;
+  const here = (list.find((a) => a.self) || {}).robot || '';
+  const others = list.filter((a) => !a.self);
+  if (!here && !others.some((a) => a.robot)) {
+    $('agents').innerHTML = others.map(chip).join('');
+  } else {
+    const robots = [...new Set(others.filter((a) => a.alive && a.robot).map((a) => a.robot))]
+      .filter((r) => r !== here).sort();
+    const group = (r, label) => `<span class="robot" data-robot="${esc(r)}">${label}:</span>` +
+      others.filter((a) => (a.robot || here) === r).map(chip).join('');
+    $('agents').innerHTML = `<span class="robots">robots reachable: ${[here, ...robots].map(esc).join(', ')}</span> ` +
+      [group(here, `robot ${esc(here)} (here)`), ...robots.map((r) => group(r, `robot ${esc(r)}`))].join(' ');
+  }
   quiver.agents = list;
 }
 function legend(types) {

@@ -106,6 +106,66 @@ TEST(ReplicaBridgeTest, WhatOneSideHeldBeforeTheBridgeIsAdoptedByTheOther) {
   EXPECT_EQ(team.nodes[tb].rep->stats().equivocations, 0u);
 }
 
+// Which robot and which agent each origin is crosses the gateways (kBehind beats): robot B's
+// viewer names robot A's agent "navigation" on robot "A" (the inspector's and timeline's writer),
+// lists robot A as reachable while the team link is up, and no longer once it is cut.
+TEST(ReplicaBridgeTest, EveryRobotKnowsWhichRobotAndAgentEachOriginIs) {
+  Net robot_a, team, robot_b;
+  const auto named = [](const char* name, ReplicatorOptions o = {}) {
+    o.name = name;
+    return o;
+  };
+  ReplicatorOptions ga_opt, gb_opt;
+  ga_opt.gateway = gb_opt.gateway = true;
+  ga_opt.robot = "A";
+  gb_opt.robot = "B";
+  const int nav = robot_a.add(fnv1a64("navigation"), named("navigation"));
+  const int ga = robot_a.add(10, named("A-gateway", ga_opt)), ta = team.add(11, named("A-gateway.team", ga_opt));
+  const int tb = team.add(21, named("B-gateway.team", gb_opt)), gb = robot_b.add(20, named("B-gateway", gb_opt));
+  ReplicatorOptions viewer_opt;
+  viewer_opt.observer = true;
+  const int viewer = robot_b.add(fnv1a64("quiver-view"), named("quiver-view", viewer_opt));
+  const int b1 = robot_b.add(fnv1a64("rooms"), named("rooms"));
+  ReplicaBridge bridge_a(*robot_a.nodes[ga].rep, *team.nodes[ta].rep);
+  ReplicaBridge bridge_b(*robot_b.nodes[gb].rep, *team.nodes[tb].rep);
+  const auto step = [&](std::int64_t ns) {
+    for (int k = 0; k < 20; ++k) {
+      for (Net* n : {&robot_a, &team, &robot_b}) n->advance(ns / 20, 1);
+      bridge_a.pump(team.now);
+      bridge_b.pump(team.now);
+      for (Net* n : {&robot_a, &team, &robot_b}) n->pump();
+    }
+  };
+  step(1'000'000'000);
+  add_node(*robot_a.nodes[nav].g, "mug");
+  step(200'000'000);
+  const Replicator& v = *robot_b.nodes[viewer].rep;
+  const PeerId nav_id = robot_a.nodes[nav].g->replica();
+  ASSERT_TRUE(robot_b.nodes[viewer].g->find_node("mug").has_value());
+  EXPECT_FALSE(v.peer_known(nav_id)) << "the viewer never heard it: it learned of it through two gateways";
+  EXPECT_EQ(v.name_of(nav_id), "navigation");
+  EXPECT_EQ(v.robot_of(nav_id), "A");
+  EXPECT_EQ(v.robot_here(), "B");
+  EXPECT_EQ(v.robot_of(robot_b.nodes[b1].g->replica()), "B");
+  EXPECT_EQ(v.robot_of(robot_b.nodes[viewer].g->replica()), "B");
+  const std::vector<Member> remote = v.remote_members();
+  ASSERT_EQ(remote.size(), 1u);
+  EXPECT_EQ(remote[0].id, nav_id);
+  EXPECT_EQ(remote[0].name, "navigation");
+  EXPECT_EQ(remote[0].robot, "A");
+  EXPECT_EQ(remote[0].via, robot_b.nodes[gb].g->replica());
+  // And the other way: robot A's agent knows robot B's.
+  EXPECT_EQ(robot_a.nodes[nav].rep->robot_of(robot_b.nodes[b1].g->replica()), "B");
+  EXPECT_EQ(robot_a.nodes[nav].rep->name_of(robot_b.nodes[b1].g->replica()), "rooms");
+  // The team link cut: robot A is no longer reachable from B (its gateway declared A's gone),
+  // but the writer of what A wrote is still named.
+  team.drop = [](const Packet&) { return true; };
+  step(5'000'000'000);
+  EXPECT_TRUE(v.remote_members().empty());
+  EXPECT_EQ(v.robot_of(nav_id), "A");
+  EXPECT_EQ(v.name_of(nav_id), "navigation");
+}
+
 TEST(ReplicaBridgeTest, RelayRefusesWhatNamesNoOriginOrInterval) {
   Net n;
   const int a = n.add(1);

@@ -292,6 +292,52 @@ TEST(ReplicatorTest, ANewcomerThatKeepsCommittingStillPullsWhatOnlyItsPeerHeld) 
   EXPECT_GE(net.nodes[b].rep->stats().pulls_sent, 1u);
 }
 
+// An observer (a viewer, a scenario's checker) that started before the agents never seeded the
+// world they all seeded, and missed their seeds' broadcasts (DDS had not matched it yet). The agents keep committing and each hears the other's changes a round
+// late, so whenever the observer compares, a peer reports as many changes as it holds, and it
+// changed since: the counts alone never show the one change it lacks (CI, 2026-12-06: the AGM
+// scenario's observer saw the world only after 60 s).
+TEST(ReplicatorTest, AnObserverThatNeverSeededTheWorldPullsItWhilePeersKeepCommitting) {
+  Net net;
+  ReplicatorOptions watcher;
+  watcher.observer = true;
+  const int x = net.add(9, watcher);
+  net.advance(100'000'000);
+  auto world = graph::world_seed(R"({"quiver_world": 1, "nodes": [{"name": "world", "type": "thing"}]})", "test");
+  ASSERT_TRUE(world.ok()) << world.error().to_string();
+  const int a = net.add(1), b = net.add(2);
+  net.advance(100'000'000);  // they meet, and write, before they load the world
+  add_node(*net.nodes[a].g, "a-early");
+  add_node(*net.nodes[b].g, "b-early");
+  net.advance(100'000'000);
+  ASSERT_TRUE(net.nodes[a].rep->seed(world->delta).ok());
+  ASSERT_TRUE(net.nodes[b].rep->seed(world->delta).ok());
+  std::vector<Packet> held;
+  net.drop = [&](const Packet& p) {
+    const Sample s = p.decoded();
+    const auto* d = std::get_if<DeltaMsg>(&s.message);
+    if (d == nullptr || p.from == x) return false;
+    // Each agent publishes the world as it seeds it, before DDS matched the observer's reader.
+    if (p.to == x) return d->origin == world->delta.origin;
+    held.push_back(p);
+    return true;
+  };
+  int rounds = 0;
+  for (; rounds < 1000 && !net.nodes[x].g->find_node("world"); ++rounds) {
+    net.now += 10'000'000;
+    for (const Packet& p : held) deliver_cdr_sample(*net.nodes[p.to].rep, p.sample.topic, p.sample.bytes, net.now);
+    held.clear();
+    for (auto& n : net.nodes) n.rep->tick(net.now);
+    net.pump();
+    add_node(*net.nodes[a].g, "a" + std::to_string(rounds));
+    add_node(*net.nodes[b].g, "b" + std::to_string(rounds));
+    net.pump();
+  }
+  EXPECT_TRUE(net.nodes[x].g->find_node("world").has_value()) << "after " << rounds << " rounds of 10 ms";
+  // Four differing reports of one peer (stale_pull_ns): about 2.4 s here; without the rule, never.
+  EXPECT_LE(rounds, 400) << "the observer lacked the world for " << rounds * 10 << " ms";
+}
+
 TEST(ReplicatorTest, IntroducedPeersAreNamedAndGreetedOneByOne) {
   struct Recorder : Transport {
     std::vector<Sample> sent;

@@ -68,6 +68,15 @@ struct PeerInfo {
   bool suspect = false;  ///< it claimed changes it did not deliver: its summaries are ignored for now
 };
 
+/// A replica alive behind a gateway: another robot's agent (docs/teams.md).
+struct Member {
+  PeerId id;
+  std::string name;   ///< its agent name ("" not known)
+  std::string robot;  ///< the robot it runs on, as its gateways said ("" not known)
+  PeerId via;         ///< remote_members(): the gateway peer that lists it (null in members_here())
+  friend bool operator==(const Member&, const Member&) = default;
+};
+
 enum class Membership : std::uint8_t { kJoined, kLeft };
 
 struct ReplicatorStats {
@@ -243,9 +252,18 @@ class Replicator {
   void answer_holds(const PeerId& origin);
   /// Sets the replicas alive behind this side (sorted or not); the peers learn what changed at
   /// once and the whole list every probe_ns. Owner thread only.
-  void set_members_behind(std::vector<PeerId> members);
-  /// Gateways: the replicas alive behind this side, as last told to the peers (sorted).
-  const std::vector<PeerId>& members_behind() const { return behind_out_; }
+  void set_members_behind(std::vector<Member> members);
+  /// Gateways: the replicas alive behind this side, as last told to the peers (sorted by id).
+  const std::vector<Member>& members_behind() const { return behind_out_; }
+  /// The replicas the live gateway peers say are alive behind them (other robots' agents), each
+  /// with its name, robot and gateway, in id order. Owner thread only.
+  std::vector<Member> remote_members() const;
+  /// The robot `id` runs on: the one its gateway said (remembered after it left), or, for this
+  /// replica and its peers, robot_here(); "" when no gateway said. Owner thread only.
+  std::string robot_of(const PeerId& id) const;
+  /// The robot of this replica's domain: ReplicatorOptions::robot, else the one a gateway peer
+  /// serves ("" outside a team). Owner thread only.
+  std::string robot_here() const;
   /// Gateways: raised whenever replicas came behind this side (every beat carries it modulo 64).
   std::uint64_t behind_generation() const { return behind_generation_; }
   /// The latest generation gateway peer `peer` announced (modulo 64); -1 for another peer.
@@ -253,7 +271,7 @@ class Replicator {
   /// @returns the live peers that are agents (not observers, not gateways) and the replicas the
   ///          live gateway peers say are alive behind them: what the other side of a gateway
   ///          tells its peers. Owner thread only.
-  std::vector<PeerId> members_here() const;
+  std::vector<Member> members_here() const;
   /// True if `peer` was heard from at some time and is still remembered (the peer table keeps
   /// peers that left until it needs their room). Owner thread only.
   bool peer_known(const PeerId& peer) const { return peers_.count(peer) > 0; }
@@ -355,6 +373,7 @@ class Replicator {
     std::uint64_t your_seq = 0;  // it holds this replica's own 1..your_seq
     std::uint64_t covered = 0;   // the hash of our last offered set it holds all of
     bool told_name = false;      // a beat of ours named us to it
+    std::uint8_t differing = 0;  // its reports in a row whose set hash differed from ours (stale_pull_ns)
     std::int64_t repaired_ns = -1;  // our own deltas it lacked were last sent again then (repair_own())
     // Teams (replicator_behind.cc): how far it (and the replicas behind it) holds other origins.
     struct Held {
@@ -377,6 +396,7 @@ class Replicator {
     crdt::CausalContext applied;
   };
   void on_local_delta(const graph::GraphDelta& d);
+  void pull_if_stale();  // stale_pull_ns: pulls from a peer whose hash kept differing
   void publish(std::vector<std::uint8_t> bytes, std::uint64_t lo, std::uint64_t hi);
   void handle_own(const PeerId& from, const DeltaMsg& m);
   /// Decodes and checks a delta payload against its message; the error names what is wrong.
@@ -457,8 +477,10 @@ class Replicator {
   struct Behind {  // a replica alive behind a gateway peer
     PeerId via;
     std::int64_t heard_ns = 0;
+    std::string name, robot;  // as the gateway said ("" not said)
   };
-  static constexpr std::size_t kMaxHolds = 16, kMaxAskers = 256;
+  static constexpr std::size_t kMaxHolds = 16, kMaxAskers = 256, kMaxGateways = 64;
+  static constexpr std::uint8_t kStaleReports = 4;  ///< stale_pull_ns: differing reports in a row
   Peer::Held& held_entry(Peer& p, const PeerId& origin);
   std::uint64_t held(const Peer& p, const PeerId& origin) const;
   std::uint64_t vouch(const PeerId& origin, std::uint64_t wanted);
@@ -484,6 +506,7 @@ class Replicator {
   std::int64_t now_ = 0;
   std::int64_t next_heartbeat_ = 0;
   std::int64_t next_sample_ = 0;
+  std::int64_t next_stale_pull_ns_ = 0;  // the earliest time of the next pull on stale hashes alone
   std::int64_t next_digest_ = 0;
   bool started_ = false;
   std::uint64_t state_version_ = 0;  // bumped by every local commit and every join
@@ -502,6 +525,8 @@ class Replicator {
 
   std::map<PeerId, Peer> peers_;
   std::map<std::uint64_t, std::string> names_;  // agent id -> announced name (bounded)
+  std::map<std::uint64_t, std::string> robots_;  // agent id -> robot, as gateways said (bounded)
+  std::map<PeerId, std::string> gateway_robots_;  // gateway peer -> the robot it serves (bounded)
   std::size_t peer_ranges_ = 0;  // ranges of all peers' applied sets
   Reassembly state_;
   std::size_t pending_bytes_ = 0;  // estimated size of the coalesced interval
@@ -554,7 +579,7 @@ class Replicator {
   std::uint64_t askers_version_ = 0;  // state_version_ when the askers were last checked
   std::uint64_t claims_seq_ = 0;      // the greatest number want_acks() was given
   std::map<PeerId, Behind> remote_;   // replicas alive behind gateway peers
-  std::vector<PeerId> behind_out_;    // gateway: the replicas alive behind us, as told (sorted)
+  std::vector<Member> behind_out_;    // gateway: the replicas alive behind us, as told (sorted)
   std::uint64_t behind_generation_ = 0;  // gateway: raised whenever replicas came behind us
   std::uint64_t behind_version_ = 0;     // gateway: raised whenever that list changed
   std::int64_t next_behind_ns_ = 0;

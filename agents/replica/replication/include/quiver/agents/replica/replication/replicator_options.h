@@ -20,6 +20,11 @@ struct ReplicatorOptions {
   std::int64_t pull_timeout_ns = 400'000'000;  ///< longest silence a pull waits (first tries wait less)
   std::int64_t pull_first_timeout_ns = 50'000'000;  ///< the first try's patience; doubles per timeout
   std::int64_t gap_grace_ns = 30'000'000;    ///< reordering tolerated before a gap is pulled
+  /// Gossip: a peer whose set hash differed from ours in kStaleReports reports in a row is pulled
+  /// from, whatever the counts say, at most once per this period or two probe rounds (probe_ns x
+  /// live peers x 2), whichever is longer (0: never). The counts miss a change only a peer holds
+  /// while changes keep arriving (docs/protocol.md).
+  std::int64_t stale_pull_ns = 2'000'000'000;
   std::size_t buffer_bytes = 16u << 20;      ///< relay buffer of recent deltas (all origins)
   std::size_t chunk_bytes = 256u << 10;      ///< state transfer chunk size
   std::size_t max_state_bytes = 1u << 30;    ///< a state transfer larger than this is refused
@@ -75,6 +80,10 @@ struct ReplicatorOptions {
   /// one of them holds the claim too, and it tells its peers which of them are alive (kBehind),
   /// so that a lock held behind it neither looks expired nor is granted twice. Needs gossip.
   bool gateway = false;
+  /// A gateway's: the robot it serves (the team file's name). Its kBehind beats carry it, and
+  /// the robot and name of each replica they list, so that every replica of the team knows which
+  /// robot and which agent each origin is (Replicator::robot_of()).
+  std::string robot;
 };
 
 }  // namespace quiver::agents
