@@ -76,6 +76,10 @@ void add_dds_bench_commands(CLI::App& app) {
                 "DDS Security alone, as --secure but without signed deltas and graph-level "
                 "permissions: what each "
                 "layer costs");
+  dds->add_flag("--stages", d.stages,
+                "with the latency phase, where each change's time goes: commit and encode, sign, "
+                "DDS write, delivery and wake-up, take, decode, admission, merge and events "
+                "(medians, stages_us_p50)");
   dds->callback([f] {
     bench::DdsBench run = f->dds_bench;
     run.roles = {self_exe(), f->dds};
@@ -142,6 +146,7 @@ void add_dds_bench_commands(CLI::App& app) {
   role->add_option("--agents", o.agents)->check(CLI::Range(2, 120));
   role->add_option("--seconds", o.seconds)->check(CLI::Range(0.1, 3600.0));
   role->add_flag("--transport-only", r->transport_only);
+  role->add_flag("--stages", o.stages);
   role->add_option("--changes", r->changes)->check(CLI::Range(1L, 10'000'000L));
   role->add_option("--rate", r->rate)->check(CLI::Range(0.1, 100000.0));
   role->add_option("--idle", r->idle_s)->check(CLI::Range(1.0, 3600.0));

@@ -7,6 +7,8 @@
 #include <algorithm>
 #include <filesystem>
 #include <iostream>
+#include <iterator>
+#include <map>
 #include <memory>
 
 #include "quiver/agents/replica/security/keys.h"
@@ -37,6 +39,44 @@ std::optional<std::string> make_bench_keys(int readers) {
   return dir;
 }
 
+// The medians of each stage of a latency sample, in microseconds: the writer's marks (t0,
+// encoded, signed, written) paired by t0 with each reader's (t0, woken, taken, decoded, admitted,
+// merging, event). A pair whose marks are out of order (a mark of another sample came between)
+// is left out and counted.
+json stage_medians(const json& writer, const json& readers) {
+  std::map<std::int64_t, std::vector<std::int64_t>> sent;
+  for (const auto& w : writer) sent[w[0].get<std::int64_t>()] = w.get<std::vector<std::int64_t>>();
+  static constexpr const char* kNames[] = {"commit_and_encode", "sign",     "dds_write", "delivery_and_wakeup",
+                                           "take",              "decode",   "admission", "bookkeeping",
+                                           "merge_and_events"};
+  constexpr std::size_t kSpans = std::size(kNames);
+  std::vector<std::vector<double>> spans(kSpans + 1);
+  std::size_t skipped = 0;
+  for (const auto& r : readers) {
+    const auto rv = r.get<std::vector<std::int64_t>>();
+    auto it = sent.find(rv[0]);
+    if (it == sent.end() || rv.size() != 7 || it->second.size() != 4) {
+      ++skipped;
+      continue;
+    }
+    // t0, encoded, signed, written (writer), woken, taken, decoded, admitted, merging, event.
+    std::vector<std::int64_t> t = it->second;
+    t.insert(t.end(), rv.begin() + 1, rv.end());
+    if (!std::is_sorted(t.begin(), t.end())) {
+      ++skipped;
+      continue;
+    }
+    for (std::size_t i = 0; i < kSpans; ++i) spans[i].push_back(static_cast<double>(t[i + 1] - t[i]) / 1e3);
+    spans[kSpans].push_back(static_cast<double>(t.back() - t.front()) / 1e3);
+  }
+  json out;
+  for (std::size_t i = 0; i < kSpans; ++i) out[kNames[i]] = round_to(Percentiles(spans[i]).at(0.5), 1);
+  out["total"] = round_to(Percentiles(spans[kSpans]).at(0.5), 1);
+  out["samples"] = spans[kSpans].size();
+  out["skipped"] = skipped;
+  return out;
+}
+
 }  // namespace
 
 int run_dds_bench(const DdsBench& b) {
@@ -58,6 +98,7 @@ int run_dds_bench(const DdsBench& b) {
                                      "--latency-samples", std::to_string(f.latency_samples),
                                      "--join-nodes",      std::to_string(f.join_nodes)};
   if (f.secure_transport) common.push_back("--transport-only");
+  if (f.stages) common.push_back("--stages");
   auto readers = spawn_roles(f.roles, "reader", f.readers, common);
   if (!readers) return 2;
   std::unique_ptr<AttachedViewer> viewer;
@@ -74,11 +115,14 @@ int run_dds_bench(const DdsBench& b) {
   auto joined = read_json(*joiner, "joiner", 120'000);
   std::int64_t t_done = 0;
   std::vector<double> lat;
+  json reader_stages = json::array();
   for (int i = 0; i < f.readers; ++i) {
     auto r = read_json((*readers)[i], "reader", 120'000);
     if (!r) return 1;
     t_done = std::max<std::int64_t>(t_done, (*r)["t_throughput_done_ns"].get<std::int64_t>());
     for (double v : (*r)["latencies_us"]) lat.push_back(v);
+    if (r->contains("stages"))
+      for (auto& s : (*r)["stages"]) reader_stages.push_back(s);
   }
   writer->wait(10'000);
   for (auto& r : *readers) r.wait(10'000);
@@ -101,6 +145,7 @@ int run_dds_bench(const DdsBench& b) {
   out["with_viewer"] = f.with_viewer;
   if (f.with_viewer) out["viewer_every_delta"] = f.viewer_every_delta;
   if (viewer) out["viewer_event_bytes"] = viewer->stop();
+  if (f.stages) out["stages_us_p50"] = stage_medians((*ready)["stages"], reader_stages);
   std::cout << out.dump() << std::endl;
   return joined && (*joined)["synced"].get<bool>() ? 0 : 1;
 }

@@ -9,6 +9,7 @@
 
 #include "quiver/agents/runtime/process/logging.h"
 #include "quiver/base/rng.h"
+#include "quiver/base/stage_marks.h"
 #include "quiver/graph/graph.h"
 
 namespace quiver::tools::bench {
@@ -52,6 +53,7 @@ void set_phase(graph::Graph& g, NodeId control, const char* phase) {
 // ------------------------------------------------------------------ throughput / latency / join
 
 int writer_role(const DdsRole& f) {
+  if (f.stages) stage_marks::enable();
   auto agent = make_agent("bench-writer", f.open);
   if (!agent) return 2;
   DdsReplica& a = *agent;
@@ -107,11 +109,20 @@ int writer_role(const DdsRole& f) {
   // Latency: single unbatched writes, spaced so they do not queue behind each other.
   set_phase(g, control, "latency");
   a.spin_for(100'000'000);
+  json stages = json::array();
   for (int i = 0; i < f.latency_samples; ++i) {
     auto tx = g.begin();
-    (void)tx.set(probe, Symbol("t"), Value(monotonic_ns()));
+    const std::int64_t t0 = monotonic_ns();
+    (void)tx.set(probe, Symbol("t"), Value(t0));
     (void)tx.commit();
     a.spin_for(1'000'000);
+    // After the spin: a replica that coalesces its deltas (signed ones) publishes at its next tick.
+    if (f.stages) {
+      const auto m = stage_marks::latest();
+      using stage_marks::Stage;
+      stages.push_back({t0, m[static_cast<int>(Stage::kEncoded)], m[static_cast<int>(Stage::kSigned)],
+                        m[static_cast<int>(Stage::kWritten)]});
+    }
   }
   a.spin_for(200'000'000);
 
@@ -126,6 +137,7 @@ int writer_role(const DdsRole& f) {
   ready["t0_ns"] = t0;
   ready["t_local_done_ns"] = t_local;
   ready["write_timeouts"] = a.transport().stats().write_timeouts;
+  if (f.stages) ready["stages"] = std::move(stages);
   std::cout << ready.dump() << std::endl;
   // Wait for the joiner (one more peer) to hold everything, then end the run.
   a.spin_until(
@@ -138,11 +150,13 @@ int writer_role(const DdsRole& f) {
 }
 
 int reader_role(const DdsRole& f) {
+  if (f.stages) stage_marks::enable();
   auto agent = make_agent("bench-reader-" + std::to_string(f.id), f.open);
   if (!agent) return 2;
   DdsReplica& a = *agent;
   graph::Graph& g = a.graph();
   std::vector<double> latencies_us;
+  json stages = json::array();
   std::string phase;
   std::int64_t t_throughput_done = 0;
   const Symbol kPhase("phase"), kT("t");
@@ -152,8 +166,16 @@ int reader_role(const DdsRole& f) {
       if (n.kind != graph::ChangeKind::kUpdated) continue;
       for (Symbol s : n.attrs) {
         if (s == kT && phase == "latency") {
-          if (const auto* v = g.attr(n.id, kT)->get_if<std::int64_t>())
+          if (const auto* v = g.attr(n.id, kT)->get_if<std::int64_t>()) {
             latencies_us.push_back((now - *v) / 1000.0);
+            if (f.stages) {
+              const auto m = stage_marks::latest();
+              using stage_marks::Stage;
+              stages.push_back({*v, m[static_cast<int>(Stage::kWoken)], m[static_cast<int>(Stage::kTaken)],
+                                m[static_cast<int>(Stage::kDecoded)], m[static_cast<int>(Stage::kAdmitted)],
+                                m[static_cast<int>(Stage::kMerging)], now});
+            }
+          }
         } else if (s == kPhase) {
           phase = *g.attr(n.id, kPhase)->get_if<std::string>();
           if (phase == "throughput-done") t_throughput_done = now;
@@ -167,6 +189,7 @@ int reader_role(const DdsRole& f) {
   out["id"] = f.id;
   out["t_throughput_done_ns"] = t_throughput_done;
   out["latencies_us"] = latencies_us;
+  if (f.stages) out["stages"] = std::move(stages);
   out["deltas_applied"] = a.replicator().stats().deltas_applied;
   out["states_applied"] = a.replicator().stats().states_applied;
   std::cout << out.dump() << std::endl;

@@ -3,6 +3,8 @@
 
 #include "quiver/agents/replica/replication/replicator.h"
 
+#include "quiver/base/stage_marks.h"
+
 #include <algorithm>
 
 #include "quiver/graph/codec.h"
@@ -85,6 +87,7 @@ void Replicator::on_local_delta(const graph::GraphDelta& d) {
   applied_.add(crdt::Dot{self_, seq_});
   std::vector<std::uint8_t> bytes;
   graph::encode(d, bytes, seq_, seq_);
+  stage_marks::mark(stage_marks::Stage::kEncoded);
   if (journal_ != nullptr) journal_->local(seq_, bytes);
   publish(std::move(bytes), seq_, seq_);
 }
@@ -94,6 +97,7 @@ void Replicator::flush() {
   std::uint64_t lo = pending_lo_;
   std::vector<std::uint8_t> bytes;
   graph::encode(pending_, bytes, lo, seq_);
+  stage_marks::mark(stage_marks::Stage::kEncoded);
   publish(std::move(bytes), lo, seq_);
   pending_.clear();
   pending_lo_ = 0;
@@ -106,6 +110,7 @@ void Replicator::publish(std::vector<std::uint8_t> bytes, std::uint64_t lo, std:
   if (admission_ != nullptr)
     if (auto sig = admission_->sign(*shared); !sig.empty())
       signature = std::make_shared<const std::vector<std::uint8_t>>(std::move(sig));
+  stage_marks::mark(stage_marks::Stage::kSigned);
   applied_.add_range(self_, lo, hi);
   ++state_version_;
   applied_changed_ns_ = now_;

@@ -5,6 +5,7 @@
 
 #include <algorithm>
 
+#include "quiver/base/stage_marks.h"
 #include "quiver/graph/codec.h"
 #include "replicator_detail.h"
 
@@ -32,6 +33,7 @@ Status Replicator::decode_delta(const PeerId& from, const DeltaMsg& m) {
 }
 
 void Replicator::apply_delta(const PeerId& from, const DeltaMsg& m, std::uint64_t digest) {
+  stage_marks::mark(stage_marks::Stage::kMerging);
   g_.merge(scratch_);
   ++state_version_;
   applied_changed_ns_ = now_;
@@ -66,7 +68,9 @@ void Replicator::handle(const PeerId& from, const DeltaMsg& m) {
   if (applied_.intersects(m.origin, m.lo, m.hi))
     return equivocate(from, m, digest, "overlaps intervals already applied");
   if (Status s = decode_delta(from, m); !s.ok()) return reject(s.error());
+  stage_marks::mark(stage_marks::Stage::kDecoded);
   if (!admitted(from, m, digest)) return;
+  stage_marks::mark(stage_marks::Stage::kAdmitted);
   apply_delta(from, m, digest);
 }
 

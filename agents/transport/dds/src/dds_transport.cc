@@ -16,6 +16,7 @@
 
 #include "dds_log.h"
 #include "samples.h"
+#include "quiver/base/stage_marks.h"
 
 namespace quiver::agents::inline transport {
 namespace {
@@ -447,6 +448,7 @@ void DdsTransport::send(const Sample& s) {
   std::lock_guard<std::mutex> lock(d.send_mu);
   auto [topic, sample] = d.builder.build(s.message, self_, s.to);
   dds_return_t rc = dds_write(d.writers[static_cast<int>(topic)].get(), sample);
+  if (topic == DdsTopic::kDelta) stage_marks::mark(stage_marks::Stage::kWritten);
   if (rc == DDS_RETCODE_OK) ++stats_.samples_written;
   else if (rc == DDS_RETCODE_TIMEOUT) ++stats_.write_timeouts;  // the protocol recovers it
   else ++stats_.write_errors;
@@ -463,6 +465,7 @@ void DdsTransport::wait(std::int64_t timeout_ns) {
     d.all_triggered = false;
     d.triggered.resize(static_cast<std::size_t>(n));
   }
+  if (n > 0) stage_marks::mark(stage_marks::Stage::kWoken);
 }
 
 void DdsTransport::wake() { dds_set_guardcondition(impl_->guard.get(), true); }
@@ -561,6 +564,7 @@ void DdsTransport::drain(const std::function<void(const Sample&)>& on_sample,
     take_all(d.readers[kind], [&](void* p, const dds_sample_info_t& info) {
       if (!info.valid_data) return;
       Sample e = wire::sample_of(static_cast<DdsTopic>(kind), p);
+      if (kind == Impl::kDelta) stage_marks::mark(stage_marks::Stage::kTaken);
       if (for_us(e.to)) on_sample(e);
     });
   };

@@ -20,6 +20,9 @@ struct DdsBench {
   bool secure = false;
   /// DDS Security alone: as `secure` but without signed deltas and graph-level permissions.
   bool secure_transport = false;
+  /// Marks each latency sample's stages in the writer and the readers (base/stage_marks.h) and
+  /// reports their medians (`stages_us_p50`).
+  bool stages = false;
 };
 
 /// Runs the benchmark: the readers, the writer (throughput, then latency, then the join graph),

@@ -31,6 +31,7 @@ struct DdsRole {
   int join_nodes = 10000;      ///< writer, joiner: nodes of the graph the joiner syncs
   int agents = 20;             ///< tracker: itself and the listeners to wait for
   double seconds = 5;          ///< tracker: how long it writes; listener: how long to wait
+  bool stages = false;         ///< writer, reader: mark each latency sample's stages (stage_marks.h)
 };
 
 /// Runs `r.role` until its phase of the benchmark ends, and prints its JSON result line.
