@@ -236,7 +236,9 @@ std::string Replicator::robot_of(const PeerId& id) const {
 void Replicator::tell_behind(const PeerId& to) {
   if (!opt_.gateway || !started_) return;
   const std::size_t per_beat = std::max<std::size_t>(1, std::min<std::size_t>(opt_.limits.max_rumors, 32) - 1);
-  const auto line = [](const Member& e) { return "\n" + e.robot + "\t" + e.name; };
+  // (A name or robot that holds a line break or a tab would break the lines: sent as unknown.)
+  const auto plain = [](const std::string& s) { return s.find_first_of("\n\t") == std::string::npos ? s : std::string(); };
+  const auto line = [&](const Member& e) { return "\n" + plain(e.robot) + "\t" + plain(e.name); };
   const std::size_t n = behind_out_.size();
   std::size_t i = 0;
   do {

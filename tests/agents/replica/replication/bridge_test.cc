@@ -120,6 +120,8 @@ TEST(ReplicaBridgeTest, EveryRobotKnowsWhichRobotAndAgentEachOriginIs) {
   ga_opt.robot = "A";
   gb_opt.robot = "B";
   const int nav = robot_a.add(fnv1a64("navigation"), named("navigation"));
+  // A name with a line break (any UTF-8 is a name) must not cost the others theirs.
+  const int odd = robot_a.add(fnv1a64("two\nlines"), named("two\nlines"));
   const int ga = robot_a.add(10, named("A-gateway", ga_opt)), ta = team.add(11, named("A-gateway.team", ga_opt));
   const int tb = team.add(21, named("B-gateway.team", gb_opt)), gb = robot_b.add(20, named("B-gateway", gb_opt));
   ReplicatorOptions viewer_opt;
@@ -148,8 +150,11 @@ TEST(ReplicaBridgeTest, EveryRobotKnowsWhichRobotAndAgentEachOriginIs) {
   EXPECT_EQ(v.robot_here(), "B");
   EXPECT_EQ(v.robot_of(robot_b.nodes[b1].g->replica()), "B");
   EXPECT_EQ(v.robot_of(robot_b.nodes[viewer].g->replica()), "B");
-  const std::vector<Member> remote = v.remote_members();
-  ASSERT_EQ(remote.size(), 1u);
+  std::vector<Member> remote = v.remote_members();
+  ASSERT_EQ(remote.size(), 2u);
+  const PeerId odd_id = robot_a.nodes[odd].g->replica();
+  if (remote[0].id == odd_id) std::swap(remote[0], remote[1]);
+  EXPECT_EQ(remote[1].robot, "A") << "named unknown, but on robot A";
   EXPECT_EQ(remote[0].id, nav_id);
   EXPECT_EQ(remote[0].name, "navigation");
   EXPECT_EQ(remote[0].robot, "A");
