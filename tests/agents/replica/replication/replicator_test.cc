@@ -301,6 +301,7 @@ TEST(ReplicatorTest, AnObserverThatNeverSeededTheWorldPullsItWhilePeersKeepCommi
   Net net;
   ReplicatorOptions watcher;
   watcher.observer = true;
+  watcher.stale_pull_ns = 2'000'000'000;  // the rule is opt-in (replicator_options.h)
   const int x = net.add(9, watcher);
   net.advance(100'000'000);
   auto world = graph::world_seed(R"({"quiver_world": 1, "nodes": [{"name": "world", "type": "thing"}]})", "test");

@@ -82,7 +82,7 @@ int run_clean_table(const AgmDdsRun& r) {
         ->error("--kill is not supported with --mission clean-table (docs/scenarios.md, limits)");
     return 2;
   }
-  auto opened = ObservedRun::open(r, "quiver-agm-clean-table");
+  auto opened = ObservedRun::open(r, "quiver-agm-clean-table", embedded_file("clean-table.json"));
   if (!opened) return 2;
   ObservedRun& run = *opened;
   graph::Graph& g = run.graph();

@@ -21,7 +21,9 @@ class ObservedRun {
  public:
   /// The observer's replica for run `r` (agm-observer, an observer: it writes nothing), its
   /// processes' logs in out_dir(r.processes.out, prefix); null (the reason logged) if it fails.
-  static std::unique_ptr<ObservedRun> open(const AgmDdsRun& r, const char* prefix);
+  /// The observer's replica, seeded with `world` as every agent of the run is: it holds the
+  /// world even when it missed every agent's copy (published before DDS matched it).
+  static std::unique_ptr<ObservedRun> open(const AgmDdsRun& r, const char* prefix, std::string_view world);
   DdsReplica& replica() { return *replica_; }
   graph::Graph& graph() { return replica_->graph(); }
   std::int64_t started_ns() const { return t_start_; }

@@ -114,7 +114,7 @@ std::vector<GraspEvent> grasp_of_mug(const graph::Graph& g) {
 }  // namespace
 
 int run_route(const AgmDdsRun& r) {
-  auto opened = ObservedRun::open(r, "quiver-agm");
+  auto opened = ObservedRun::open(r, "quiver-agm", world_json());
   if (!opened) return 2;
   ObservedRun& run = *opened;
   graph::Graph& g = run.graph();
