@@ -118,10 +118,8 @@ int writer_role(const DdsRole& f) {
     a.spin_for(1'000'000);
     // After the spin: a replica that coalesces its deltas (signed ones) publishes at its next tick.
     if (f.stages) {
-      const auto m = stage_marks::latest();
-      using stage_marks::Stage;
-      stages.push_back({t0, m[static_cast<int>(Stage::kEncoded)], m[static_cast<int>(Stage::kSigned)],
-                        m[static_cast<int>(Stage::kWritten)]});
+      using stage_marks::at, stage_marks::Stage;
+      stages.push_back({t0, at(Stage::kEncoded), at(Stage::kSigned), at(Stage::kWritten)});
     }
   }
   a.spin_for(200'000'000);
@@ -169,11 +167,9 @@ int reader_role(const DdsRole& f) {
           if (const auto* v = g.attr(n.id, kT)->get_if<std::int64_t>()) {
             latencies_us.push_back((now - *v) / 1000.0);
             if (f.stages) {
-              const auto m = stage_marks::latest();
-              using stage_marks::Stage;
-              stages.push_back({*v, m[static_cast<int>(Stage::kWoken)], m[static_cast<int>(Stage::kTaken)],
-                                m[static_cast<int>(Stage::kDecoded)], m[static_cast<int>(Stage::kAdmitted)],
-                                m[static_cast<int>(Stage::kMerging)], now});
+              using stage_marks::at, stage_marks::Stage;
+              stages.push_back({*v, at(Stage::kWoken), at(Stage::kTaken), at(Stage::kDecoded), at(Stage::kAdmitted),
+                                at(Stage::kMerging), now});
             }
           }
         } else if (s == kPhase) {

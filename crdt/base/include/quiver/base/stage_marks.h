@@ -5,7 +5,6 @@
 /// machine). Off unless a benchmark process turns it on; then one mark is one clock read. Only
 /// the latest mark of each stage is kept: the benchmark spaces its changes so that one crosses at
 /// a time. Never read by logic the simulator runs.
-#include <array>
 #include <cstdint>
 
 namespace quiver::inline base::stage_marks {
@@ -24,12 +23,9 @@ enum class Stage : std::uint8_t {
 
 /// Turns marking on for this process (a benchmark role, before it opens its replica).
 void enable();
-bool enabled();
 /// Records the time now for `s` when enabled.
 void mark(Stage s);
-/// The latest mark of every stage (0: none yet).
-std::array<std::int64_t, static_cast<int>(Stage::kCount)> latest();
-/// A stage's name ("encoded", ...).
-const char* name(Stage s);
+/// The latest mark of `s` (0: none yet).
+std::int64_t at(Stage s);
 
 }  // namespace quiver::inline base::stage_marks
