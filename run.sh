@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Entry point for a fresh Debian 12 machine (run as root, or with sudo available):
-#   ./run.sh demo    install what is missing, build, run the main demo
+#   ./run.sh demo    install what the demo needs, build only its executable, run the main demo
 #   ./run.sh test    install what is missing, build, run every test (unit, property, simulator,
 #                    fuzzing)
 #   ./run.sh build   install what is missing and build only
@@ -17,18 +17,30 @@ isolated() {
   fi
 }
 
+# The CMake options of the full build and of the demo's (the arrays everything and demo_only).
+source scripts/build-options.sh
+
 build() {
   scripts/install-deps.sh
-  cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=Release >/dev/null
+  cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=Release "${everything[@]}" >/dev/null
   cmake --build build
 }
 
+# "== [step/3] what (time since the start)" for the demo's first run.
+started=$SECONDS
+step() { echo "== [$1/3] $2 ($((SECONDS - started)) s so far)"; }
+
 case "${1:-}" in
   demo)
-    build
+    step 1 "installing what the demo needs (scripts/install-deps.sh --demo)"
+    scripts/install-deps.sh --demo
+    step 2 "building quiver-barthel, the demo's executable, and only what it links"
+    cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=Release "${demo_only[@]}" >/dev/null
+    cmake --build build --target quiver-barthel
+    step 3 "running the demo"
     echo "== The Barthel test (seed 000) by five agent processes over Cyclone DDS on loopback, no executive:"
     echo "== the patient leaves mid-sentence once; the Planner is killed with SIGKILL and restarted mid-test"
-    isolated build/quiver scenario barthel ${QUIVER_OUT:+--out "$QUIVER_OUT"}
+    isolated build/quiver-barthel scenario barthel ${QUIVER_OUT:+--out "$QUIVER_OUT"}
     ;;
   test)
     build

@@ -1,8 +1,17 @@
 #!/usr/bin/env bash
 # Installs every Debian 12 package that Quiver's build, tests, benchmarks and fuzzers need.
+#   scripts/install-deps.sh          everything
+#   scripts/install-deps.sh --demo   only what `./run.sh demo` needs (quiver-barthel: the agent
+#                                    libraries, Cyclone DDS, three OpenCV modules, espeak-ng)
 # Idempotent: does nothing when everything is present. Must run as root (or via sudo).
 set -euo pipefail
 
+demo_packages=(
+  build-essential cmake ninja-build pkg-config
+  cyclonedds-dev nlohmann-json3-dev libcli11-dev libspdlog-dev libpugixml-dev liblmdb-dev libssl-dev
+  libopencv-core-dev libopencv-imgproc-dev libopencv-imgcodecs-dev espeak-ng
+  iproute2
+)
 packages=(
   build-essential cmake ninja-build pkg-config git
   clang libclang-rt-14-dev
@@ -19,6 +28,12 @@ packages=(
   python3-matplotlib
 )
 
+case "${1:-}" in
+  --demo) packages=("${demo_packages[@]}") ;;
+  "") ;;
+  *) echo "usage: $0 [--demo]" >&2; exit 2 ;;
+esac
+
 missing=()
 for p in "${packages[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
@@ -30,5 +45,7 @@ echo "install-deps: installing ${missing[*]}" >&2
 SUDO=""
 if [ "$(id -u)" -ne 0 ]; then SUDO="sudo"; fi
 export DEBIAN_FRONTEND=noninteractive
+echo "install-deps: apt-get update" >&2
 $SUDO apt-get update -qq
-$SUDO apt-get install -y -qq --no-install-recommends "${missing[@]}"
+# -q (not -qq): a line per package fetched, unpacked and set up, as progress.
+$SUDO apt-get install -y -q --no-install-recommends "${missing[@]}"

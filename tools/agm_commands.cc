@@ -5,7 +5,10 @@
 #include "commands.h"
 #include "dds_options.h"
 #include "quiver/agents/apps/agm/agm_roles.h"
+#include "quiver/agents/apps/agm/agm_schema.h"
 #include "quiver/agents/apps/agm/process/agm_runs.h"
+#include "quiver/agents/runtime/process/logging.h"
+#include "run_flags.h"
 
 namespace quiver::tools {
 namespace {
@@ -21,6 +24,24 @@ agm::AgmProcessOptions processes(const DdsFlags& dds, const std::string& out) {
   return o;
 }
 
+// One agent of the AGM scenarios (agents/apps/agm), on the AGM world unless told otherwise.
+int run_agm_role(RunFlags f) {
+  agm::AgmRoleOptions ro;
+  ro.name = f.name;
+  ro.measure_humans = f.measure_humans;
+  ro.navigation.quiet_when_done = f.quiet_when_done;
+  ro.clean_table = f.mission == agm::kCleanTable;
+  auto agent = agm::make_role(f.role, ro);
+  if (!agent.ok()) {
+    agents::named_logger("quiver run")->error("{}", agent.error().to_string());
+    return 2;
+  }
+  if (f.process.world.empty())
+    f.process.world_text = std::string(ro.clean_table || f.role == agm::kPlannerRole ? agm::embedded_file("clean-table.json")
+                                                                                     : agm::world_json());
+  return agents::run_process(**agent, f.process);
+}
+
 struct ScenarioFlags {
   DdsFlags dds;
   std::string out;
@@ -34,6 +55,22 @@ struct BenchFlags {
 };
 
 }  // namespace
+
+ExtraRoles agm_roles() {
+  ExtraRoles r;
+  r.help = "; AGM: navigation | rooms | grasping | humans | agm-planner";
+  for (const auto& name : agm::role_names()) r.names += (r.names.empty() ? "AGM roles: " : ", ") + name;
+  r.has = [](const std::string& role) { return agm::is_role_or_planner(role); };
+  r.run = run_agm_role;
+  r.add_options = [](CLI::App* run, RunFlags& f) {
+    run->add_flag("--measure-humans", f.measure_humans,
+                  "AGM navigation, rooms, grasping, agm-planner: measure how fresh the human joints are when they arrive (status line)");
+    run->add_flag("--quiet-when-done", f.quiet_when_done, "AGM navigation: stop publishing once the route is done");
+    run->add_option("--mission", f.mission, "AGM: clean-table (its world; navigation and grasping follow the plan agm-planner writes)")
+        ->check(CLI::IsMember({"", "clean-table"}));
+  };
+  return r;
+}
 
 void add_agm_commands(CLI::App& app) {
   auto sf = std::make_shared<ScenarioFlags>();

@@ -1,49 +1,13 @@
-// The quiver command: its subcommands collected from each *_commands.cc, and main().
+// The quiver command: its subcommands collected from each *_commands.cc.
 #include <CLI/CLI.hpp>
 
-#include <memory>
-#include <string>
-#include <vector>
-
 #include "commands.h"
-#include "quiver/agents/runtime/process/logging.h"
+#include "run_flags.h"
 
 namespace quiver::tools {
-namespace {
-
-// The commands under `a` (CLI11 keeps option groups as subcommands too).
-std::vector<CLI::App*> commands_of(CLI::App* a) {
-  return a->get_subcommands([](CLI::App* s) { return dynamic_cast<CLI::Option_group*>(s) == nullptr; });
-}
-
-// A command made only of subcommands says which word it did not know, and lists the ones it
-// does, instead of CLI11's "A subcommand is required".
-void require_known_subcommand(CLI::App* a, const std::string& path) {
-  auto word = std::make_shared<std::string>();
-  a->require_subcommand(0, 1);
-  a->add_option("command", *word)->group("");  // hidden: catches a word that is no subcommand
-  a->callback([a, path, word] {
-    if (!a->get_subcommands().empty()) return;
-    std::string known;
-    for (const CLI::App* s : commands_of(a))
-      if (!s->get_group().empty()) known += (known.empty() ? "" : ", ") + s->get_name();
-    const std::string what = word->empty() ? path + ": which command? (" : path + ": unknown command '" + *word + "' (";
-    throw CLI::ParseError(what + "the commands are: " + known + "; " + path + " --help tells more)", CLI::ExitCodes::ExtrasError);
-  });
-}
-
-}  // namespace
 
 void build_app(CLI::App& app) {
-  app.set_version_flag("--version", std::string("quiver ") + QUIVER_VERSION);
-  app.add_option_function<std::string>(
-         "--log-level",
-         [](const std::string& level) {
-           if (!agents::set_log_level(level))
-             throw CLI::ValidationError("--log-level", "'" + level + "' is none of trace, debug, info, warn, error, critical, off");
-         },
-         "messages at least this severe are logged to stderr (default info)")
-      ->envname("QUIVER_LOG_LEVEL");
+  add_global_options(app, "quiver");
   add_sim_command(app);
   add_bench_commands(app);
   add_kinematics_commands(app);  // adds to `bench`: after add_bench_commands
@@ -54,7 +18,7 @@ void build_app(CLI::App& app) {
   add_gateway_command(app);
   add_dds_bench_commands(app);
   add_agents_bench_commands(app);
-  add_barthel_commands(app);
+  add_barthel_commands(app, agm_roles());
   add_agm_commands(app);  // adds to `scenario` and `bench`
   add_render_commands(app);
   add_reaction_bench_command(app);
@@ -64,9 +28,7 @@ void build_app(CLI::App& app) {
   add_planner_commands(app);
   add_keys_commands(app);
   add_schema_commands(app);
-  require_known_subcommand(&app, "quiver");
-  for (CLI::App* sub : commands_of(&app))
-    if (!commands_of(sub).empty()) require_known_subcommand(sub, "quiver " + sub->get_name());
+  require_known_subcommands(app, "quiver");
 }
 
 }  // namespace quiver::tools

@@ -1,12 +1,12 @@
-// The Barthel commands: quiver run ROLE (one Barthel or AGM agent as this process), quiver
-// scenario barthel and quiver bench reaction (agents/apps/barthel/process runs them).
+// The Barthel commands: run ROLE (one Barthel agent, or one of ExtraRoles, as this process),
+// scenario barthel and bench reaction (agents/apps/barthel/process runs them). In `quiver` and
+// in the lean quiver-barthel.
 #include <nlohmann/json.hpp>
 
 #include "commands.h"
 #include "quiver/agents/runtime/process/logging.h"
 #include "dds_options.h"
-#include "quiver/agents/apps/agm/agm_roles.h"
-#include "quiver/agents/apps/agm/agm_schema.h"
+#include "run_flags.h"
 #include "quiver/agents/apps/barthel/grammars.h"
 #include "quiver/agents/apps/barthel/barthel_roles.h"
 #include "quiver/agents/apps/barthel/process/barthel_runs.h"
@@ -17,39 +17,8 @@ namespace {
 namespace barthel = agents::barthel;
 using nlohmann::json;
 
-struct RunFlags {
-  agents::ProcessFlags process;
-  std::string role, out, script, name;
-  std::uint64_t patient_seed = 1;
-  bool simulated_speech = false;
-  double answer_timeout_s = 8;
-  double words_ms = 250;
-  bool measure_humans = false;
-  bool quiet_when_done = false;
-  std::string mission;
-};
-
-// One agent of the AGM scenarios (agents/apps/agm), on the AGM world unless told otherwise.
-int run_agm_role(RunFlags f) {
-  agents::agm::AgmRoleOptions ro;
-  ro.name = f.name;
-  ro.measure_humans = f.measure_humans;
-  ro.navigation.quiet_when_done = f.quiet_when_done;
-  ro.clean_table = f.mission == agents::agm::kCleanTable;
-  auto agent = agents::agm::make_role(f.role, ro);
-  if (!agent.ok()) {
-    agents::named_logger("quiver run")->error("{}", agent.error().to_string());
-    return 2;
-  }
-  if (f.process.world.empty())
-    f.process.world_text = std::string(ro.clean_table || f.role == agents::agm::kPlannerRole
-                                           ? agents::agm::embedded_file("clean-table.json")
-                                           : agents::agm::world_json());
-  return agents::run_process(**agent, f.process);
-}
-
-int run_role(RunFlags f) {
-  if (agents::agm::is_role_or_planner(f.role)) return run_agm_role(std::move(f));
+int run_role(RunFlags f, const ExtraRoles& extra) {
+  if (extra.has && extra.has(f.role)) return extra.run(std::move(f));
   barthel::RoleOptions ro;
   ro.out_dir = f.out;
   ro.name = f.name;
@@ -68,9 +37,8 @@ int run_role(RunFlags f) {
   }
   auto agent = barthel::make_role(f.role, ro);
   if (!agent.ok()) {
-    std::string agm_roles;
-    for (const auto& r : agents::agm::role_names()) agm_roles += (agm_roles.empty() ? "" : ", ") + r;
-    agents::named_logger("quiver run")->error("{}; AGM roles: {}", agent.error().to_string(), agm_roles);
+    if (extra.names.empty()) agents::named_logger("quiver run")->error("{}", agent.error().to_string());
+    else agents::named_logger("quiver run")->error("{}; {}", agent.error().to_string(), extra.names);
     return 2;
   }
   if (f.process.world.empty()) f.process.world_text = std::string(barthel::world_json());
@@ -92,18 +60,17 @@ struct ReactionFlags {
 void apply(const DdsFlags& dds, barthel::BarthelProcessOptions& p, agents::ReplicaFactory& observer) {
   p.domain = dds.domain;
   p.dds_config = dds.dds_config;
-  p.exe = agents::self_executable();
+  p.exe = agents::sibling_or_self("quiver-barthel");  // the lean one when it is built beside
   observer = [dds](agents::DdsReplicaOptions o) { return dds.create_agent(std::move(o)); };
 }
 
 }  // namespace
 
-void add_barthel_commands(CLI::App& app) {
+void add_barthel_commands(CLI::App& app, const ExtraRoles& extra) {
   auto rf = std::make_shared<RunFlags>();
-  auto* run = app.add_subcommand("run", "Run one agent of the Barthel test or of the AGM scenarios as this process (over DDS)");
-  run->add_option("role", rf->role,
-                  "Barthel: planner | speech | panel | person | patient; AGM: navigation | rooms | grasping | humans | agm-planner")
-      ->required();
+  auto* run = app.add_subcommand("run", extra.has ? "Run one agent of the Barthel test or of the AGM scenarios as this process (over DDS)"
+                                                  : "Run one agent of the Barthel test as this process (over DDS)");
+  run->add_option("role", rf->role, "Barthel: planner | speech | panel | person | patient" + extra.help)->required();
   rf->process.add_all(run);
   run->add_option("--out", rf->out, "real devices write here (WAVs, screen PNGs, result.json); none: simulated devices");
   run->add_option("--name", rf->name, "the agent's name (default: the role; a second planner needs another)");
@@ -114,13 +81,8 @@ void add_barthel_commands(CLI::App& app) {
   run->add_option("--words-ms", rf->words_ms, "simulated speech: milliseconds per word")->check(CLI::Range(1.0, 5000.0));
   run->add_option("--answer-timeout", rf->answer_timeout_s, "planner: seconds to wait for an answer")
       ->check(CLI::Range(0.1, 600.0));
-  run->add_flag("--measure-humans", rf->measure_humans,
-                "AGM navigation, rooms, grasping, agm-planner: measure how fresh the human joints are when they arrive (status line)");
-  run->add_flag("--quiet-when-done", rf->quiet_when_done, "AGM navigation: stop publishing once the route is done");
-  run->add_option("--mission", rf->mission,
-                  "AGM: clean-table (its world; navigation and grasping follow the plan agm-planner writes)")
-      ->check(CLI::IsMember({"", "clean-table"}));
-  run->callback([rf] { set_exit_code(run_role(*rf)); });
+  if (extra.add_options) extra.add_options(run, *rf);
+  run->callback([rf, extra] { set_exit_code(run_role(*rf, extra)); });
 
   auto sf = std::make_shared<ScenarioFlags>();
   auto* sc = app.add_subcommand("scenario", "Run a scenario as one process per agent over DDS on loopback");

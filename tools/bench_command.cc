@@ -1,10 +1,12 @@
-// quiver bench, quiver bench crdt, load and scale: their options; the runs are tools/bench's
+// quiver bench, quiver bench crdt, load, memory, footprint and scale: their options; the runs are tools/bench's
 // (quiver_bench).
 #include <memory>
 
 #include "commands.h"
 #include "quiver/tools/bench/crdt_bench.h"
 #include "quiver/tools/bench/load_bench.h"
+#include "quiver/agents/runtime/process/subprocess.h"
+#include "quiver/tools/bench/footprint_bench.h"
 #include "quiver/tools/bench/memory_bench.h"
 #include "quiver/tools/bench/scale_bench.h"
 #include "quiver/tools/bench/team_bench.h"
@@ -46,6 +48,22 @@ void add_bench_commands(CLI::App& app) {
   memory->add_option("--runs", mb->runs)->check(CLI::Range(1, 100))->capture_default_str();
   memory->add_option("--seed", mb->seed)->check(CLI::NonNegativeNumber)->capture_default_str();
   memory->callback([mb] { set_exit_code(bench::run_memory_bench(*mb)); });
+  auto fb = std::make_shared<bench::FootprintBench>();
+  auto* footprint = bench->add_subcommand(
+      "footprint",
+      "Resident memory and mapped libraries of agent processes at rest: quiver agent (the lean quiver-agent), the same "
+      "inside the whole quiver, each Barthel role in quiver-barthel");
+  footprint->add_option("--world", fb->world, "quiver agent's world file")->check(CLI::ExistingFile)->capture_default_str();
+  footprint->add_option("--runs", fb->runs, "processes per variant (medians)")->check(CLI::Range(1, 100))->capture_default_str();
+  footprint->add_option("--settle", fb->settle_s, "seconds after the start when a process is measured")
+      ->check(CLI::Range(0.5, 600.0))
+      ->capture_default_str();
+  footprint->add_option("--domain", fb->domain, "DDS domain (loopback)")->check(CLI::Range(0, 230))->capture_default_str();
+  footprint->callback([fb] {
+    bench::FootprintBench run = *fb;
+    run.quiver = agents::self_executable();
+    set_exit_code(bench::run_footprint_bench(run));
+  });
   auto sc = std::make_shared<bench::ScaleBench>();
   auto* scale = bench->add_subcommand(
       "scale",

@@ -1,16 +1,40 @@
 // The quiver command: simulations, agents, inspection and benchmarks.
 
+#include <unistd.h>
+
 #include <CLI/CLI.hpp>
+#include <cstdlib>
+#include <cstring>
+#include <string>
 
 #include "commands.h"
+#include "quiver/agents/runtime/process/subprocess.h"
+
+namespace {
+
+// The commands that a lean executable beside this one has too (tools/agent_main.cc): a process
+// that runs one for long (an agent, a gateway, an observer) becomes that executable, so that it
+// does not map OpenCV, Graphviz, the HTTP server and the rest of this one (docs/performance.md,
+// "Lean agent processes"). Where it is missing, or with QUIVER_IN_ONE_EXECUTABLE=1 (the baseline
+// of `quiver bench footprint`), the command runs here.
+void become_lean_executable(int argc, char** argv) {
+  if (argc < 2) return;
+  if (const char* one = std::getenv("QUIVER_IN_ONE_EXECUTABLE"); one && std::strcmp(one, "1") == 0) return;
+  for (const char* command : {"agent", "gateway", "echo", "dump"}) {
+    if (std::strcmp(argv[1], command) != 0) continue;
+    const std::string lean = quiver::agents::sibling_or_self("quiver-agent");
+    if (lean == quiver::agents::self_executable()) return;
+    argv[0] = const_cast<char*>(lean.c_str());
+    execv(lean.c_str(), argv);
+    return;  // not executable after all: run it here
+  }
+}
+
+}  // namespace
 
 int main(int argc, char** argv) {
+  become_lean_executable(argc, argv);
   CLI::App app{"quiver: a replicated world model for robot agents (no executive, delta CRDTs over DDS)"};
   quiver::tools::build_app(app);
-  try {
-    app.parse(argc, argv);
-  } catch (const CLI::ParseError& e) {
-    return app.exit(e);
-  }
-  return quiver::tools::exit_code();
+  return quiver::tools::run_cli(app, argc, argv);
 }

@@ -1,6 +1,8 @@
 // A robot's gateway to its team: a replica in the robot's domain and one in the team's, bridged.
 #include "quiver/agents/runtime/process/gateway.h"
 
+#include <CLI/CLI.hpp>
+
 #include <iostream>
 #include <nlohmann/json.hpp>
 

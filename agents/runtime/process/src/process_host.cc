@@ -2,6 +2,8 @@
 // or SIGTERM.
 #include "quiver/agents/runtime/process/process_host.h"
 
+#include <CLI/CLI.hpp>
+
 #include <spdlog/spdlog.h>
 #include <unistd.h>
 

@@ -9,10 +9,15 @@
 ///
 /// One thread runs both replicas and the bridge. Errors are returned or logged; nothing throws.
 
-#include <CLI/CLI.hpp>
 #include <string>
 
 #include "quiver/agents/runtime/process/process_host.h"
+
+// CLI11's App only by name: a user of run_process(agent, argc, argv) does not parse CLI11's
+// headers (seconds per file); one who adds its flags to an App includes <CLI/CLI.hpp> itself.
+namespace CLI {
+class App;
+}
 
 namespace quiver::agents::inline runtime {
 

@@ -13,13 +13,18 @@
 /// }
 /// ```
 
-#include <CLI/CLI.hpp>
 #include <cstdint>
 #include <string>
 
 #include "quiver/agents/runtime/process/dds_replica.h"
 #include "quiver/agents/runtime/api/agent.h"
 #include "quiver/base/result.h"
+
+// CLI11's App only by name: a user of run_process(agent, argc, argv) does not parse CLI11's
+// headers (seconds per file); one who adds its flags to an App includes <CLI/CLI.hpp> itself.
+namespace CLI {
+class App;
+}
 
 namespace quiver::agents::inline runtime {
 

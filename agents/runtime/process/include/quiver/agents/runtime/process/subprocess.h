@@ -188,4 +188,14 @@ inline std::string self_executable() {
   return n > 0 ? std::string(buf, static_cast<std::size_t>(n)) : "quiver";
 }
 
+/// @returns the executable `name` in the running executable's folder when it is there (the lean
+/// per-role executables built beside `quiver`, e.g. quiver-barthel), else self_executable().
+inline std::string sibling_or_self(const std::string& name) {
+  const std::string self = self_executable();
+  const std::size_t slash = self.rfind('/');
+  if (slash == std::string::npos) return self;
+  const std::string sibling = self.substr(0, slash + 1) + name;
+  return access(sibling.c_str(), X_OK) == 0 ? sibling : self;
+}
+
 }  // namespace quiver::agents::inline runtime
