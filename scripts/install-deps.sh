@@ -8,7 +8,7 @@ set -euo pipefail
 
 demo_packages=(
   build-essential cmake ninja-build pkg-config
-  cyclonedds-dev nlohmann-json3-dev libcli11-dev libspdlog-dev libpugixml-dev liblmdb-dev libssl-dev
+  cyclonedds-dev cyclonedds-tools nlohmann-json3-dev libcli11-dev libspdlog-dev libpugixml-dev liblmdb-dev libssl-dev
   libopencv-core-dev libopencv-imgproc-dev libopencv-imgcodecs-dev espeak-ng
   iproute2
 )
