@@ -10,6 +10,7 @@
 #include <new>
 
 #include "graph_test_util.h"
+#include "quiver/base/hash.h"
 #include "quiver/graph/limits.h"
 
 namespace {
@@ -38,6 +39,28 @@ TEST(SymbolTableTest, LookingUpAKnownNameAllocatesNothing) {
     ASSERT_EQ(Symbol::find("battery"), known);
   }
   EXPECT_EQ(g_allocations.load(), before);
+}
+
+// Each thread keeps its recent lookups by hash (symbol.cc): names that share a slot, looked up in
+// turn, and a name never interned whose slot holds another, still get their own answers.
+TEST(SymbolTableTest, RecentLookupsThatShareASlotKeepTheirOwnNames) {
+  constexpr std::uint64_t kSlots = 256;  // symbol.cc's kRecent
+  const std::string first = "slot-a";
+  std::string second, absent;
+  for (int i = 0; second.empty() || absent.empty(); ++i) {
+    const std::string name = "slot-" + std::to_string(i);
+    if (name == first || fnv1a64(name) % kSlots != fnv1a64(first) % kSlots) continue;
+    (second.empty() ? second : absent) = name;
+  }
+  const Symbol a(first), b(second);
+  ASSERT_NE(a, b);
+  for (int round = 0; round < 3; ++round) {
+    EXPECT_EQ(Symbol(first), a);
+    EXPECT_EQ(Symbol::find(second), b);
+    EXPECT_EQ(Symbol(second).str(), second);
+    EXPECT_TRUE(Symbol::find(absent).is_null()) << absent << " shares a slot with " << first << " and " << second;
+    EXPECT_EQ(Symbol::find(first).str(), first);
+  }
 }
 
 TEST(SymbolTableTest, NamesOfARefusedMessageAreNeverAdded) {
