@@ -1,8 +1,9 @@
-// quiver bench, quiver bench crdt, load, memory, footprint and scale: their options; the runs are tools/bench's
+// quiver bench, quiver bench crdt, load, memory, footprint, all and scale: their options; the runs are tools/bench's
 // (quiver_bench).
 #include <memory>
 
 #include "commands.h"
+#include "quiver/tools/bench/all_bench.h"
 #include "quiver/tools/bench/crdt_bench.h"
 #include "quiver/tools/bench/load_bench.h"
 #include "quiver/agents/runtime/process/subprocess.h"
@@ -48,12 +49,29 @@ void add_bench_commands(CLI::App& app) {
   memory->add_option("--runs", mb->runs)->check(CLI::Range(1, 100))->capture_default_str();
   memory->add_option("--seed", mb->seed)->check(CLI::NonNegativeNumber)->capture_default_str();
   memory->callback([mb] { set_exit_code(bench::run_memory_bench(*mb)); });
+  auto ab = std::make_shared<bench::AllBench>();
+  auto* all = bench->add_subcommand(
+      "all",
+      "Every benchmark beside its peer in one run (ddsperf, Yjs through node where installed, tf2): OUT/bench.json and "
+      "OUT/index.html with the plots");
+  all->add_option("--out", ab->out, "the report's folder (default: a new /tmp/quiver-bench-all-*)");
+  all->add_flag("--quick", ab->quick, "small sizes: checks that every benchmark runs (about a minute), not figures to quote");
+  all->add_option("--domain", ab->domain, "DDS domain of the DDS benchmarks and ddsperf (loopback; the next one too)")
+      ->check(CLI::Range(0, 229))
+      ->capture_default_str();
+  all->callback([ab] {
+    bench::AllBench run = *ab;
+    run.quiver = agents::self_executable();
+    set_exit_code(bench::run_all_bench(run));
+  });
   auto fb = std::make_shared<bench::FootprintBench>();
   auto* footprint = bench->add_subcommand(
       "footprint",
       "Resident memory and mapped libraries of agent processes at rest: quiver agent (the lean quiver-agent), the same "
       "inside the whole quiver, each Barthel role in quiver-barthel");
-  footprint->add_option("--world", fb->world, "quiver agent's world file")->check(CLI::ExistingFile)->capture_default_str();
+  footprint->add_option("--world", fb->world,
+                        "quiver agent's world file (default: examples/worlds/kitchen.json when it is there, else none)")
+      ->check(CLI::ExistingFile);
   footprint->add_option("--runs", fb->runs, "processes per variant (medians)")->check(CLI::Range(1, 100))->capture_default_str();
   footprint->add_option("--settle", fb->settle_s, "seconds after the start when a process is measured")
       ->check(CLI::Range(0.5, 600.0))

@@ -73,11 +73,13 @@ int run_footprint_bench(const FootprintBench& b) {
   const fs::path dir = fs::path(b.quiver).parent_path();
   const std::string barthel = (dir / "quiver-barthel").string();
   const std::string domain = std::to_string(b.domain);
+  std::string world = b.world;
+  if (world.empty() && fs::exists("examples/worlds/kitchen.json")) world = "examples/worlds/kitchen.json";
+  std::vector<std::string> agent = {b.quiver, "agent", "--name", "footprint", "--domain", domain};
+  if (!world.empty()) agent.insert(agent.end(), {"--world", world});
   std::vector<Variant> variants = {
-      {"quiver agent", {b.quiver, "agent", "--name", "footprint", "--world", b.world, "--domain", domain}, {}},
-      {"quiver agent, inside quiver",
-       {b.quiver, "agent", "--name", "footprint", "--world", b.world, "--domain", domain},
-       {{"QUIVER_IN_ONE_EXECUTABLE", "1"}}},
+      {"quiver agent", agent, {}},
+      {"quiver agent, inside quiver", agent, {{"QUIVER_IN_ONE_EXECUTABLE", "1"}}},
   };
   for (const char* role : {"planner", "speech", "panel", "person", "patient"})
     variants.push_back({std::string("quiver-barthel run ") + role,
@@ -113,7 +115,7 @@ int run_footprint_bench(const FootprintBench& b) {
     for (const std::string& h : heavy)
       if (std::any_of(last.objects.begin(), last.objects.end(), [&](const std::string& o) { return o.rfind(h, 0) == 0; }))
         heavy_mapped.push_back(h);
-    std::cout << json{{"bench", "footprint"},           {"variant", v.name},
+    std::cout << json{{"bench", "footprint"},           {"variant", v.name}, {"world", world.empty() ? json(nullptr) : json(world)},
                       {"executable", last.exe},         {"runs", b.runs},
                       {"settle_s", b.settle_s},         {"rss_kb_p50", median(rss)},
                       {"rss_anon_kb_p50", median(anon)}, {"rss_file_kb_p50", median(file)},

@@ -1,6 +1,7 @@
 // quiver bench team: writes the embedded script and its namespace library to a temporary
 // directory and runs it with this executable's path.
 #include "quiver/tools/bench/team_bench.h"
+#include "quiver/tools/bench/bench_files.h"
 
 #include <spawn.h>
 #include <sys/wait.h>

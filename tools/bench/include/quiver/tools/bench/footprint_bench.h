@@ -10,7 +10,9 @@ namespace quiver::tools::bench {
 
 struct FootprintBench {
   std::string quiver;  ///< the quiver executable (quiver-agent and quiver-barthel beside it)
-  std::string world = "examples/worlds/kitchen.json";  ///< `quiver agent`'s world file
+  /// `quiver agent`'s world file; empty: examples/worlds/kitchen.json when it is there (from the
+  /// source tree), else none.
+  std::string world;
   int runs = 3;            ///< medians over this many processes per variant are reported
   double settle_s = 4;     ///< measured this long after the start
   std::uint32_t domain = 83;

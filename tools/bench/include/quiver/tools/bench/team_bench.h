@@ -22,7 +22,4 @@ struct TeamBench {
 /// one is not, 77 without root (the script says why), 2 when it cannot start.
 int run_team_bench(const TeamBench& b);
 
-/// The embedded files ("team_bench.sh", "netns.sh"), or "".
-std::string_view embedded_file(std::string_view name);
-
 }  // namespace quiver::tools::bench
