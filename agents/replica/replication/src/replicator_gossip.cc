@@ -534,7 +534,12 @@ void Replicator::gossip_tick() {
 }
 
 void Replicator::trim_buffer_gossip() {
+  // Entries are in the order they were remembered (at_ns never decreases along the buffer), so
+  // the first one too young for either rule ends the walk: what follows is younger still. Without
+  // this, a burst of commits had the walk cross every buffered delta each heartbeat.
+  const std::int64_t youngest_droppable = std::min(opt_.gap_grace_ns, opt_.relay_retain_ns);
   for (auto it = buffer_.begin(); it != buffer_.end();) {
+    if (now_ - it->at_ns < youngest_droppable) break;
     bool drop;
     if (it->origin == self_) {
       drop = true;
