@@ -1,5 +1,6 @@
 // quiver bench, quiver bench crdt, load, memory, footprint, all and scale: their options; the runs are tools/bench's
 // (quiver_bench).
+#include <functional>
 #include <memory>
 
 #include "commands.h"
@@ -14,6 +15,20 @@
 #include "quiver/tools/bench/schedules_bench.h"
 
 namespace quiver::tools {
+namespace {
+
+// A command's callback: runs `run` on a copy of the options, with `quiver` set to this executable
+// (the benchmarks that start other processes find their executables beside it).
+template <class Options>
+std::function<void()> with_this_executable(std::shared_ptr<Options> options, int (*run)(const Options&)) {
+  return [options, run] {
+    Options o = *options;
+    o.quiver = agents::self_executable();
+    set_exit_code(run(o));
+  };
+}
+
+}  // namespace
 
 void add_bench_commands(CLI::App& app) {
   auto* bench = app.add_subcommand("bench", "Benchmarks (one JSON line per result)");
@@ -59,11 +74,7 @@ void add_bench_commands(CLI::App& app) {
   all->add_option("--domain", ab->domain, "DDS domain of the DDS benchmarks and ddsperf (loopback; the next one too)")
       ->check(CLI::Range(0, 229))
       ->capture_default_str();
-  all->callback([ab] {
-    bench::AllBench run = *ab;
-    run.quiver = agents::self_executable();
-    set_exit_code(bench::run_all_bench(run));
-  });
+  all->callback(with_this_executable(ab, bench::run_all_bench));
   auto fb = std::make_shared<bench::FootprintBench>();
   auto* footprint = bench->add_subcommand(
       "footprint",
@@ -77,11 +88,7 @@ void add_bench_commands(CLI::App& app) {
       ->check(CLI::Range(0.5, 600.0))
       ->capture_default_str();
   footprint->add_option("--domain", fb->domain, "DDS domain (loopback)")->check(CLI::Range(0, 230))->capture_default_str();
-  footprint->callback([fb] {
-    bench::FootprintBench run = *fb;
-    run.quiver = agents::self_executable();
-    set_exit_code(bench::run_footprint_bench(run));
-  });
+  footprint->callback(with_this_executable(fb, bench::run_footprint_bench));
   auto sc = std::make_shared<bench::ScaleBench>();
   auto* scale = bench->add_subcommand(
       "scale",
