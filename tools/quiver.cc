@@ -5,6 +5,7 @@
 #include <CLI/CLI.hpp>
 #include <cstdlib>
 #include <cstring>
+#include <optional>
 #include <string>
 
 #include "commands.h"
@@ -22,11 +23,13 @@ void become_lean_executable(int argc, char** argv) {
   if (const char* one = std::getenv("QUIVER_IN_ONE_EXECUTABLE"); one && std::strcmp(one, "1") == 0) return;
   for (const char* command : {"agent", "gateway", "echo", "dump"}) {
     if (std::strcmp(argv[1], command) != 0) continue;
-    const std::string lean = quiver::agents::sibling_or_self("quiver-agent");
-    if (lean == quiver::agents::self_executable()) return;
-    argv[0] = const_cast<char*>(lean.c_str());
-    execv(lean.c_str(), argv);
-    return;  // not executable after all: run it here
+    const std::optional<std::string> lean = quiver::agents::sibling_executable("quiver-agent");
+    if (!lean) return;
+    char* const self = argv[0];
+    argv[0] = const_cast<char*>(lean->c_str());
+    execv(lean->c_str(), argv);
+    argv[0] = self;  // not executable after all: run it here
+    return;
   }
 }
 

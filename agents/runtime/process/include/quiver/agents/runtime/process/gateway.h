@@ -11,13 +11,7 @@
 
 #include <string>
 
-#include "quiver/agents/runtime/process/process_host.h"
-
-// CLI11's App only by name: a user of run_process(agent, argc, argv) does not parse CLI11's
-// headers (seconds per file); one who adds its flags to an App includes <CLI/CLI.hpp> itself.
-namespace CLI {
-class App;
-}
+#include "quiver/agents/runtime/process/process_host.h"  // and CLI::App, by name only
 
 namespace quiver::agents::inline runtime {
 

@@ -188,14 +188,20 @@ inline std::string self_executable() {
   return n > 0 ? std::string(buf, static_cast<std::size_t>(n)) : "quiver";
 }
 
-/// @returns the executable `name` in the running executable's folder when it is there (the lean
-/// per-role executables built beside `quiver`, e.g. quiver-barthel), else self_executable().
-inline std::string sibling_or_self(const std::string& name) {
+/// @returns the path of the executable `name` in the running executable's folder (the lean
+/// per-role executables built beside `quiver`, e.g. quiver-barthel), or nullopt when it is not there.
+inline std::optional<std::string> sibling_executable(const std::string& name) {
   const std::string self = self_executable();
   const std::size_t slash = self.rfind('/');
-  if (slash == std::string::npos) return self;
-  const std::string sibling = self.substr(0, slash + 1) + name;
-  return access(sibling.c_str(), X_OK) == 0 ? sibling : self;
+  if (slash == std::string::npos) return std::nullopt;
+  std::string sibling = self.substr(0, slash + 1) + name;
+  if (access(sibling.c_str(), X_OK) != 0) return std::nullopt;
+  return sibling;
+}
+
+/// @returns sibling_executable(name) when it is there, else self_executable().
+inline std::string sibling_or_self(const std::string& name) {
+  return sibling_executable(name).value_or(self_executable());
 }
 
 }  // namespace quiver::agents::inline runtime
