@@ -44,8 +44,19 @@ case "${1:-}" in
     ;;
   test)
     build
-    isolated ctest --test-dir build --output-on-failure -j "$(nproc)"
-    scripts/fuzz.sh "${QUIVER_FUZZ_SECONDS:-30}"
+    # The fuzzers' sanitizer build (clang) runs beside the tests at the lowest priority: most
+    # tests wait on DDS, timers and child processes, and it takes only the CPU they leave idle.
+    nice -n 19 scripts/fuzz.sh --build-only >build/fuzz-build.log 2>&1 &
+    fuzz_build=$!
+    status=0
+    isolated ctest --test-dir build --output-on-failure -j "$(nproc)" || status=$?
+    if ! wait "$fuzz_build"; then
+      echo "run.sh: the fuzzers' build failed (build/fuzz-build.log):" >&2
+      tail -40 build/fuzz-build.log >&2
+      exit 1
+    fi
+    if [ "$status" -ne 0 ]; then exit "$status"; fi
+    scripts/fuzz.sh "${QUIVER_FUZZ_SECONDS:-20}"
     ;;
   build)
     build

@@ -49,14 +49,14 @@ Status take_back(graph::Graph& g, std::string_view from, std::string_view type, 
   return {};
 }
 
-std::string attr_string(const graph::Graph& g, NodeId n, std::string_view name, std::string fallback) {
+std::string attr_string(const graph::Graph& g, NodeId n, Symbol name, std::string fallback) {
   const graph::Value* v = g.attr(n, name);
   if (!v) return fallback;
   if (const auto* s = v->get_if<std::string>()) return *s;
   return fallback;
 }
 
-std::int64_t attr_int(const graph::Graph& g, NodeId n, std::string_view name, std::int64_t fallback) {
+std::int64_t attr_int(const graph::Graph& g, NodeId n, Symbol name, std::int64_t fallback) {
   const graph::Value* v = g.attr(n, name);
   if (!v) return fallback;
   if (const auto* x = v->get_if<std::int64_t>()) return *x;
@@ -66,7 +66,7 @@ std::int64_t attr_int(const graph::Graph& g, NodeId n, std::string_view name, st
   return fallback;
 }
 
-bool attr_bool(const graph::Graph& g, NodeId n, std::string_view name, bool fallback) {
+bool attr_bool(const graph::Graph& g, NodeId n, Symbol name, bool fallback) {
   const graph::Value* v = g.attr(n, name);
   if (!v) return fallback;
   if (const auto* b = v->get_if<bool>()) return *b;
@@ -95,20 +95,34 @@ std::vector<std::string> split_lines(std::string_view text) {
   return out;
 }
 
+namespace {
+// Every agent reads every prompt on most of its rounds: the names are interned once.
+struct PromptNames {
+  Symbol say{edge::kSay}, seq{"seq"}, text{"text"}, purpose{"purpose"}, item{"item"}, attempt{"attempt"},
+      title{"title"}, screen_text{"screen_text"}, options{"options"}, buttons{"buttons"};
+};
+const PromptNames& names() {
+  static const PromptNames n;
+  return n;
+}
+}  // namespace
+
 std::optional<Prompt> prompt_at(const graph::Graph& g, NodeId u) {
+  const PromptNames& k = names();
   if (!g.has_node(u)) return std::nullopt;
   Prompt p;
   p.id = u;
-  p.seq = attr_int(g, u, "seq", -1);
+  p.seq = attr_int(g, u, k.seq, -1);
   if (p.seq < 0) return std::nullopt;
-  p.text = attr_string(g, u, "text");
-  p.purpose = attr_string(g, u, "purpose");
-  p.item = static_cast<int>(attr_int(g, u, "item", -1));
-  p.attempt = static_cast<int>(attr_int(g, u, "attempt", 0));
-  p.title = attr_string(g, u, "title");
-  p.screen_text = attr_string(g, u, "screen_text");
-  p.options = split_lines(attr_string(g, u, "options"));
-  p.buttons = attr_bool(g, u, "buttons");
+  p.text = attr_string(g, u, k.text);
+  p.purpose = attr_string(g, u, k.purpose);
+  p.item = static_cast<int>(attr_int(g, u, k.item, -1));
+  p.attempt = static_cast<int>(attr_int(g, u, k.attempt, 0));
+  p.title = attr_string(g, u, k.title);
+  p.screen_text = attr_string(g, u, k.screen_text);
+  if (const graph::Value* o = g.attr(u, k.options))
+    if (const auto* text = o->get_if<std::string>()) p.options = split_lines(*text);
+  p.buttons = attr_bool(g, u, k.buttons);
   return p;
 }
 
@@ -116,7 +130,7 @@ std::vector<Prompt> prompts(const graph::Graph& g) {
   std::vector<Prompt> out;
   NodeId t = node_id(g, node::kTest);
   if (t.is_null()) return out;
-  for (const graph::EdgeKey& e : g.edges_from(t, Symbol(edge::kSay)))
+  for (const graph::EdgeKey& e : g.edges_from(t, names().say))
     if (auto p = prompt_at(g, e.to)) out.push_back(std::move(*p));
   std::sort(out.begin(), out.end(), [](const Prompt& a, const Prompt& b) {
     return a.seq != b.seq ? a.seq < b.seq : a.id < b.id;
@@ -125,9 +139,15 @@ std::vector<Prompt> prompts(const graph::Graph& g) {
 }
 
 std::optional<Prompt> prompt_by_seq(const graph::Graph& g, std::int64_t seq) {
-  for (Prompt& p : prompts(g))
-    if (p.seq == seq) return std::move(p);
-  return std::nullopt;
+  // The first by id among the prompts with this seq, as prompts() orders them; only it is read whole.
+  NodeId t = node_id(g, node::kTest);
+  if (t.is_null() || seq < 0) return std::nullopt;
+  NodeId first;
+  for (const graph::EdgeKey& e : g.edges_from(t, names().say))
+    if (g.has_node(e.to) && attr_int(g, e.to, names().seq, -1) == seq && (first.is_null() || e.to < first))
+      first = e.to;
+  if (first.is_null()) return std::nullopt;
+  return prompt_at(g, first);
 }
 
 bool marked(const graph::Graph& g, std::string_view from, std::string_view type, NodeId u) {

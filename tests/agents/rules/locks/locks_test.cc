@@ -142,6 +142,48 @@ TEST(LocksTest, ACrashedHoldersLockExpires) {
   EXPECT_TRUE(w.locks[0]->holds(w.arm));
 }
 
+// A takeover from a crashed holder: its last write reached one peer but not the new claimant
+// (a sample lost to one reader, whose writer died before it could resend it). The new claim is
+// not held before the claimant holds that write too: it learns it from the peer that has it.
+TEST(LocksTest, ATakeoverIsHeldOnlyOnceTheOldHoldersLastWritesAreHere) {
+  LockNet w(3, /*lease_ns=*/300'000'000);
+  ASSERT_TRUE(w.locks[2]->acquire(w.arm, 3).ok());
+  w.advance(200'000'000);
+  ASSERT_TRUE(w.locks[2]->holds(w.arm));
+  // The holder's last write reaches agent 1 only.
+  bool cut_from_1 = false;
+  w.net.drop = [&](const Packet& f) {
+    if (f.to != 0 || f.sample.topic == DdsTopic::kSummary) return false;
+    return f.from == 2 || (f.from == 1 && cut_from_1);
+  };
+  ASSERT_TRUE(w.write(2, w.gripper, "goal", Value("shelf")).ok());
+  w.net.advance(10'000'000, 1);
+  ASSERT_TRUE(w.net.nodes[1].g->attr(w.gripper, "goal") != nullptr);
+  ASSERT_EQ(w.net.nodes[0].g->attr(w.gripper, "goal"), nullptr);
+  // Agent 2 dies; agent 1's deltas, pulls and states do not reach agent 0 for now (its
+  // summaries do: it acknowledges claims and tells what it holds).
+  w.locks[2].reset();
+  w.net.nodes[2].rep.reset();
+  w.net.nodes[2].g.reset();
+  cut_from_1 = true;
+  for (int i = 0; i < 40 && !w.has(0, LockEventKind::kExpired); ++i) w.advance(50'000'000);
+  ASSERT_TRUE(w.has(0, LockEventKind::kExpired));
+  ASSERT_EQ(w.net.nodes[0].g->attr(w.gripper, "goal"), nullptr) << "the test's cut did not hold";
+  ASSERT_TRUE(w.locks[0]->acquire(w.arm, 1).ok());
+  const std::uint64_t claim_seq = w.net.nodes[0].rep->last_seq();
+  w.advance(300'000'000);
+  // Every live peer acknowledged the claim: without the takeover rule it would be held now.
+  ASSERT_TRUE(w.net.nodes[0].rep->all_peers_hold(w.net.nodes[0].g->replica(), claim_seq));
+  EXPECT_FALSE(w.locks[0]->holds(w.arm)) << "held before the old holder's last write is here";
+  EXPECT_FALSE(w.has(0, LockEventKind::kAcquired));
+  // The cut heals: agent 0 gets the write from agent 1, then holds.
+  cut_from_1 = false;
+  for (int i = 0; i < 40 && !w.locks[0]->holds(w.arm); ++i) w.advance(50'000'000);
+  EXPECT_TRUE(w.locks[0]->holds(w.arm));
+  ASSERT_NE(w.net.nodes[0].g->attr(w.gripper, "goal"), nullptr);
+  EXPECT_EQ(w.net.nodes[0].g->attr(w.gripper, "goal")->as<std::string>().value(), "shelf");
+}
+
 TEST(LocksTest, PartitionBothSidesHoldThenOneWinnerAfterHeal) {
   LockNet w(4, 300'000'000);
   // Split {0,1} | {2,3}.

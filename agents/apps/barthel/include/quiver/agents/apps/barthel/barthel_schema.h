@@ -111,11 +111,20 @@ std::optional<Answer> answer_to(const graph::Graph& g, graph::NodeId u);
 Status take_back(graph::Graph& g, std::string_view from, std::string_view type, graph::NodeId to = {});
 
 /// Attribute readers that give `fallback` when the attribute is missing or of another type.
-std::string attr_string(const graph::Graph& g, graph::NodeId n, std::string_view name,
-                        std::string fallback = {});
-std::int64_t attr_int(const graph::Graph& g, graph::NodeId n, std::string_view name,
-                      std::int64_t fallback = 0);
-bool attr_bool(const graph::Graph& g, graph::NodeId n, std::string_view name, bool fallback = false);
+/// The Symbol forms save interning the name on paths that read many attributes (prompts).
+std::string attr_string(const graph::Graph& g, graph::NodeId n, graph::Symbol name, std::string fallback = {});
+std::int64_t attr_int(const graph::Graph& g, graph::NodeId n, graph::Symbol name, std::int64_t fallback = 0);
+bool attr_bool(const graph::Graph& g, graph::NodeId n, graph::Symbol name, bool fallback = false);
+inline std::string attr_string(const graph::Graph& g, graph::NodeId n, std::string_view name,
+                               std::string fallback = {}) {
+  return attr_string(g, n, graph::Symbol(name), std::move(fallback));
+}
+inline std::int64_t attr_int(const graph::Graph& g, graph::NodeId n, std::string_view name, std::int64_t fallback = 0) {
+  return attr_int(g, n, graph::Symbol(name), fallback);
+}
+inline bool attr_bool(const graph::Graph& g, graph::NodeId n, std::string_view name, bool fallback = false) {
+  return attr_bool(g, n, graph::Symbol(name), fallback);
+}
 
 /// Options travel as one string attribute, one per line.
 std::string join_lines(const std::vector<std::string>& lines);

@@ -18,6 +18,11 @@
 ///    on while the holder's code blocks, DdsReplica::keep_alive()), so claims are written once.
 ///    A claim whose holder is not heard (it left, crashed, a partition cut it off) has expired:
 ///    others may then claim the next epoch.
+///  - Taking over from a holder that is not heard: the new claim is held only once this replica
+///    also holds every change its live peers hold (Replicator::synced()), so that the old
+///    holder's last changes, which some peers received and this one may not have (a sample lost
+///    to this reader whose writer died before resending it), are here before the new holder acts
+///    on the scope. Without peers there is nothing more to learn.
 ///  - During a partition each side may hold (availability); after the heal the replicas merge
 ///    the claims, agree on one winner, and the loser gets Lost.
 ///  - Writes into a scope locked by someone else are refused locally; the holder's writes carry
@@ -113,6 +118,8 @@ class LockManager {
     std::int64_t priority = 0;
     std::int64_t requested_at = 0;
     bool held = false;
+    bool takeover = false;           // claimed over a holder that was not heard
+    mutable bool caught_up = false;  // takeover: this replica held what its peers held, once
   };
   struct Seen {
     LockClaim winner;
