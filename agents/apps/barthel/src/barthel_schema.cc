@@ -126,15 +126,24 @@ std::optional<Prompt> prompt_at(const graph::Graph& g, NodeId u) {
   return p;
 }
 
+std::vector<NodeId> prompt_ids(const graph::Graph& g) {
+  std::vector<std::pair<std::int64_t, NodeId>> order;
+  NodeId t = node_id(g, node::kTest);
+  if (t.is_null()) return {};
+  for (const graph::EdgeKey& e : g.edges_from(t, names().say))
+    if (g.has_node(e.to))
+      if (std::int64_t seq = attr_int(g, e.to, names().seq, -1); seq >= 0) order.emplace_back(seq, e.to);
+  std::sort(order.begin(), order.end());
+  std::vector<NodeId> out;
+  out.reserve(order.size());
+  for (const auto& [seq, id] : order) out.push_back(id);
+  return out;
+}
+
 std::vector<Prompt> prompts(const graph::Graph& g) {
   std::vector<Prompt> out;
-  NodeId t = node_id(g, node::kTest);
-  if (t.is_null()) return out;
-  for (const graph::EdgeKey& e : g.edges_from(t, names().say))
-    if (auto p = prompt_at(g, e.to)) out.push_back(std::move(*p));
-  std::sort(out.begin(), out.end(), [](const Prompt& a, const Prompt& b) {
-    return a.seq != b.seq ? a.seq < b.seq : a.id < b.id;
-  });
+  for (NodeId id : prompt_ids(g))
+    if (auto p = prompt_at(g, id)) out.push_back(std::move(*p));
   return out;
 }
 

@@ -78,9 +78,11 @@ class Panel::Display final : public Action {
     const graph::Graph& g = ctx.graph();
     if (!patient_in_front(g, ctx.now(), p_.opt_.presence_stale_ns)) return std::nullopt;
     if (attr_string(g, node_id(g, node::kTest), "status") != "running") return std::nullopt;
-    auto all = prompts(g);
-    for (auto it = all.rbegin(); it != all.rend(); ++it)
-      if (it->has_screen() && !attr_bool(g, it->id, "obsolete")) return *it;
+    const auto ids = prompt_ids(g);
+    for (auto it = ids.rbegin(); it != ids.rend(); ++it) {
+      if (attr_bool(g, *it, "obsolete")) continue;
+      if (auto p = prompt_at(g, *it); p && p->has_screen()) return p;
+    }
     return std::nullopt;
   }
   Panel& p_;

@@ -75,8 +75,10 @@ void Patient::on_tick(AgentContext& ctx) {
 
   // The newest question said to the end, not answered yet.
   std::optional<Prompt> q;
-  for (const Prompt& p : prompts(g))
-    if (p.is_question() && marked(g, node::kSpeaker, edge::kSpoke, p.id)) q = p;
+  const auto ids = prompt_ids(g);
+  for (auto it = ids.rbegin(); it != ids.rend() && !q; ++it)
+    if (marked(g, node::kSpeaker, edge::kSpoke, *it))
+      if (auto p = prompt_at(g, *it); p && p->is_question()) q = std::move(p);
   if (!q || q->seq <= answered_seq_) return;
   if (pending_seq_ != q->seq) {
     pending_seq_ = q->seq;

@@ -44,9 +44,11 @@ class Speech::Speak final : public Action {
 
   std::vector<Match> find(AgentContext& ctx) override {
     const graph::Graph& g = ctx.graph();
-    for (const Prompt& p : prompts(g)) {
-      if (attr_bool(g, p.id, "obsolete") || marked(g, node::kSpeaker, edge::kSpoke, p.id)) continue;
-      if (!eligible(ctx, p)) continue;
+    for (graph::NodeId id : prompt_ids(g)) {
+      if (attr_bool(g, id, "obsolete") || marked(g, node::kSpeaker, edge::kSpoke, id)) continue;
+      auto found = prompt_at(g, id);
+      if (!found || !eligible(ctx, *found)) continue;
+      const Prompt& p = *found;
       Match m;
       m.key = "u" + std::to_string(p.seq) + "@" + p.id.to_string();
       m.nodes["utterance"] = p.id;

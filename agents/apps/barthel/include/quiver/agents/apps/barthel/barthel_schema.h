@@ -97,6 +97,9 @@ bool patient_in_front(const graph::Graph& g, std::int64_t now_ns, std::int64_t s
 std::int64_t person_seen_ns(const graph::Graph& g);
 /// Every prompt of the test, by seq (then id).
 std::vector<Prompt> prompts(const graph::Graph& g);
+/// The same order, only the ids: cheap to scan (each agent does every round); prompt_at() reads
+/// the one it wants.
+std::vector<graph::NodeId> prompt_ids(const graph::Graph& g);
 /// The prompt at node `u` (nullopt when `u` is not an utterance).
 std::optional<Prompt> prompt_at(const graph::Graph& g, graph::NodeId u);
 /// The prompt with this seq (the first by id if a partition made two), or nullopt.
