@@ -44,21 +44,19 @@ case "${1:-}" in
     ;;
   test)
     build
-    # Fuzzing (scripts/fuzz.sh: a clang sanitizer build, then each decoder for 20 s) runs beside
-    # ctest at the lowest priority: most tests wait on DDS, timers and child processes, and the
-    # fuzzers take only the CPU the tests leave idle (each prints how many inputs it ran).
-    nice -n 19 scripts/fuzz.sh "${QUIVER_FUZZ_SECONDS:-20}" >build/fuzz.log 2>&1 &
-    fuzz=$!
+    # The fuzzers' sanitizer build (clang) runs beside the tests at the lowest priority: most
+    # tests wait on DDS, timers and child processes, and it takes only the CPU they leave idle.
+    nice -n 19 scripts/fuzz.sh --build-only >build/fuzz-build.log 2>&1 &
+    fuzz_build=$!
     status=0
     isolated ctest --test-dir build --output-on-failure -j "$(nproc)" || status=$?
-    fuzz_status=0
-    wait "$fuzz" || fuzz_status=$?
-    grep '^fuzz.sh' build/fuzz.log || true
-    if [ "$fuzz_status" -ne 0 ]; then
-      echo "run.sh: fuzzing failed (build/fuzz.log):" >&2
-      tail -60 build/fuzz.log >&2
+    if ! wait "$fuzz_build"; then
+      echo "run.sh: the fuzzers' build failed (build/fuzz-build.log):" >&2
+      tail -40 build/fuzz-build.log >&2
+      exit 1
     fi
-    [ "$status" -eq 0 ] && [ "$fuzz_status" -eq 0 ]
+    if [ "$status" -ne 0 ]; then exit "$status"; fi
+    scripts/fuzz.sh "${QUIVER_FUZZ_SECONDS:-20}"
     ;;
   build)
     build

@@ -4,9 +4,15 @@
 # sanitizer report, leak, out-of-memory, invariant violation); the failing input is kept under
 # build-fuzz/findings/.
 #   scripts/fuzz.sh [seconds-per-target]   (default 30; or QUIVER_FUZZ_SECONDS)
+#   scripts/fuzz.sh --build-only           only the build (./run.sh test runs it beside the tests)
 # Targets run QUIVER_FUZZ_JOBS at a time (default: the number of cores), each for the full time.
 set -euo pipefail
 cd "$(dirname "$0")/.."
+build_only=false
+if [ "${1:-}" = "--build-only" ]; then
+  build_only=true
+  shift
+fi
 seconds="${1:-${QUIVER_FUZZ_SECONDS:-30}}"
 if ! command -v clang++ >/dev/null; then
   echo "fuzz.sh: clang++ is missing (scripts/install-deps.sh installs it)" >&2
@@ -28,6 +34,7 @@ cmake --build build-fuzz --target graph_delta_fuzzer replication_samples_fuzzer 
   dsr_file_fuzzer agm_file_fuzzer mission_file_fuzzer schema_file_fuzzer store_record_fuzzer recording_file_fuzzer \
   $(for t in $dds_targets; do printf '%s_fuzzer ' "$t"; done) \
   $([ "$smoke" = build-fuzz/tests/fuzz_smoke_test ] && echo fuzz_smoke_test)
+if $build_only; then exit 0; fi
 corpus=build-fuzz/corpus
 mkdir -p "$corpus"/{delta,samples,world,grammar,dsr,agm,mission,schema,store,recording} build-fuzz/findings
 for t in $dds_targets; do mkdir -p "$corpus/$t"; done
