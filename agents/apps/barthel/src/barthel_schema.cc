@@ -126,13 +126,21 @@ std::optional<Prompt> prompt_at(const graph::Graph& g, NodeId u) {
   return p;
 }
 
-std::vector<NodeId> prompt_ids(const graph::Graph& g) {
-  std::vector<std::pair<std::int64_t, NodeId>> order;
+namespace {
+// Every utterance the test says, as (seq, id), in no order; only its seq is read.
+std::vector<std::pair<std::int64_t, NodeId>> said(const graph::Graph& g) {
+  std::vector<std::pair<std::int64_t, NodeId>> out;
   NodeId t = node_id(g, node::kTest);
-  if (t.is_null()) return {};
+  if (t.is_null()) return out;
   for (const graph::EdgeKey& e : g.edges_from(t, names().say))
     if (g.has_node(e.to))
-      if (std::int64_t seq = attr_int(g, e.to, names().seq, -1); seq >= 0) order.emplace_back(seq, e.to);
+      if (std::int64_t seq = attr_int(g, e.to, names().seq, -1); seq >= 0) out.emplace_back(seq, e.to);
+  return out;
+}
+}  // namespace
+
+std::vector<NodeId> prompt_ids(const graph::Graph& g) {
+  auto order = said(g);
   std::sort(order.begin(), order.end());
   std::vector<NodeId> out;
   out.reserve(order.size());
@@ -149,12 +157,9 @@ std::vector<Prompt> prompts(const graph::Graph& g) {
 
 std::optional<Prompt> prompt_by_seq(const graph::Graph& g, std::int64_t seq) {
   // The first by id among the prompts with this seq, as prompts() orders them; only it is read whole.
-  NodeId t = node_id(g, node::kTest);
-  if (t.is_null() || seq < 0) return std::nullopt;
   NodeId first;
-  for (const graph::EdgeKey& e : g.edges_from(t, names().say))
-    if (g.has_node(e.to) && attr_int(g, e.to, names().seq, -1) == seq && (first.is_null() || e.to < first))
-      first = e.to;
+  for (const auto& [s, id] : said(g))
+    if (s == seq && (first.is_null() || id < first)) first = id;
   if (first.is_null()) return std::nullopt;
   return prompt_at(g, first);
 }

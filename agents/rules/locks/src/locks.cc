@@ -199,8 +199,7 @@ Status LockManager::acquire(NodeId root, std::int64_t priority) {
   bool takeover = false;
   if (auto it = seen_.find(root); it != seen_.end()) {
     max_epoch = it->second.max_epoch;
-    const LockClaim& last = it->second.winner;
-    takeover = !last.free && !(last.holder == g_.replica()) && expired(it->second);
+    takeover = expired(it->second);  // the winner is another holder's claim, its holder not heard
   }
   if (auto w = winner(root)) {
     if (w->holder == g_.replica() && mine_.count(root)) return {};  // already ours
