@@ -1,6 +1,7 @@
 """Type stubs of the `quiver` module (hand-written; python/tests/test_stubs.py keeps them in sync)."""
 from typing import Any, Callable, Iterable, Optional, Sequence, Tuple, Union, overload
 
+import concurrent.futures
 import types
 
 import numpy as np
@@ -383,13 +384,17 @@ class AgentBase:
                   edge_types: Sequence[str] = ..., attributes: Sequence[str] = ...) -> None: ...
     def add_action(self, action: Action, *, node_types: Sequence[str] = ..., edge_types: Sequence[str] = ...,
                    attributes: Sequence[str] = ...) -> None: ...
+    def post(self, fn: Callable[[], Any]) -> None: ...
+    def call(self, fn: Callable[[], Any]) -> "concurrent.futures.Future[Any]": ...
 
 def request_stop() -> None: ...
 
 def run_agent(agent: AgentBase, *, domain: int = 0, dds_config: str = "loopback", world: Optional[str] = None,
               world_text: Optional[str] = None, run_for: float = 0.0, seed: int = 1, status_ms: int = 0,
               join_wait: float = 1.5, loss_permille: int = 0, hang: float = 1.0, final_status: bool = True,
-              schema: Optional[str] = None) -> int: ...
+              schema: Optional[str] = None, lease: float = 1.0, hand_over: float = 2.0, store: Optional[str] = None,
+              durability: str = "batch", store_compact_mb: float = 64.0, security: Optional[str] = None,
+              membership: str = "gossip") -> int: ...
 
 class SimRun:
     """A simulated run as a check sees it at its end."""

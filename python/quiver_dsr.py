@@ -47,6 +47,44 @@ def _rt_attrs(X):
     return [float(v) * _MM for v in X[:3, 3]], [rx, ry, rz]
 
 
+_RT_POSE = ("rt_translation", "rt_rotation_euler_xyz")
+
+
+def _vec3(name, value):
+    """A pose attribute's value as three floats (None if absent)."""
+    if value is None:
+        return None
+    if hasattr(value, "tolist"):  # numpy
+        value = value.tolist()
+    try:
+        out = [float(v) for v in value]
+    except (TypeError, ValueError):
+        out = []
+    if len(out) != 3:
+        raise ValueError(f"insert_or_assign_edge(): an RT edge's {name} must be 3 numbers, not {value!r}")
+    return out
+
+
+def _rt_pose(X_PC, t_mm, rot):
+    """The pose an RT edge's rt_translation (mm) and rt_rotation_euler_xyz ask for: the current
+    X_PC (None if the child is not under that parent yet) with the parts whose values differ from
+    what get_edge() shows replaced, so an unchanged part keeps its exact value. None if nothing
+    changed."""
+    t, r = _vec3("rt_translation", t_mm), _vec3("rt_rotation_euler_xyz", rot)
+    if X_PC is None:
+        X, old_t, old_r, changed = _np.eye(4), None, None, True
+    else:
+        X = _np.array(X_PC, dtype=float)
+        (old_t, old_r), changed = _rt_attrs(X), False
+    if r is not None and r != old_r:
+        X[:3, :3] = _euler_matrix([0.0, 0.0, 0.0], r)[:3, :3]
+        changed = True
+    if t is not None and t != old_t:
+        X[:3, 3] = [v / _MM for v in t]
+        changed = True
+    return X if changed else None
+
+
 def _int_id(nid):
     """A node's pydsr id: 63 bits of a hash of its Quiver id, the same in every process."""
     r = nid.replica
@@ -367,17 +405,33 @@ class DSRGraph:
         return self._call(read)
 
     def insert_or_assign_edge(self, edge):
-        """Inserts the edge, or replaces its attributes; False if an end is missing."""
+        """Inserts the edge, or replaces its attributes; False if an end is missing. An RT edge's
+        rt_translation (mm) and rt_rotation_euler_xyz place the child (set_rt: a pose update, or a
+        move if the child had another parent); its other attributes replace the RT edge's."""
         def write(g):
             a, b = self._nid(g, edge.origin), self._nid(g, edge.destination)
             if a is None or b is None:
                 return False
+            if edge.type == "RT":
+                self._write_rt(g, a, b, edge.attrs)
+                return True
             # DSR's way to replace an edge's attributes: the edge is inserted again with them.
             attrs = {k: _typed(_plain(at), None) for k, at in edge.attrs.items()}
             with g.transaction() as tx:
                 tx.insert_edge(a, b, edge.type, attrs)
             return True
         return self._call(write)
+
+    def _write_rt(self, g, parent, child, attrs):
+        # DSR keeps an RT edge's pose in two attributes; Quiver keeps it as the edge's pose.
+        current = g.rt_edge(child)
+        X = _rt_pose(current[1] if current is not None and current[0] == parent else None,
+                     _plain(attrs.get("rt_translation")), _plain(attrs.get("rt_rotation_euler_xyz")))
+        rest = {k: _typed(_plain(at), g.value(child, "rt:" + k)) for k, at in attrs.items() if k not in _RT_POSE}
+        with g.transaction() as tx:
+            if X is not None:
+                tx.set_rt(parent, child, X, stamp=_time.monotonic_ns())
+            tx.insert_edge(parent, child, "RT", rest)  # replaces the RT edge's attributes
 
     def delete_edge(self, frm, to, type):
         def write(g):

@@ -19,11 +19,12 @@ if ! command -v clang++ >/dev/null; then
   exit 1
 fi
 # -O1 with line tables only: what libFuzzer's docs suggest for sanitizer builds, and a quicker
-# build than -O2 -g; stack traces still name files and lines.
+# build than -O2 -g; stack traces still name files and lines. No unity build: every library file
+# compiles on its own here (the main build batches them), so a missing #include still shows.
 CC=clang CXX=clang++ cmake -S . -B build-fuzz -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo \
   "-DCMAKE_C_FLAGS_RELWITHDEBINFO=-O1 -gline-tables-only -DNDEBUG" \
   "-DCMAKE_CXX_FLAGS_RELWITHDEBINFO=-O1 -gline-tables-only -DNDEBUG" \
-  -DQUIVER_BUILD_FUZZERS=ON -DQUIVER_SANITIZE=ON >/dev/null
+  -DQUIVER_BUILD_FUZZERS=ON -DQUIVER_SANITIZE=ON -DQUIVER_UNITY_BUILD=OFF >/dev/null
 dds_targets="dds_summary dds_delta dds_pull dds_state dds_bye"
 # Seed inputs: the smoke test writes the real inputs it mutates (the CORTEX and AGM worlds: the
 # interop test fixtures). The one the main build made (./run.sh test builds it first) serves: it

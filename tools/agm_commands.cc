@@ -42,13 +42,13 @@ int run_agm_role(RunFlags f) {
   return agents::run_process(**agent, f.process);
 }
 
-struct ScenarioFlags {
+struct AgmScenarioFlags {
   DdsFlags dds;
   std::string out;
   agm::AgmDdsRun run;
 };
 
-struct BenchFlags {
+struct HumansBenchFlags {
   DdsFlags dds;
   std::string out;
   agm::HumansBench bench;
@@ -73,7 +73,7 @@ ExtraRoles agm_roles() {
 }
 
 void add_agm_commands(CLI::App& app) {
-  auto sf = std::make_shared<ScenarioFlags>();
+  auto sf = std::make_shared<AgmScenarioFlags>();
   sf->dds.domain = 48;
   agm::AgmDdsRun& r = sf->run;
   CLI::App* scenario = app.get_subcommand("scenario");
@@ -117,7 +117,7 @@ void add_agm_commands(CLI::App& app) {
     set_exit_code(agm::run_agm_over_dds(run));
   });
 
-  auto bf = std::make_shared<BenchFlags>();
+  auto bf = std::make_shared<HumansBenchFlags>();
   bf->dds.domain = 49;
   agm::HumansBench& b = bf->bench;
   CLI::App* bench = app.get_subcommand("bench");

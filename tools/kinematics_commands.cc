@@ -91,14 +91,14 @@ void run_lookup(const LookupArgs& args) {
 
 // ---------------------------------------------------------------------------- import-urdf
 
-struct ImportArgs {
+struct UrdfImportArgs {
   std::string urdf;
   std::string out;
   std::string parent;
   std::string prefix;
 };
 
-void run_import(const ImportArgs& args) {
+void run_import(const UrdfImportArgs& args) {
   Graph g(ReplicaId{fnv1a64("quiver-import-urdf"), 1});
   kinematics::UrdfImportOptions opt;
   opt.parent = args.parent;
@@ -140,7 +140,7 @@ void add_kinematics_commands(CLI::App& app) {
   lookup->callback([la] { run_lookup(*la); });
 
   // quiver import-urdf
-  auto ia = std::make_shared<ImportArgs>();
+  auto ia = std::make_shared<UrdfImportArgs>();
   auto* imp =
       app.add_subcommand("import-urdf", "Convert a URDF robot description into a world file");
   imp->add_option("urdf", ia->urdf, "URDF file")->required()->check(CLI::ExistingFile);

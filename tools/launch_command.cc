@@ -24,7 +24,28 @@ struct LaunchFlags {
   std::string file;
   std::string logs;  ///< overrides the file's
   double for_s = 0;  ///< stop all after this long (0: on Ctrl-C or when all have ended)
+  bool check = false;  ///< only read the file and print what it would start
 };
+
+const char* restart_name(agents::Restart r) {
+  switch (r) {
+    case agents::Restart::kNever: return "never";
+    case agents::Restart::kOnFailure: return "on-failure";
+    case agents::Restart::kAlways: return "always";
+  }
+  return "?";
+}
+
+// --check: the file read as the launcher reads it, one line per agent; nothing started.
+void print_plan(const agents::LaunchFile& file) {
+  for (const agents::LaunchAgent& a : file.agents) {
+    std::cout << a.name << ": " << (a.command.empty() ? "quiver" : a.command);
+    for (const std::string& arg : a.args) std::cout << " " << arg;
+    std::cout << "  (restart " << restart_name(a.restart);
+    if (a.start_after_s > 0) std::cout << ", after " << a.start_after_s << " s";
+    std::cout << ")\n";
+  }
+}
 
 int run_launch(const LaunchFlags& flags) {
   auto log = agents::named_logger("quiver launch");
@@ -32,6 +53,10 @@ int run_launch(const LaunchFlags& flags) {
   if (!file.ok()) {
     log->error("{}", file.error().message);
     return 2;
+  }
+  if (flags.check) {
+    print_plan(*file);
+    return 0;
   }
   namespace fs = std::filesystem;
   const fs::path logs = !flags.logs.empty() ? fs::path(flags.logs)
@@ -84,6 +109,7 @@ void add_launch_command(CLI::App& app) {
   launch->add_option("--logs", f->logs, "the logs' folder (default: the file's \"logs\", else ./quiver-launch-logs)");
   launch->add_option("--for", f->for_s, "stop them all after this many seconds (0: on Ctrl-C, or when all have ended)")
       ->check(CLI::Range(0.0, 1e7));
+  launch->add_flag("--check", f->check, "only read the file and print the agents it would start (exit 2 if malformed)");
   launch->callback([f] { set_exit_code(run_launch(*f)); });
 }
 

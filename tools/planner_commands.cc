@@ -17,9 +17,8 @@
 #include "quiver/agents/rules/mission/mission.h"
 #include "quiver/agents/rules/planner/planner.h"
 #include "quiver/agents/rules/planner/plan_replay.h"
-#include "quiver/graph/world_file.h"
-#include "quiver/interop/agm.h"
-#include "quiver/interop/dsr.h"
+#include "quiver/interop/any_world.h"
+#include "quiver/interop/interop.h"
 
 namespace quiver::tools {
 namespace {
@@ -32,25 +31,7 @@ std::int64_t steady_ns() {
       .count();
 }
 
-// A world file of any kind the importers read: Quiver JSON, AGM XML, CORTEX JSON.
-Status load_any_world(graph::Graph& g, const std::string& path) {
-  auto text = interop::read_file("load_world", path);
-  if (!text.ok()) return text.error();
-  switch (interop::detect_format(*text)) {
-    case interop::WorldFormat::kAgmXml: {
-      auto r = interop::import_agm(g, *text, path);
-      return r.ok() ? Status{} : Status(r.error());
-    }
-    case interop::WorldFormat::kDsrJson: {
-      auto r = interop::import_dsr(g, *text, path);
-      return r.ok() ? Status{} : Status(r.error());
-    }
-    default: {
-      auto r = graph::load_world(g, *text, path);
-      return r.ok() ? Status{} : Status(r.error());
-    }
-  }
-}
+using interop::load_any_world_file;
 
 struct MissionArgs {
   std::string world, mission, domain;
@@ -72,7 +53,7 @@ void run_mission_check(const MissionArgs& a) {
     types = g->types;
   }
   graph::Graph g(graph::ReplicaId{0x6d697373696f6eULL, 1});
-  if (Status s = load_any_world(g, a.world); !s.ok()) return fail(s.error().message);
+  if (Status s = load_any_world_file(g, a.world); !s.ok()) return fail(s.error().message);
   agents::MissionReport r = agents::check_mission(*m, g, types);
   if (a.json) {
     nlohmann::json j;
@@ -123,7 +104,7 @@ Result<Problem> load_problem(const std::string& grammar, const std::string& worl
   if (!m.ok()) return m.error();
   p.mission = std::move(*m);
   p.graph = std::make_unique<graph::Graph>(graph::ReplicaId{0x706c616e6e6572ULL, 1});
-  if (Status s = load_any_world(*p.graph, world); !s.ok()) return s.error();
+  if (Status s = load_any_world_file(*p.graph, world); !s.ok()) return s.error();
   return p;
 }
 

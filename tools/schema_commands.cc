@@ -22,6 +22,7 @@ namespace schema = agents::schema;
 
 struct SchemaArgs {
   std::vector<std::string> files;
+  std::vector<std::string> missions;  ///< --mission: AGM targets of either form (.aggt or XML)
   std::string schema, out;
   std::vector<std::string> include_dirs;
 };
@@ -32,13 +33,9 @@ bool ends_with(const std::string& path, const std::string& ext) {
 bool is_grammar(const std::string& path) { return ends_with(path, ".aggl"); }
 bool is_mission(const std::string& path) { return ends_with(path, ".aggt"); }
 
-// Loads a world of any kind the importers read into `g` (one transaction, so a schema check
-// installed on `g` sees it whole).
-Status load_any_world(graph::Graph& g, const std::string& path) {
-  auto text = interop::read_file("schema", path);
-  if (!text.ok()) return text.error();
-  return interop::load_any_world(g, *text, path);
-}
+// A world of any kind the importers read is loaded in one transaction, so a schema check
+// installed on the graph sees it whole.
+using interop::load_any_world_file;
 
 void run_infer(const SchemaArgs& a) {
   schema::Schema s;
@@ -53,7 +50,7 @@ void run_infer(const SchemaArgs& a) {
       continue;
     }
     graph::Graph g(graph::ReplicaId{fnv1a64("quiver-schema"), 1});
-    if (Status st = load_any_world(g, file); !st.ok()) {
+    if (Status st = load_any_world_file(g, file); !st.ok()) {
       std::cerr << file << ": error: " << st.error().message << "\n";
       return set_exit_code(1);
     }
@@ -78,23 +75,30 @@ void run_check(const SchemaArgs& a) {
     std::cout << "error: " << loaded.error().message << "\n";
     return set_exit_code(1);
   }
+  if (a.files.empty() && a.missions.empty()) {
+    std::cout << "error: schema check: no file to check (worlds, grammars, missions; --mission FILE)\n";
+    return set_exit_code(1);
+  }
   auto s = std::make_shared<const schema::Schema>(std::move(*loaded));
   int failed = 0;
-  for (const std::string& file : a.files) {
+  std::vector<std::pair<std::string, bool>> files;  // (path, read as a mission)
+  for (const std::string& file : a.files) files.emplace_back(file, is_mission(file));
+  for (const std::string& file : a.missions) files.emplace_back(file, true);
+  for (const auto& [file, mission] : files) {
     std::vector<std::string> errors;
-    if (is_grammar(file)) {
-      auto g = agents::load_grammar_file(file, a.include_dirs);
-      if (!g.ok()) errors.push_back(g.error().message);
-      else errors = grammar_schema_errors(*g, *s);
-    } else if (is_mission(file)) {
+    if (mission) {
       auto m = agents::load_mission_file(file);
       if (!m.ok()) errors.push_back(m.error().message);
       else pattern_schema_errors(m->pattern, *s, "mission", errors);
+    } else if (is_grammar(file)) {
+      auto g = agents::load_grammar_file(file, a.include_dirs);
+      if (!g.ok()) errors.push_back(g.error().message);
+      else errors = grammar_schema_errors(*g, *s);
     } else {
       graph::Graph g(graph::ReplicaId{fnv1a64("quiver-schema"), 1});
       schema::SchemaAdmission adm(s, nullptr);
       g.set_permission_check(adm.commit_check(g.replica().agent));
-      if (Status st = load_any_world(g, file); !st.ok()) errors.push_back(st.error().message);
+      if (Status st = load_any_world_file(g, file); !st.ok()) errors.push_back(st.error().message);
     }
     if (errors.empty()) {
       std::cout << file << ": ok\n";
@@ -122,7 +126,11 @@ void add_schema_commands(CLI::App& app) {
   auto* check = cmd->add_subcommand("check", "Check worlds, grammars (.aggl) and missions (.aggt) against a schema: ok, "
                                              "or what it refuses");
   check->add_option("schema", args->schema, "the schema file")->required()->check(CLI::ExistingFile);
-  check->add_option("files", args->files, "worlds, grammars and missions")->required()->check(CLI::ExistingFile);
+  check->add_option("files", args->files, "worlds, grammars and missions (.aggt)")->check(CLI::ExistingFile);
+  check->add_option("-m,--mission", args->missions,
+                    "a mission of either form (.aggt, or AGM XML: an <AGMModel> pattern, which a world's file "
+                    "name would not tell apart)")
+      ->check(CLI::ExistingFile);
   check->add_option("-I,--include-dir", args->include_dirs, "where grammars' include(...) files are looked for")
       ->check(CLI::ExistingDirectory);
   check->callback([args] { run_check(*args); });

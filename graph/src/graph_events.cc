@@ -103,6 +103,46 @@ std::vector<std::pair<Symbol, Value>> winning_values(const AttrList& attrs) {
 
 }  // namespace
 
+// What a deleted RT edge held: its pose ("translation", x y z; "rotation", the quaternion w x y z)
+// and its attributes (kept on the child as rt:<name>), the child's last ones if it went too.
+std::vector<std::pair<Symbol, Value>> Graph::Impl::last_rt_values(const RtView& before, const std::vector<NodeChange>& nodes,
+                                                                  NodeId child, const NodeRec* now) const {
+  static const Symbol translation("translation"), rotation("rotation");
+  std::vector<std::pair<Symbol, Value>> out;
+  out.emplace_back(translation, DoubleVec(before.pose.translation.begin(), before.pose.translation.end()));
+  out.emplace_back(rotation, DoubleVec(before.pose.rotation.begin(), before.pose.rotation.end()));
+  std::vector<std::pair<Symbol, Value>> attrs;
+  for (const NodeChange& n : nodes)
+    if (n.id == child && n.kind == ChangeKind::kDeleted) attrs = n.values;
+  if (attrs.empty() && now != nullptr && now->alive) attrs = winning_values(now->attrs);
+  for (auto& [name, value] : attrs)
+    if (name.str().starts_with(kRtAttrPrefix)) out.emplace_back(Symbol(name.str().substr(kRtAttrPrefix.size())), value);
+  return out;
+}
+
+// A change of an RT edge's attributes (rt:<name> on its child) is a change of that edge too, as
+// DSR reports it: named <name> in the edge's change, merged with a pose change of the same edge.
+void Graph::Impl::report_rt_attrs(ChangeBatch& b, std::size_t first_rt) const {
+  for (const NodeChange& n : b.nodes) {
+    if (n.kind != ChangeKind::kUpdated) continue;
+    std::vector<Symbol> names;
+    for (Symbol a : n.attrs)
+      if (a.str().starts_with(kRtAttrPrefix)) names.emplace_back(a.str().substr(kRtAttrPrefix.size()));
+    if (names.empty()) continue;
+    const NodeRec* c = find_node(n.id);
+    const NodeId parent = c ? rt_view(*c).parent : NodeId{};
+    if (parent.is_null()) continue;
+    const EdgeKey key{parent, n.id, symbols::rt()};
+    auto same = std::find_if(b.edges.begin() + static_cast<std::ptrdiff_t>(first_rt), b.edges.end(),
+                             [&](const EdgeChange& e) { return e.key == key && e.kind != ChangeKind::kDeleted; });
+    if (same == b.edges.end()) {
+      b.edges.push_back(EdgeChange{key, ChangeKind::kUpdated, std::move(names)});
+    } else if (same->kind == ChangeKind::kUpdated) {
+      same->attrs.insert(same->attrs.end(), names.begin(), names.end());
+    }
+  }
+}
+
 void Graph::Impl::save_last(NodeRec* r) {
   if (!tracker.enabled || !r->alive) return;
   auto* t = tracker.touch_node(r->id, r->alive, r->type);
@@ -172,14 +212,15 @@ void Graph::Impl::finish_tracking(bool local, ReplicaId origin,
       if (!c.attrs.empty() || version) b.edges.push_back(std::move(c));
     }
   }
+  const std::size_t first_rt = b.edges.size();
   for (const auto& [child, before] : tracker.rt_before()) {
     const NodeRec* c = find_node(child);
     const RtView after = c ? rt_view(*c) : RtView{};
     if (after == before) continue;
     if (before.parent != after.parent) {
       if (!before.parent.is_null())
-        b.edges.push_back(
-            EdgeChange{EdgeKey{before.parent, child, symbols::rt()}, ChangeKind::kDeleted, {}});
+        b.edges.push_back(EdgeChange{EdgeKey{before.parent, child, symbols::rt()}, ChangeKind::kDeleted, {},
+                                     last_rt_values(before, b.nodes, child, c)});
       if (!after.parent.is_null())
         b.edges.push_back(EdgeChange{
             EdgeKey{after.parent, child, symbols::rt()}, ChangeKind::kCreated, {symbols::pose()}});
@@ -188,6 +229,7 @@ void Graph::Impl::finish_tracking(bool local, ReplicaId origin,
           EdgeKey{after.parent, child, symbols::rt()}, ChangeKind::kUpdated, {symbols::pose()}});
     }
   }
+  report_rt_attrs(b, first_rt);
   tracker.reset();
   tracker.enabled = false;
   if (b.empty()) return;

@@ -297,6 +297,9 @@ struct Graph::Impl {
   RtView rt_view(const NodeRec& r) const;
   /// Builds and delivers the change batch; returns it (for tests).
   void finish_tracking(bool local, ReplicaId origin, const std::vector<std::pair<NodeRec*, NodeRec*>>* rt_before);
+  std::vector<std::pair<Symbol, Value>> last_rt_values(const RtView& before, const std::vector<NodeChange>& nodes,
+                                                       NodeId child, const NodeRec* now) const;
+  void report_rt_attrs(ChangeBatch& b, std::size_t first_rt) const;
 
   // ---- kinematic tree (graph_rt.cc) ----
   void recompute_rt(std::vector<std::pair<NodeId, NodeId>>* changes);

@@ -7,16 +7,21 @@
 
 #include "quiver/graph/limits.h"
 
+#include "codec_format.h"
 #include "graph_impl.h"
 
 namespace quiver::graph {
 namespace {
-enum Section { kHeader, kAttrs, kClaim, kSamples, kRemoved };
+// In a namespace of their own: these names must not meet the codec's flags (kClaim, ...) in a
+// unity build, where they would be found first.
+namespace Section {
+enum Kind { kHeader, kAttrs, kClaim, kSamples, kRemoved };
+}
 
 GraphDelta::Span open_span(std::size_t at) {
   return GraphDelta::Span{static_cast<std::uint32_t>(at), static_cast<std::uint32_t>(at)};
 }
-std::uint32_t u32(std::size_t n) { return static_cast<std::uint32_t>(n); }
+using internal::u32;
 }  // namespace
 
 // ---------------------------------------------------------------- recording
@@ -77,17 +82,17 @@ GraphDelta::NodeOp& Graph::Impl::out_node(NodeId id, int section) {
     auto& last = out.nodes.back();
     bool fits = false;
     switch (section) {
-      case kHeader: fits = !last.has_header; break;
-      case kAttrs:
+      case Section::kHeader: fits = !last.has_header; break;
+      case Section::kAttrs:
         fits = last.attrs.end == out.attrs.size();
         break;
-      case kClaim: fits = last.claim_added.empty() && last.claim_removed.empty(); break;
-      case kSamples: fits = last.samples.end == out.samples.size(); break;
-      case kRemoved: fits = true; break;
+      case Section::kClaim: fits = last.claim_added.empty() && last.claim_removed.empty(); break;
+      case Section::kSamples: fits = last.samples.end == out.samples.size(); break;
+      case Section::kRemoved: fits = true; break;
     }
     if (fits) {
-      if (section == kAttrs && last.attrs.empty()) last.attrs = open_span(out.attrs.size());
-      if (section == kSamples && last.samples.empty()) last.samples = open_span(out.samples.size());
+      if (section == Section::kAttrs && last.attrs.empty()) last.attrs = open_span(out.attrs.size());
+      if (section == Section::kSamples && last.samples.empty()) last.samples = open_span(out.samples.size());
       return last;
     }
   }
@@ -145,7 +150,7 @@ void Graph::Impl::local_write_attr(NodeRec* r, Symbol name, Value v) {
     r->attrs.push_back(AttrSlot{name, {}});
     slot = &r->attrs.back();
   }
-  auto& op = out_node(r->id, kAttrs);
+  auto& op = out_node(r->id, Section::kAttrs);
   out.attrs.push_back(record_write(out, *slot, &d, &v, fence(r->id)));
   op.attrs.end = u32(out.attrs.size());
 }
@@ -154,7 +159,7 @@ void Graph::Impl::local_remove_attr(NodeRec* r, Symbol name) {
   AttrSlot* slot = find_slot(r->attrs, name);
   if (slot == nullptr) return;
   touch_attr(r, name);
-  auto& op = out_node(r->id, kAttrs);
+  auto& op = out_node(r->id, Section::kAttrs);
   out.attrs.push_back(record_write(out, *slot, nullptr, nullptr));
   op.attrs.end = u32(out.attrs.size());
   r->attrs.erase(r->attrs.begin() + (slot - r->attrs.data()));
@@ -166,7 +171,7 @@ void Graph::Impl::local_create_node(NodeId id, Symbol type, const std::string& n
   touch_node(&r);
   touch_incident_edges(&r);
   set_alive(&r, true, type, name);
-  auto& op = out_node(id, kHeader);
+  auto& op = out_node(id, Section::kHeader);
   op.has_header = true;
   op.type = type;
   op.name = name;
@@ -183,16 +188,16 @@ void Graph::Impl::local_delete_node(NodeRec* r) {
   touch_node(r);
   touch_incident_edges(r);
   {
-    auto& op = out_node(id, kRemoved);
+    auto& op = out_node(id, Section::kRemoved);
     op.removed = true;
   }
   if (!r->attrs.empty()) {
-    auto& op = out_node(id, kAttrs);
+    auto& op = out_node(id, Section::kAttrs);
     record_attr_removals(out.attrs, r->attrs);
     op.attrs.end = u32(out.attrs.size());
   }
   if (!r->claim.empty()) {
-    auto& op = out_node(id, kClaim);
+    auto& op = out_node(id, Section::kClaim);
     op.claim_removed = open_span(out.removed.size());
     for (const auto& e : r->claim) out.removed.push_back(e.dot);
     op.claim_removed.end = u32(out.removed.size());
@@ -204,7 +209,7 @@ void Graph::Impl::local_delete_node(NodeRec* r) {
   // RT edges to the children: remove the claims that name this node as parent.
   std::vector<NodeRec*> children = r->rt_children;
   for (NodeRec* c : children) {
-    auto& op = out_node(c->id, kClaim);
+    auto& op = out_node(c->id, Section::kClaim);
     op.claim_removed = open_span(out.removed.size());
     c->claim.erase_if([&](const crdt::Entry<RtClaim>& e) {
       if (e.value.parent != id) return false;
@@ -316,7 +321,7 @@ void Graph::Impl::local_set_rt(NodeRec* parent, NodeRec* child, const Pose& pose
     c.fallback_epoch = cur.epoch;
   }
   Dot d = mint();
-  auto& op = out_node(child->id, kClaim);
+  auto& op = out_node(child->id, Section::kClaim);
   op.claim_removed = open_span(out.removed.size());
   for (const auto& e : child->claim) {
     out.removed.push_back(e.dot);
@@ -336,7 +341,7 @@ void Graph::Impl::local_set_rt(NodeRec* parent, NodeRec* child, const Pose& pose
 
 bool Graph::Impl::record_sample(NodeRec* child, const RtSample& s) {
   if (!insert_sample(child, s)) return false;
-  auto& op = out_node(child->id, kSamples);
+  auto& op = out_node(child->id, Section::kSamples);
   out.samples.push_back(s);
   op.samples.end = u32(out.samples.size());
   return true;

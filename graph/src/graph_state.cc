@@ -2,6 +2,7 @@
 
 #include <algorithm>
 
+#include "codec_format.h"
 #include "graph_impl.h"
 
 namespace quiver::graph {
@@ -20,7 +21,7 @@ void hash_edge_key(Hasher& h, const EdgeKey& k) {
   hash_node_id(h, k.to);
   h.str(k.type.str());
 }
-std::uint32_t u32(std::size_t n) { return static_cast<std::uint32_t>(n); }
+using internal::u32;
 
 /// Sum of the digests of every register entry in an attribute list; `owner` hashes the node id
 /// or edge key the list belongs to, `tag` tells nodes from edges.

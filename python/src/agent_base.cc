@@ -48,6 +48,40 @@ class PyAgentBase : public agents::Agent {
   }
 };
 
+/// AgentBase.call(fn): runs fn on the agent's thread and settles its Future with the result or
+/// the exception; a task its host dropped unrun settles it with RuntimeError (C++'s call() leaves
+/// broken_promise).
+class PostedCall {
+ public:
+  PostedCall(py::function fn, const py::object& future)
+      : fn_(std::move(fn)), set_result_(future.attr("set_result")), set_exception_(future.attr("set_exception")) {}
+  PostedCall(const PostedCall&) = delete;
+  PostedCall& operator=(const PostedCall&) = delete;
+  ~PostedCall() {
+    if (ran_ || !Py_IsInitialized()) return;
+    py::gil_scoped_acquire gil;
+    try {
+      set_exception_.fn()(py::module_::import("builtins").attr("RuntimeError")(
+          "AgentBase.call(): the agent's host stopped before the task ran"));
+    } catch (py::error_already_set&) {
+    }
+  }
+  void run() {
+    py::gil_scoped_acquire gil;
+    ran_ = true;
+    try {
+      py::object r = fn_.fn()();
+      set_result_.fn()(r);
+    } catch (py::error_already_set& e) {
+      set_exception_.fn()(e.value());
+    }
+  }
+
+ private:
+  PyCallback fn_, set_result_, set_exception_;
+  bool ran_ = false;
+};
+
 /// Restores the signal handlers (Python's) that run_process() replaces.
 class SignalHandlersKept {
  public:
@@ -117,6 +151,26 @@ void bind_agent_base(py::module_& m) {
           "filter selects "
           "(no filter: everything). In setup() (or before run_agent()).")
       .def(
+          "post",
+          [](agents::Agent& a, py::function fn) {
+            auto holder = std::make_shared<PyCallback>(std::move(fn));
+            a.post([holder] { guarded([&] { holder->fn()(); }); });
+          },
+          py::arg("fn"),
+          "From any thread: runs fn() on the agent's thread at the host's next tick (about 10 ms), "
+          "where it may read and write the graph (as C++ Agent::post).")
+      .def(
+          "call",
+          [](agents::Agent& a, py::function fn) {
+            py::object future = py::module_::import("concurrent.futures").attr("Future")();
+            auto task = std::make_shared<PostedCall>(std::move(fn), future);
+            a.post([task] { task->run(); });
+            return future;
+          },
+          py::arg("fn"),
+          "From any thread but the agent's: as post(), and returns a concurrent.futures.Future of "
+          "fn()'s result (or of what it raised).")
+      .def(
           "add_action",
           [](agents::Agent& a, py::object action, const V& node_types, const V& edge_types,
              const V& attributes) {
@@ -139,7 +193,9 @@ void bind_agent_base(py::module_& m) {
       [](agents::Agent& agent, std::uint32_t domain, const std::string& dds_config,
          std::optional<std::string> world, std::optional<std::string> world_text, double run_for,
          std::uint64_t seed, int status_ms, double join_wait, int loss_permille, double hang, bool final_status,
-         std::optional<std::string> schema) {
+         std::optional<std::string> schema, double lease, double hand_over, std::optional<std::string> store,
+         const std::string& durability, double store_compact_mb, std::optional<std::string> security,
+         const std::string& membership) {
         if (current_run() != nullptr)
           raise(make_error(ErrorCode::kInvalidArgument,
                            "run_agent(): this thread already runs an agent"));
@@ -156,6 +212,22 @@ void bind_agent_base(py::module_& m) {
         f.loss_permille = loss_permille;
         f.hang_s = hang;
         if (schema) f.schema = *schema;
+        f.lease_s = lease;
+        f.hand_over_s = hand_over;
+        if (store) f.store = *store;
+        f.durability = durability;
+        f.store_compact_mb = store_compact_mb;
+        if (security) f.security = *security;
+        f.membership = membership;
+        if (durability != "none" && durability != "batch" && durability != "always")
+          raise(make_error(ErrorCode::kInvalidArgument,
+                           "run_agent(): durability '" + durability + "' is none of none, batch, always"));
+        if (membership != "gossip" && membership != "all-to-all")
+          raise(make_error(ErrorCode::kInvalidArgument,
+                           "run_agent(): membership '" + membership + "' is neither gossip nor all-to-all"));
+        if (lease <= 0 || hand_over < 0 || store_compact_mb <= 0)
+          raise(make_error(ErrorCode::kInvalidArgument,
+                           "run_agent(): lease and store_compact_mb must be positive, hand_over not negative"));
         if (domain > 230)
           raise(make_error(ErrorCode::kInvalidArgument,
                            "run_agent(): domain " + std::to_string(domain) + " is above 230"));
@@ -176,7 +248,9 @@ void bind_agent_base(py::module_& m) {
       py::arg("world") = py::none(), py::arg("world_text") = py::none(), py::arg("run_for") = 0.0,
       py::arg("seed") = 1, py::arg("status_ms") = 0, py::arg("join_wait") = 1.5,
       py::arg("loss_permille") = 0, py::arg("hang") = 1.0, py::arg("final_status") = true,
-      py::arg("schema") = py::none(),
+      py::arg("schema") = py::none(), py::arg("lease") = 1.0, py::arg("hand_over") = 2.0,
+      py::arg("store") = py::none(), py::arg("durability") = "batch", py::arg("store_compact_mb") = 64.0,
+      py::arg("security") = py::none(), py::arg("membership") = "gossip",
       "Runs `agent` (an AgentBase) as this process's agent over Cyclone DDS until SIGINT/SIGTERM, "
       "or `run_for` "
       "seconds (0: until a signal). The GIL is released meanwhile and taken for every callback. A "
@@ -187,7 +261,9 @@ void bind_agent_base(py::module_& m) {
       "`world` (or `world_text`) seeds the shared graph. Prints a JSON status line on stdout every "
       "`status_ms` "
       "and one at the end (final_status=False: none at the end). `schema`: the shared vocabulary file "
-      "every agent of the domain loads (docs/schema.md). Raises the first exception a callback raised (which stops the agent), "
+      "every agent of the domain loads (docs/schema.md). `lease`, `hand_over`, `store`, `durability`, "
+      "`store_compact_mb`, `security` and `membership` are the agent process's --lease, --hand-over, --store, "
+      "--durability, --store-compact-mb, --security and --membership (docs/agents.md). Raises the first exception a callback raised (which stops the agent), "
       "or "
       "quiver.Error if the agent could not start. Meant for a dedicated process: SIGINT/SIGTERM "
       "stop the agent "

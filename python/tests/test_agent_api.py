@@ -259,6 +259,60 @@ def test_request_stop_ends_run_agent():
     assert agent.ticks > 0
 
 
+def test_post_and_call_run_on_the_agents_thread():
+    import threading
+
+    class Posted(quiver.AgentBase):
+        def __init__(self):
+            super().__init__("py-posted")
+            self.seen = {}
+
+        def setup(self, ctx):
+            self.ctx = ctx
+            self.agent_thread = threading.get_ident()
+
+            def from_elsewhere():
+                def write():
+                    with self.ctx.graph.transaction() as t:
+                        t.create_node("note", "posted")
+                    self.seen["post_thread"] = threading.get_ident()
+
+                self.post(write)
+                f = self.call(lambda: (threading.get_ident(), self.ctx.graph.find_node("posted") is not None))
+                self.seen["call"] = f.result(timeout=10)
+                failed = self.call(lambda: 1 / 0)
+                self.seen["raised"] = type(failed.exception(timeout=10)).__name__
+                quiver.request_stop()
+
+            threading.Thread(target=from_elsewhere, daemon=True).start()
+
+    agent = Posted()
+    assert quiver.run_agent(agent, domain=99, join_wait=0, run_for=30) == 0
+    assert agent.seen["post_thread"] == agent.agent_thread
+    assert agent.seen["call"] == (agent.agent_thread, True), "call() ran after post(), on the agent's thread"
+    assert agent.seen["raised"] == "ZeroDivisionError"
+
+
+def test_run_agent_takes_every_process_flag(tmp_path):
+    class Writer(quiver.AgentBase):
+        def __init__(self):
+            super().__init__("py-stored")
+
+        def setup(self, ctx):
+            with ctx.graph.transaction() as t:
+                t.create_node("note", "kept")
+            ctx.after(0.3, quiver.request_stop)
+
+    store = tmp_path / "store"
+    assert quiver.run_agent(Writer(), domain=99, join_wait=0, run_for=30, store=str(store), durability="always",
+                            lease=2.0, hand_over=0.0, store_compact_mb=8.0, membership="all-to-all") == 0
+    assert store.is_dir() and any(store.iterdir()), "the store was written"
+    for bad in ({"durability": "sometimes"}, {"membership": "star"}, {"lease": 0.0}):
+        with pytest.raises(quiver.Error) as e:
+            quiver.run_agent(Writer(), domain=99, join_wait=0, run_for=1, **bad)
+        assert "run_agent(): " in str(e.value), str(e.value)
+
+
 def test_an_agent_that_cannot_start_says_why(tmp_path):
     class Ruled(quiver.AgentBase):
         def __init__(self):

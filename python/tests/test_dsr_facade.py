@@ -127,3 +127,74 @@ def test_an_attribute_keeps_its_type_as_pydsr_says(pair):
     assert g1.get_node("p").attrs["count"].value == 3
     n.attrs["count"].value = 5
     assert g1.update_node(n) and g1.get_node("p").attrs["count"].value == 5
+
+
+def test_an_rt_edge_written_back_moves_its_child_as_pydsr_does(pair):
+    """pydsr's way to move a node: get_edge(parent, child, "RT"), change rt_translation (or
+    rt_rotation_euler_xyz), insert_or_assign_edge(). The child's pose moves (set_rt); the edge's
+    other attributes stay the RT edge's (kept on the child as rt:<name>)."""
+    g1, g2 = pair
+    world = g1.get_node("world")
+    cup = g1.insert_node(Node(121, "cup", "cup"))
+    rt = rt_api(g1)
+    assert rt.insert_or_assign_edge_RT(world, cup, [100.0, 0.0, 0.0], [0.0, 0.0, 0.3])
+
+    e = g1.get_edge(world.id, cup, "RT")
+    assert [round(v) for v in e.attrs["rt_translation"].value] == [100, 0, 0]
+    e.attrs["rt_translation"].value = [250.0, -40.0, 10.0]
+    e.attrs["rt_covariance"] = Attribute([0.1, 0.2], 121)
+    assert g1.insert_or_assign_edge(e)
+    assert rt.get_translation(world.id, cup) == pytest.approx([250.0, -40.0, 10.0])
+    back = rt.get_edge_RT(world, cup)
+    assert back.attrs["rt_rotation_euler_xyz"].value == pytest.approx([0.0, 0.0, 0.3], abs=1e-12)
+    assert back.attrs["rt_covariance"].value == pytest.approx([0.1, 0.2])
+
+    def pose_and_attrs(g):
+        n = g.find_node("cup")
+        parent, X_PC, _ = g.rt_edge(n)
+        return parent == g.find_node("world"), X_PC, g.attrs(n)
+    same_parent, X_PC, attrs = g1.agent.call(pose_and_attrs)
+    assert same_parent and X_PC[:3, 3] == pytest.approx([0.25, -0.04, 0.01])
+    assert "rt:rt_translation" not in attrs and "rt:rt_rotation_euler_xyz" not in attrs
+    assert attrs["rt:rt_covariance"] == pytest.approx([0.1, 0.2])
+
+    e = g1.get_edge("world", "cup", "RT")
+    e.attrs["rt_rotation_euler_xyz"].value = [0.0, 0.5, 0.0]
+    assert g1.insert_or_assign_edge(e)
+    back = rt.get_edge_RT(world, cup)
+    assert back.attrs["rt_rotation_euler_xyz"].value == pytest.approx([0.0, 0.5, 0.0], abs=1e-12)
+    assert back.attrs["rt_translation"].value == pytest.approx([250.0, -40.0, 10.0])
+
+    e.attrs["rt_translation"].value = [1.0, 2.0]
+    with pytest.raises(ValueError, match="rt_translation must be 3 numbers"):
+        g1.insert_or_assign_edge(e)
+    assert rt.get_translation(world.id, cup) == pytest.approx([250.0, -40.0, 10.0])
+
+    # The other agent reads the same pose through its own rt_api.
+    assert wait(lambda: g2.get_node("cup") is not None and
+                rt_api(g2).get_translation(world.id, cup) == pytest.approx([250.0, -40.0, 10.0]))
+
+
+def test_insert_or_assign_edge_of_a_new_rt_edge_places_or_moves_the_child(pair):
+    g1, _ = pair
+    world = g1.get_node("world")
+    table = g1.insert_node(Node(121, "table", "table"))
+    cup = g1.insert_node(Node(121, "cup", "cup"))
+    rt = rt_api(g1)
+
+    e = Edge(table, world.id, "RT", 121)
+    e.attrs["rt_translation"] = Attribute([1000.0, 0.0, 0.0], 121)
+    e.attrs["rt_rotation_euler_xyz"] = Attribute([0.0, 0.0, 0.0], 121)
+    assert g1.insert_or_assign_edge(e)
+    assert rt.get_translation(world.id, table) == pytest.approx([1000.0, 0.0, 0.0])
+
+    e = Edge(cup, world.id, "RT", 121)
+    e.attrs["rt_translation"] = Attribute([0.0, 500.0, 0.0], 121)
+    assert g1.insert_or_assign_edge(e)
+    e = Edge(cup, table, "RT", 121)  # a new parent: a move
+    e.attrs["rt_translation"] = Attribute([0.0, 0.0, 750.0], 121)
+    assert g1.insert_or_assign_edge(e)
+    assert g1.get_edge(world.id, cup, "RT") is None
+    assert [(x.origin, x.type) for x in g1.get_edges_to_id(cup)] == [(table, "RT")]
+    assert rt.get_translation(table, cup) == pytest.approx([0.0, 0.0, 750.0])
+    assert rt.get_edge_RT(g1.get_node(table), cup).attrs["rt_rotation_euler_xyz"].value == pytest.approx([0.0, 0.0, 0.0])

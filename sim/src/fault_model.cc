@@ -4,12 +4,12 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
+#include "file_error.h"
+
 namespace quiver::sim {
 namespace {
 
-Error bad(const std::string& source, const std::string& pointer, const std::string& what) {
-  return Error{ErrorCode::kInvalidArgument, source + ":" + pointer + ": " + what};
-}
+using internal::file_error;
 
 }  // namespace
 
@@ -37,19 +37,19 @@ std::string FaultEvent::describe() const {
 Result<FaultEvent> parse_fault(const nlohmann::json& f, const std::string& source, const std::string& where,
                                const std::function<bool(const std::string&)>& is_agent) {
   if (!f.is_object() || !f.contains("at_s") || !f["at_s"].is_number() || f["at_s"].get<double>() < 0)
-    return bad(source, where, "expected {\"at_s\": T >= 0, and one of partition, heal, kill, restart, loss}");
+    return file_error(source, where, "expected {\"at_s\": T >= 0, and one of partition, heal, kill, restart, loss}");
   FaultEvent e;
   e.at_s = f["at_s"].get<double>();
   if (f.contains("partition")) {
     e.kind = FaultEvent::Kind::kPartition;
     const nlohmann::json& gs = f["partition"];
-    if (!gs.is_array() || gs.empty()) return bad(source, where + "/partition", "expected groups of agent names");
+    if (!gs.is_array() || gs.empty()) return file_error(source, where + "/partition", "expected groups of agent names");
     for (std::size_t g = 0; g < gs.size(); ++g) {
-      if (!gs[g].is_array()) return bad(source, where + "/partition/" + std::to_string(g), "expected an array of names");
+      if (!gs[g].is_array()) return file_error(source, where + "/partition/" + std::to_string(g), "expected an array of names");
       std::vector<std::string> group;
       for (std::size_t k = 0; k < gs[g].size(); ++k) {
         if (!gs[g][k].is_string() || !is_agent(gs[g][k].get<std::string>()))
-          return bad(source, where + "/partition/" + std::to_string(g) + "/" + std::to_string(k), "not an agent");
+          return file_error(source, where + "/partition/" + std::to_string(g) + "/" + std::to_string(k), "not an agent");
         group.push_back(gs[g][k].get<std::string>());
       }
       e.groups.push_back(group);
@@ -61,15 +61,15 @@ Result<FaultEvent> parse_fault(const nlohmann::json& f, const std::string& sourc
     e.kind = kill ? FaultEvent::Kind::kKill : FaultEvent::Kind::kRestart;
     const nlohmann::json& a = f[kill ? "kill" : "restart"];
     if (!a.is_string() || !is_agent(a.get<std::string>()))
-      return bad(source, where + (kill ? "/kill" : "/restart"), "not an agent");
+      return file_error(source, where + (kill ? "/kill" : "/restart"), "not an agent");
     e.agent = a.get<std::string>();
   } else if (f.contains("loss")) {
     e.kind = FaultEvent::Kind::kLoss;
     if (!f["loss"].is_number() || f["loss"].get<double>() < 0 || f["loss"].get<double>() > 0.9)
-      return bad(source, where + "/loss", "expected a probability in [0, 0.9]");
+      return file_error(source, where + "/loss", "expected a probability in [0, 0.9]");
     e.loss = f["loss"].get<double>();
   } else {
-    return bad(source, where, "no fault (partition, heal, kill, restart or loss)");
+    return file_error(source, where, "no fault (partition, heal, kill, restart or loss)");
   }
   return e;
 }

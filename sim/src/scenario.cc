@@ -4,12 +4,12 @@
 #include <fstream>
 #include <set>
 
+#include "file_error.h"
+
 namespace quiver::sim {
 namespace {
 
-Error bad(const std::string& source, const std::string& pointer, const std::string& what) {
-  return Error{ErrorCode::kInvalidArgument, source + ":" + pointer + ": " + what};
-}
+using internal::file_error;
 
 constexpr const char* kGenericKeys[] = {"name", "app", "agents", "world", "faults", "workloads", "checks", "limit_s"};
 
@@ -31,19 +31,19 @@ std::vector<ScenarioAgent> Scenario::agents_of(const ScenarioApp& app) const {
 Result<Scenario> Scenario::parse(const nlohmann::json& j, const std::string& source, const ScenarioApp& app) {
   Scenario s;
   s.app = app.name();
-  if (!j.is_object()) return bad(source, "/", "a scenario is a JSON object");
+  if (!j.is_object()) return file_error(source, "/", "a scenario is a JSON object");
   nlohmann::json app_keys = nlohmann::json::object();
   for (auto it = j.begin(); it != j.end(); ++it)
     if (!generic_key(it.key())) app_keys[it.key()] = it.value();
   if (Status st = app.check_settings(app_keys, source); !st.ok()) return st.error();
   s.settings = app_keys;
   if (j.contains("name")) {
-    if (!j["name"].is_string()) return bad(source, "/name", "expected a string");
+    if (!j["name"].is_string()) return file_error(source, "/name", "expected a string");
     s.name = j["name"].get<std::string>();
   }
   if (j.contains("app")) {
     if (!j["app"].is_string() || j["app"].get<std::string>() != app.name())
-      return bad(source, "/app", "this scenario runs the app '" + app.name() + "'");
+      return file_error(source, "/app", "this scenario runs the app '" + app.name() + "'");
   }
   auto roles_list = [&] {
     std::string r;
@@ -52,7 +52,7 @@ Result<Scenario> Scenario::parse(const nlohmann::json& j, const std::string& sou
   };
   if (j.contains("agents")) {
     const nlohmann::json& as = j["agents"];
-    if (!as.is_array() || as.empty()) return bad(source, "/agents", "expected a non-empty array of roles");
+    if (!as.is_array() || as.empty()) return file_error(source, "/agents", "expected a non-empty array of roles");
     std::set<std::string> names;
     for (std::size_t i = 0; i < as.size(); ++i) {
       const std::string where = "/agents/" + std::to_string(i);
@@ -63,10 +63,10 @@ Result<Scenario> Scenario::parse(const nlohmann::json& j, const std::string& sou
         a.role = as[i]["role"].get<std::string>();
         a.name = as[i].value("name", a.role);
       } else {
-        return bad(source, where, "expected a role or {\"role\": R, \"name\": N}");
+        return file_error(source, where, "expected a role or {\"role\": R, \"name\": N}");
       }
-      if (!app.has_role(a.role)) return bad(source, where, "not a role (" + roles_list() + ")");
-      if (!names.insert(a.name).second) return bad(source, where, "a second agent named '" + a.name + "'");
+      if (!app.has_role(a.role)) return file_error(source, where, "not a role (" + roles_list() + ")");
+      if (!names.insert(a.name).second) return file_error(source, where, "a second agent named '" + a.name + "'");
       s.agents.push_back(a);
     }
   }
@@ -77,11 +77,11 @@ Result<Scenario> Scenario::parse(const nlohmann::json& j, const std::string& sou
     return false;
   };
   if (j.contains("world")) {
-    if (!j["world"].is_string()) return bad(source, "/world", "expected a file name");
+    if (!j["world"].is_string()) return file_error(source, "/world", "expected a file name");
     s.world_file = j["world"].get<std::string>();
   }
   if (j.contains("faults")) {
-    if (!j["faults"].is_array()) return bad(source, "/faults", "expected an array");
+    if (!j["faults"].is_array()) return file_error(source, "/faults", "expected an array");
     for (std::size_t i = 0; i < j["faults"].size(); ++i) {
       auto f = parse_fault(j["faults"][i], source, "/faults/" + std::to_string(i), is_agent);
       if (!f.ok()) return f.error();
@@ -91,19 +91,19 @@ Result<Scenario> Scenario::parse(const nlohmann::json& j, const std::string& sou
   for (const char* section : {"workloads", "checks"}) {
     if (!j.contains(section)) continue;
     const nlohmann::json& c = j[section];
-    if (!c.is_object()) return bad(source, std::string("/") + section, "expected an object of names and parameters");
+    if (!c.is_object()) return file_error(source, std::string("/") + section, "expected an object of names and parameters");
     const bool checks = std::string(section) == "checks";
     for (auto it = c.begin(); it != c.end(); ++it) {
       const std::string where = std::string("/") + section + "/" + it.key();
       Status made;
       if (checks) {
         const auto* make = app.check_factory(it.key());
-        if (make == nullptr) return bad(source, where, "not a check of the app '" + app.name() + "'");
+        if (make == nullptr) return file_error(source, where, "not a check of the app '" + app.name() + "'");
         auto c = (*make)(it.value(), source + ":" + where);
         if (!c.ok()) made = c.error();
       } else {
         const auto* make = app.workload_factory(it.key());
-        if (make == nullptr) return bad(source, where, "not a workload of the app '" + app.name() + "'");
+        if (make == nullptr) return file_error(source, where, "not a workload of the app '" + app.name() + "'");
         auto w = (*make)(it.value(), source + ":" + where);
         if (!w.ok()) made = w.error();
       }
@@ -113,7 +113,7 @@ Result<Scenario> Scenario::parse(const nlohmann::json& j, const std::string& sou
   }
   if (j.contains("limit_s")) {
     if (!j["limit_s"].is_number() || j["limit_s"].get<double>() <= 0 || j["limit_s"].get<double>() > 86400)
-      return bad(source, "/limit_s", "expected seconds in (0, 86400]");
+      return file_error(source, "/limit_s", "expected seconds in (0, 86400]");
     s.limit_s = j["limit_s"].get<double>();
   }
   return s;

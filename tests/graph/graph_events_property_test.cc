@@ -422,6 +422,75 @@ TEST(GraphEventsTest, ADeletionCarriesWhatWasDeleted) {
   EXPECT_TRUE(here[0].nodes[0].name.empty());
 }
 
+// DSR reports an RT edge's attribute changes on the edge, and its deletion with what it held.
+TEST(GraphEventsTest, AnRtEdgesAttributesAreReportedOnTheEdge) {
+  Peer a(1), b(2);
+  NodeId room = a.add("room", "room"), mug = a.add("mug", "mug");
+  const EdgeKey rt{room, mug, symbols::rt()};
+  const Pose at{{1.0, 2.0, 3.0}, {1.0, 0.0, 0.0, 0.0}};
+  {
+    auto tx = a.g.begin();
+    ASSERT_TRUE(tx.set_rt(room, mug, at, 1).ok());
+    ASSERT_TRUE(tx.set_edge_attr(rt, "rt_covariance", Value(FloatVec{0.1f, 0.2f})).ok());
+    ASSERT_TRUE(tx.commit().ok());
+  }
+  b.receive_all(a);
+  std::vector<ChangeBatch> here, there;
+  a.g.subscribe([&](const ChangeBatch& c) { here.push_back(c); });
+  b.g.subscribe([&](const ChangeBatch& c) { there.push_back(c); });
+  auto edge_attrs = [&](const ChangeBatch& c, ChangeKind kind) {
+    std::set<std::string> names;
+    for (const EdgeChange& e : c.edges)
+      if (e.key == rt && e.kind == kind)
+        for (Symbol n : e.attrs) names.insert(n.str());
+    return names;
+  };
+  {
+    auto tx = a.g.begin();
+    ASSERT_TRUE(tx.set_edge_attr(rt, "calibrated", Value(true)).ok());
+    ASSERT_TRUE(tx.commit().ok());
+  }
+  {
+    auto tx = a.g.begin();
+    ASSERT_TRUE(tx.set_rt(room, mug, Pose{{4.0, 5.0, 6.0}, {1.0, 0.0, 0.0, 0.0}}, 2).ok());
+    ASSERT_TRUE(tx.set_edge_attr(rt, "calibrated", Value(false)).ok());
+    ASSERT_TRUE(tx.commit().ok());
+  }
+  b.receive_all(a);
+  ASSERT_EQ(here.size(), 2u);
+  EXPECT_EQ(edge_attrs(here[0], ChangeKind::kUpdated), (std::set<std::string>{"calibrated"}));
+  EXPECT_EQ(edge_attrs(here[1], ChangeKind::kUpdated), (std::set<std::string>{"calibrated", "pose"}))
+      << "one change of the edge, pose and attribute";
+  ASSERT_FALSE(there.empty());
+  std::set<std::string> at_peer;
+  for (const ChangeBatch& c : there)
+    for (const std::string& n : edge_attrs(c, ChangeKind::kUpdated)) at_peer.insert(n);
+  EXPECT_EQ(at_peer, (std::set<std::string>{"calibrated", "pose"}));
+  // Deleted with its child: the edge's last pose and attributes come with it, at both replicas.
+  here.clear();
+  there.clear();
+  {
+    auto tx = a.g.begin();
+    ASSERT_TRUE(tx.delete_node(mug).ok());
+    ASSERT_TRUE(tx.commit().ok());
+  }
+  b.receive_all(a);
+  for (auto* batches : {&here, &there}) {
+    ASSERT_EQ(batches->size(), 1u);
+    const EdgeChange* gone = nullptr;
+    for (const EdgeChange& e : batches->front().edges)
+      if (e.key == rt && e.kind == ChangeKind::kDeleted) gone = &e;
+    ASSERT_NE(gone, nullptr);
+    std::map<std::string, Value> last;
+    for (const auto& [k, v] : gone->values) last.emplace(k.str(), v);
+    EXPECT_EQ(last.at("translation"), Value(DoubleVec{4.0, 5.0, 6.0}));
+    EXPECT_EQ(last.at("rotation"), Value(DoubleVec{1.0, 0.0, 0.0, 0.0}));
+    EXPECT_EQ(last.at("calibrated"), Value(false));
+    EXPECT_EQ(last.at("rt_covariance"), Value(FloatVec{0.1f, 0.2f}));
+    EXPECT_EQ(last.size(), 4u);
+  }
+}
+
 TEST(GraphEventsTest, DeleteAndReinsertInOneTransactionReportsRemovedAttributes) {
   Peer a(1);
   NodeId x = a.add("t", "x"), y = a.add("t", "y");

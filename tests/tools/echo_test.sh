@@ -1,6 +1,6 @@
 #!/bin/sh
 # quiver echo joins a live domain (loopback) as an observer and prints the graph's changes as they
-# arrive: who made each, what it is, and its values; --type keeps one type's; what the domain held
+# arrive: who made each, what it is, and its values; --type keeps one type's, --node one node's; what the domain held
 # before echo joined is not printed as news. Usage: echo_test.sh QUIVER WORLD
 set -u
 q=$1
@@ -23,9 +23,12 @@ done
 e1=$!
 "$q" echo --domain $domain --json --type person --count 3 --timeout 30 >"$work/person.jsonl" 2>"$work/person.err" &
 e2=$!
-pids="$pids $e1 $e2"
+"$q" echo --domain $domain --json --node robot --count 2 --timeout 30 >"$work/robot.jsonl" 2>"$work/robot.err" &
+e3=$!
+pids="$pids $e1 $e2 $e3"
 wait $e1 || fail "quiver echo exited $?"
 wait $e2 || fail "quiver echo --type exited $?"
+wait $e3 || fail "quiver echo --node exited $?"
 [ "$(grep -c '^{' "$work/all.jsonl")" = 12 ] || fail "expected 12 changes: $(cat "$work/all.jsonl")"
 [ "$(grep -c '"origin":"echo-writer"' "$work/all.jsonl")" = 12 ] || fail "every change names its agent"
 grep -q '"kind":"created"\|"kind":"updated"\|"kind":"deleted"' "$work/all.jsonl" || fail "no kind"
@@ -37,6 +40,9 @@ fi
 grep -q 'following DDS domain 195' "$work/all.err" || fail "no 'following' line: $(cat "$work/all.err")"
 [ "$(grep -c '^{' "$work/person.jsonl")" = 3 ] || fail "expected 3 person changes: $(cat "$work/person.jsonl")"
 if grep -v '"type":"person"' "$work/person.jsonl" | grep -q .; then fail "--type person let another type through"; fi
+# --node keeps the changes of one node (and of its edges) by name.
+[ "$(grep -c '^{' "$work/robot.jsonl")" = 2 ] || fail "expected 2 changes of robot: $(cat "$work/robot.jsonl")"
+if grep -v '"robot"' "$work/robot.jsonl" | grep -q .; then fail "--node robot let another node through"; fi
 # The text form, one line per change.
 "$q" echo --domain $domain --count 2 --timeout 30 >"$work/text.out" 2>/dev/null || fail "text echo exited $?"
 [ "$(grep -c ' echo-writer  ' "$work/text.out")" = 2 ] || fail "text lines: $(cat "$work/text.out")"

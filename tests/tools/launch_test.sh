@@ -57,4 +57,14 @@ grep -q "agents\[0\].name must be 1 to 64 letters" "$work/err3" || fail "bad nam
 echo '{"agents": [{"name": "a", "args": ["agent"], "restart": "sometimes"}]}' >"$work/bad.json"
 "$q" launch "$work/bad.json" 2>"$work/err3" && fail "a bad restart was accepted"
 grep -q "agents\[0\].restart must be never, on-failure or always" "$work/err3" || fail "bad restart: $(cat "$work/err3")"
+# Every launch file the package ships reads as the launcher reads it (--check starts nothing).
+for f in "$src"/examples/launch/*.json; do
+  "$q" launch "$f" --check >"$work/check.txt" 2>"$work/err4" || fail "$f: $(cat "$work/err4")"
+  n=$(grep -c '"name"' "$f")
+  [ "$(grep -c ': quiver ' "$work/check.txt")" = "$n" ] || fail "$f: --check listed $(cat "$work/check.txt")"
+done
+grep -q '^agm-planner: quiver run agm-planner --mission clean-table' "$work/check.txt" ||
+  [ "$(basename "$f")" != agm.json ] || fail "agm.json: $(cat "$work/check.txt")"
+"$q" launch "$work/bad.json" --check 2>"$work/err5" && fail "--check accepted a bad file"
+grep -q "agents\[0\].restart must be" "$work/err5" || fail "--check: $(cat "$work/err5")"
 echo PASS

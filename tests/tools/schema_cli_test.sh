@@ -42,6 +42,11 @@ printf '{\n  m:mug\n  t:room\n  m->t(in)\n}\n' >"$work/m.aggt"
 "$q" schema check "$work/narrow.json" "$work/m.aggt" >"$work/narrow_mission" 2>&1 && fail "a mission with a mug passed"
 grep -q "mission: the node type 'mug' (variable m) is not in the schema" "$work/narrow_mission" ||
   fail "the mission error does not name the type: $(cat "$work/narrow_mission")"
+# AGM's XML targets too (--mission: a file name cannot tell a target from an AGM world).
+printf '<AGMModel>\n<symbol id="tazaR" type="mug"/>\n<symbol id="5" type="room"/>\n<link src="tazaR" dst="5" label="in"/>\n</AGMModel>\n' >"$work/target.xml"
+"$q" schema check "$work/narrow.json" --mission "$work/target.xml" >"$work/narrow_xml" 2>&1 && fail "an XML target with a mug passed"
+grep -q "target.xml: error: mission: the node type 'mug' (variable tazaR) is not in the schema" "$work/narrow_xml" ||
+  fail "the XML target's error does not name the type: $(cat "$work/narrow_xml")"
 
 # The importers take it too: a CORTEX world imported under a schema that lacks its types is refused.
 dsr=$src/tests/graph/interop/fixtures/dsr/current_layout.json

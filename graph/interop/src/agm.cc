@@ -64,7 +64,7 @@ class Locator {
 /// An RT link's pose, as AGM's inner model reads it: tx ty tz (mm) rx ry rz (rad).
 constexpr const char* kPoseKeys[] = {"tx", "ty", "tz", "rx", "ry", "rz"};
 
-bool is_pose_key(std::string_view key) {
+bool is_agm_pose_key(std::string_view key) {
   return std::find_if(std::begin(kPoseKeys), std::end(kPoseKeys), [&](const char* k) { return key == k; }) !=
          std::end(kPoseKeys);
 }
@@ -206,7 +206,7 @@ Result<Plan> read_plan(std::string_view text, const std::string& src, double met
   if (std::string_view(root.name()) != "AGMModel")
     return malformed(loc.at(root), "not an AGM world: the root element is not <AGMModel>");
   Plan plan;
-  plan.is_link_pose_key = &is_pose_key;
+  plan.is_link_pose_key = &is_agm_pose_key;
   std::vector<pugi::xml_node> links;
   for (const pugi::xml_node& e : root.children()) {
     if (e.type() != pugi::node_element) continue;
@@ -304,7 +304,7 @@ ExportResult export_agm(const graph::Graph& g, const ExportOptions& options) {
       for (int k = 0; k < 6; ++k)
         add_key_value(l, "linkAttribute", kPoseKeys[k], internal::pose_text(k < 3 ? n.t[k] : n.r[k - 3]));
       for (const auto& [key, value] : n.rt_attrs) {
-        if (is_pose_key(key)) {
+        if (is_agm_pose_key(key)) {
           result.warnings.push_back("node " + in_quotes(n.name) + " attribute " + in_quotes("rt:" + key) +
                                     ": the RT link's pose goes there: not written");
           continue;

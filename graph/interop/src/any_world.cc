@@ -29,4 +29,10 @@ Status load_any_world(graph::Graph& g, std::string_view text, const std::string&
   }
 }
 
+Status load_any_world_file(graph::Graph& g, const std::string& path) {
+  auto text = read_file("load_any_world_file", path);
+  if (!text.ok()) return text.error();
+  return load_any_world(g, *text, path);
+}
+
 }  // namespace quiver::interop

@@ -19,7 +19,6 @@ namespace quiver::cortex_tests {
 namespace {
 
 // An id no node of the graph has: a dot of a replica that never wrote to it.
-NodeId absent_id(std::uint64_t counter) { return NodeId{Dot{ReplicaId{0xDEAD, 7}, counter}}; }
 
 class CortexConvenience : public CortexWorldTest {
  protected:

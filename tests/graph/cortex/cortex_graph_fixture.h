@@ -45,6 +45,9 @@ using graph::Symbol;
 using graph::Transaction;
 using graph::Value;
 
+// An id no node has (DSR's tests use 3333333, 75000, 788987...): no replica writes as agent 777.
+inline NodeId absent_id(std::uint64_t counter) { return NodeId{graph::Dot{ReplicaId{777, 1}, counter}}; }
+
 // The path of a file of tests/graph/cortex/data.
 inline std::string data_path(const char* file) {
   return (std::filesystem::path(__FILE__).parent_path() / "data" / file).string();

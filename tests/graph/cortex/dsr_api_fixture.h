@@ -1,7 +1,7 @@
 #pragma once
 // The fixture shared by the translations of RoboComp CORTEX tests/src/test_dsr_api.cpp
 // (dsr_api_nodes_test.cc, dsr_api_edges_test.cc, dsr_api_attributes_test.cc; docs/dsr-api.md maps
-// each DSR call): the CortexDsrApi fixture, absent_id(), and the graph names they use.
+// each DSR call): the CortexDsrApi fixture and the graph names they use.
 //
 // CORTEX's sections share one DSRGraph loaded from testfiles/example.json (node 1 the root, node
 // 2 its RT child) and lean on what earlier sections left behind. Here every test builds its own
@@ -21,9 +21,6 @@
 namespace quiver::cortex_tests {
 
 using graph::Pose;
-
-// An id no node has (DSR's 3333333, 75000, 788987...).
-inline NodeId absent_id(std::uint64_t counter) { return NodeId{graph::Dot{ReplicaId{777, 1}, counter}}; }
 
 struct CortexDsrApi : CortexGraphTest {
   CortexDsrApi() : CortexGraphTest(ReplicaId{1111, 1}) {}

@@ -18,7 +18,6 @@
 namespace quiver::cortex_tests {
 namespace {
 
-NodeId absent_id(std::uint64_t counter) { return NodeId{Dot{ReplicaId{0xBEEF, 3}, counter}}; }
 
 class CortexGraphEdgeOperations : public CortexWorldTest {
  protected:

@@ -19,7 +19,6 @@
 namespace quiver::cortex_tests {
 namespace {
 
-NodeId absent_id(std::uint64_t counter) { return NodeId{Dot{ReplicaId{0xF00D, 2}, counter}}; }
 
 // DSR's compiled type registry as Quiver's schema (docs/schema.md): the node types of this file
 // ("root" of the world file, "testtype") and its edge type "in". Installed as DSR has it, on

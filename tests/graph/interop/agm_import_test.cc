@@ -19,7 +19,7 @@ using graph::ReplicaId;
 using graph::Value;
 using namespace testing;
 
-std::string error_of(const std::string& text, const std::string& source = "world.xml") {
+std::string agm_error_of(const std::string& text, const std::string& source = "world.xml") {
   return refusal(import_agm, text, source);
 }
 
@@ -103,21 +103,21 @@ TEST(AgmImportTest, MalformedFilesNameTheFileTheLineAndTheElement) {
 }
 
 TEST(AgmImportTest, OtherMistakes) {
-  EXPECT_EQ(error_of("<AGMModel>\n<symbol type=\"t\"/>\n</AGMModel>"),
+  EXPECT_EQ(agm_error_of("<AGMModel>\n<symbol type=\"t\"/>\n</AGMModel>"),
             "world.xml:2: <symbol type=\"t\">: missing the attribute id");
-  EXPECT_EQ(error_of("<AGMModel>\n<symbol id=\"1\" type=\"t\">\n<attribute key=\"agm_id\" value=\"5\"/>\n</symbol>\n</AGMModel>"),
+  EXPECT_EQ(agm_error_of("<AGMModel>\n<symbol id=\"1\" type=\"t\">\n<attribute key=\"agm_id\" value=\"5\"/>\n</symbol>\n</AGMModel>"),
             "world.xml:2: <symbol id=\"1\" type=\"t\">: the attribute 'agm_id' is where Quiver keeps the symbol's id: a "
             "file cannot set it");
-  EXPECT_EQ(error_of("<AGMModel><symbol id=\"1\" type=\"t\"><attribute key=\"a\"/></symbol></AGMModel>"),
+  EXPECT_EQ(agm_error_of("<AGMModel><symbol id=\"1\" type=\"t\"><attribute key=\"a\"/></symbol></AGMModel>"),
             "world.xml:1: <attribute key=\"a\">: missing the attribute value");
-  EXPECT_EQ(error_of("<AGMModel><symbol id=\"-1\" type=\"t\"/></AGMModel>"),
+  EXPECT_EQ(agm_error_of("<AGMModel><symbol id=\"-1\" type=\"t\"/></AGMModel>"),
             "world.xml:1: <symbol id=\"-1\" type=\"t\">: AGM ids are not negative");
   // Two RT parents, a cycle.
-  EXPECT_NE(error_of("<AGMModel><symbol id=\"1\" type=\"t\"/><symbol id=\"2\" type=\"t\"/><symbol id=\"3\" type=\"t\"/>"
+  EXPECT_NE(agm_error_of("<AGMModel><symbol id=\"1\" type=\"t\"/><symbol id=\"2\" type=\"t\"/><symbol id=\"3\" type=\"t\"/>"
                      "<link src=\"1\" dst=\"3\" label=\"RT\"/><link src=\"2\" dst=\"3\" label=\"RT\"/></AGMModel>")
                 .find("symbol 3 already has an RT parent (symbol 1"),
             std::string::npos);
-  EXPECT_NE(error_of("<AGMModel><symbol id=\"1\" type=\"t\"/><symbol id=\"2\" type=\"t\"/>"
+  EXPECT_NE(agm_error_of("<AGMModel><symbol id=\"1\" type=\"t\"/><symbol id=\"2\" type=\"t\"/>"
                      "<link src=\"1\" dst=\"2\" label=\"RT\"/><link src=\"2\" dst=\"1\" label=\"RT\"/></AGMModel>")
                 .find("the RT links form a cycle"),
             std::string::npos);
@@ -125,7 +125,7 @@ TEST(AgmImportTest, OtherMistakes) {
   // was lost on export) is refused; another rt: attribute, or one under no RT link, is kept.
   const std::string rt_child = "<AGMModel><symbol id=\"1\" type=\"t\"/><link src=\"1\" dst=\"2\" label=\"RT\"/>\n"
                                "<symbol id=\"2\" type=\"room\">";
-  EXPECT_EQ(error_of(rt_child + "<attribute key=\"rt:ry\" value=\"1\"/></symbol></AGMModel>"),
+  EXPECT_EQ(agm_error_of(rt_child + "<attribute key=\"rt:ry\" value=\"1\"/></symbol></AGMModel>"),
             "world.xml:2: <symbol id=\"2\" type=\"room\">: the attribute 'rt:ry' names the pose key 'ry' of the RT "
             "link from symbol 1 (attributes prefixed rt: are that link's): it could not be written back; rename it");
   EXPECT_EQ(acceptance(import_agm, rt_child + "<attribute key=\"rt:color\" value=\"1\"/></symbol></AGMModel>", "w.xml"), "");
@@ -133,15 +133,15 @@ TEST(AgmImportTest, OtherMistakes) {
 }
 
 TEST(AgmImportTest, AFileForAnotherCommandSaysSo) {
-  EXPECT_EQ(error_of(R"({"DSRModel": {"symbols": {}}})", "w.json"),
+  EXPECT_EQ(agm_error_of(R"({"DSRModel": {"symbols": {}}})", "w.json"),
             "w.json: this is a CORTEX DSR JSON world (\"DSRModel\"); use quiver import-dsr");
-  EXPECT_EQ(error_of(R"({"quiver_world": 1})", "q.json"),
+  EXPECT_EQ(agm_error_of(R"({"quiver_world": 1})", "q.json"),
             "q.json: this is a Quiver world file (\"quiver_world\"): it needs no import; use it as it is (quiver agent "
             "--world, quiver lookup, quiver render...)");
-  EXPECT_EQ(error_of("<?xml version=\"1.0\"?>\n<robot name=\"r\"/>", "r.urdf"),
+  EXPECT_EQ(agm_error_of("<?xml version=\"1.0\"?>\n<robot name=\"r\"/>", "r.urdf"),
             "r.urdf: the root element is <robot>, not <AGMModel>: not an AGM XML world; a URDF robot: use quiver "
             "import-urdf");
-  EXPECT_EQ(error_of("[1, 2]", "a.json"), "a.json: this is JSON, not an AGM XML world");
+  EXPECT_EQ(agm_error_of("[1, 2]", "a.json"), "a.json: this is JSON, not an AGM XML world");
 }
 
 TEST(AgmImportTest, UnknownElementsAreIgnoredWithAWarning) {

@@ -20,7 +20,7 @@ using graph::ReplicaId;
 using graph::Value;
 using namespace testing;
 
-std::string error_of(const std::string& text, const std::string& source = "dsr.json") {
+std::string dsr_error_of(const std::string& text, const std::string& source = "dsr.json") {
   return refusal(import_dsr, text, source);
 }
 
@@ -121,9 +121,9 @@ TEST(DsrImportTest, NewestSampleOfAPack) {
   EXPECT_DOUBLE_EQ(x_of_b(pack(""), &r), 1.0);
   EXPECT_TRUE(has_warning(r, "history pack of 3 samples without time stamps")) << r.warnings.size();
   // Malformed packs.
-  EXPECT_NE(error_of(pack(R"(, "rt_head_index": {"type": 1, "value": 4})")).find("rt_head_index: expected the index"),
+  EXPECT_NE(dsr_error_of(pack(R"(, "rt_head_index": {"type": 1, "value": 4})")).find("rt_head_index: expected the index"),
             std::string::npos);
-  EXPECT_NE(error_of(pack(R"(, "rt_timestamps": {"type": 9, "value": [1, 2]})")).find("one time stamp per sample (3)"),
+  EXPECT_NE(dsr_error_of(pack(R"(, "rt_timestamps": {"type": 9, "value": [1, 2]})")).find("one time stamp per sample (3)"),
             std::string::npos);
 }
 
@@ -230,27 +230,27 @@ TEST(DsrImportTest, MalformedFilesNameTheFileAndTheElement) {
 
 TEST(DsrImportTest, OtherMistakes) {
   const std::string world = R"({"DSRModel": {"symbols": {"1": {"id": "1", "name": "w", "type": "world", )";
-  EXPECT_EQ(error_of(world + R"("attribute": {"x": {"type": 14, "value": 1}}}}}})"),
+  EXPECT_EQ(dsr_error_of(world + R"("attribute": {"x": {"type": 14, "value": 1}}}}}})"),
             "dsr.json:/DSRModel/symbols/1/attribute/x: unknown type code 14 (CORTEX's codes are 0 to 13)");
-  EXPECT_EQ(error_of(world + R"("attribute": {"x": {"type": 1, "value": 3000000000}}}}}})"),
+  EXPECT_EQ(dsr_error_of(world + R"("attribute": {"x": {"type": 1, "value": 3000000000}}}}}})"),
             "dsr.json:/DSRModel/symbols/1/attribute/x: type code 1 expects an integer in int32 range");
-  EXPECT_EQ(error_of(world + R"("attribute": {"x": {"type": 11, "value": [1, 2]}}}}}})"),
+  EXPECT_EQ(dsr_error_of(world + R"("attribute": {"x": {"type": 11, "value": [1, 2]}}}}}})"),
             "dsr.json:/DSRModel/symbols/1/attribute/x: type code 11 expects an array of 3 numbers");
-  EXPECT_EQ(error_of(world + R"("attribute": {"dsr_id": {"type": 7, "value": 5}}}}}})"),
+  EXPECT_EQ(dsr_error_of(world + R"("attribute": {"dsr_id": {"type": 7, "value": 5}}}}}})"),
             "dsr.json:/DSRModel/symbols/1/attribute/dsr_id: \"dsr_id\" is where Quiver keeps the CORTEX id: a file "
             "cannot set it");
-  EXPECT_EQ(error_of(world + R"("links": [{"src": "1", "dst": "1", "label": "RT"}]}}}})"),
+  EXPECT_EQ(dsr_error_of(world + R"("links": [{"src": "1", "dst": "1", "label": "RT"}]}}}})"),
             "dsr.json:/DSRModel/symbols/1/links/0: an RT link from a symbol to itself (a frame is not its own parent)");
-  EXPECT_EQ(error_of(R"({"DSRModel": {"symbols": {"1": {"id": "x1", "type": "t"}}}})"),
+  EXPECT_EQ(dsr_error_of(R"({"DSRModel": {"symbols": {"1": {"id": "x1", "type": "t"}}}})"),
             "dsr.json:/DSRModel/symbols/1/id: expected a CORTEX id (an unsigned integer)");
-  EXPECT_EQ(error_of(R"({"DSRModel": {"symbols": [{"id": "1", "type": "t"}, {"id": "1", "type": "u"}]}})"),
+  EXPECT_EQ(dsr_error_of(R"({"DSRModel": {"symbols": [{"id": "1", "type": "t"}, {"id": "1", "type": "u"}]}})"),
             "dsr.json:/DSRModel/symbols/1: a second symbol with id 1");
-  EXPECT_EQ(error_of(R"({"robots": []})"), "dsr.json:/: not a CORTEX DSR world: no \"DSRModel\" object at the top");
+  EXPECT_EQ(dsr_error_of(R"({"robots": []})"), "dsr.json:/: not a CORTEX DSR world: no \"DSRModel\" object at the top");
   // A child's own attribute named as its RT link's pose key could not be exported back (the
   // pose goes there): refused, not lost on the way out. Under no RT link it is an attribute.
   const std::string rt_child = R"({"DSRModel": {"symbols": {"1": {"id": "1", "name": "w", "type": "world", "links": [
       {"src": "1", "dst": "2", "label": "RT"}]}, "2": {"id": "2", "name": "c", "type": "t", "attribute": {)";
-  EXPECT_EQ(error_of(rt_child + R"("rt:rt_translation": {"type": 3, "value": [1, 2, 3]}}}}}})"),
+  EXPECT_EQ(dsr_error_of(rt_child + R"("rt:rt_translation": {"type": 3, "value": [1, 2, 3]}}}}}})"),
             "dsr.json:/DSRModel/symbols/2: the attribute 'rt:rt_translation' names the pose key 'rt_translation' of "
             "the RT link from symbol 1 (attributes prefixed rt: are that link's): it could not be written back; "
             "rename it");
@@ -259,12 +259,12 @@ TEST(DsrImportTest, OtherMistakes) {
 }
 
 TEST(DsrImportTest, AFileForAnotherCommandSaysSo) {
-  EXPECT_EQ(error_of("<?xml version=\"1.0\"?>\n<AGMModel>\n</AGMModel>\n", "w.xml"),
+  EXPECT_EQ(dsr_error_of("<?xml version=\"1.0\"?>\n<AGMModel>\n</AGMModel>\n", "w.xml"),
             "w.xml: this is an AGM XML world (root <AGMModel>); use quiver import-agm");
-  EXPECT_EQ(error_of(R"({"quiver_world": 1, "nodes": []})", "q.json"),
+  EXPECT_EQ(dsr_error_of(R"({"quiver_world": 1, "nodes": []})", "q.json"),
             "q.json: this is a Quiver world file (\"quiver_world\"): it needs no import; use it as it is (quiver agent "
             "--world, quiver lookup, quiver render...)");
-  EXPECT_EQ(error_of("<robot name=\"r\"><link name=\"a\"/></robot>", "r.urdf"),
+  EXPECT_EQ(dsr_error_of("<robot name=\"r\"><link name=\"a\"/></robot>", "r.urdf"),
             "r.urdf: this is XML (root <robot>), not a CORTEX DSR JSON world; a URDF robot: use quiver import-urdf");
 }
 

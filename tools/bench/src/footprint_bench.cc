@@ -15,6 +15,7 @@
 #include <nlohmann/json.hpp>
 
 #include "quiver/agents/runtime/process/subprocess.h"
+#include "quiver/base/percentiles.h"
 
 namespace quiver::tools::bench {
 namespace {
@@ -62,10 +63,6 @@ std::optional<Sample> measure(pid_t pid) {
   return s;
 }
 
-double median(std::vector<double> v) {
-  std::sort(v.begin(), v.end());
-  return v.empty() ? 0 : v[v.size() / 2];
-}
 
 }  // namespace
 

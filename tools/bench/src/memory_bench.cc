@@ -12,6 +12,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "quiver/base/percentiles.h"
 #include "quiver/base/rng.h"
 #include "quiver/graph/graph.h"
 
@@ -86,10 +87,6 @@ Built build(const MemoryBench& b, bool attrs, bool edges, std::uint64_t seed) {
   return out;
 }
 
-double median(std::vector<double> v) {
-  std::sort(v.begin(), v.end());
-  return v[v.size() / 2];
-}
 
 }  // namespace
 

@@ -60,8 +60,21 @@ std::string edge_text(const PatternEdge& e) {
 }
 
 // A file of another kind given as a mission: what it is, or "" when it may be a target.
+// Where the text's first token starts: after blanks and comment lines (# or //), which grammars
+// and targets both begin with.
+std::size_t first_token(std::string_view text) {
+  std::size_t at = 0;
+  for (;;) {
+    at = text.find_first_not_of(" \t\r\n", at);
+    if (at == std::string_view::npos) return at;
+    if (text[at] != '#' && text.substr(at, 2) != "//") return at;
+    at = text.find('\n', at);
+    if (at == std::string_view::npos) return at;
+  }
+}
+
 std::string other_kind(std::string_view text) {
-  const auto first = text.find_first_not_of(" \t\r\n");
+  const auto first = first_token(text);
   if (first == std::string_view::npos) return "";
   const auto next = text.find_first_not_of(" \t\r\n", first + 1);
   if ((text[first] == '{' && next != std::string_view::npos && text[next] == '"') || text[first] == '[')

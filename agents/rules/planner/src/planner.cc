@@ -20,7 +20,7 @@ using symbolic::State;
 using symbolic::TypeIx;
 
 namespace {
-constexpr double kInf = std::numeric_limits<double>::infinity();
+constexpr double kUnreachable = std::numeric_limits<double>::infinity();
 }
 
 const char* to_string(PlanResult::Outcome o) {
@@ -38,7 +38,7 @@ const char* to_string(PlanResult::Outcome o) {
 }
 
 double heuristic(const Domain& domain, const State& s, const CompiledMission& m) {
-  if (!m.unresolved.empty()) return kInf;
+  if (!m.unresolved.empty()) return kUnreachable;
   const symbolic::Vocabulary& voc = domain.vocabulary();
   const RuleBounds& rb = domain.bounds();
   const symbolic::CPattern& p = m.pattern;
@@ -117,17 +117,17 @@ double heuristic(const Domain& domain, const State& s, const CompiledMission& m)
       // cost; with one application of an alternative (deleting nodes removes any number of
       // links) at least that one.
       const int most = i < max.size() ? max[i] : 0;
-      const double cheapest = i < min.size() ? min[i] : kInf;
-      const double by_rules = most > 0 && !std::isinf(cheapest) ? ((lack[i] + most - 1) / most) * cheapest : kInf;
+      const double cheapest = i < min.size() ? min[i] : kUnreachable;
+      const double by_rules = most > 0 && !std::isinf(cheapest) ? ((lack[i] + most - 1) / most) * cheapest : kUnreachable;
       const double lower = std::min(by_rules, alt_cost);
       if (std::isinf(lower)) return false;
       h = std::max(h, lower);
     }
     return true;
   };
-  if (!bound(lack_add, rb.max_add, rb.min_add, kInf)) return kInf;
-  if (!bound(lack_remove, rb.max_remove, rb.min_remove, rb.min_delete)) return kInf;
-  if (!bound(lack_create, rb.max_create, rb.min_create, kInf)) return kInf;
+  if (!bound(lack_add, rb.max_add, rb.min_add, kUnreachable)) return kUnreachable;
+  if (!bound(lack_remove, rb.max_remove, rb.min_remove, rb.min_delete)) return kUnreachable;
+  if (!bound(lack_create, rb.max_create, rb.min_create, kUnreachable)) return kUnreachable;
   return h;
 }
 

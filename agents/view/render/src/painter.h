@@ -12,6 +12,9 @@
 
 namespace quiver::agents::inline view::render::internal {
 
+/// The blank border around a drawn picture or timeline frame, in pixels.
+inline constexpr int kMarginPx = 12;
+
 /// How one node or edge is drawn.
 enum class Look : std::uint8_t {
   kHidden,       ///< not drawn

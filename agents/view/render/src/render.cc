@@ -13,7 +13,7 @@
 namespace quiver::agents::inline view::render {
 namespace {
 
-constexpr int kMarginPx = 12;
+using internal::kMarginPx;
 
 std::string lower_extension(const std::string& path) {
   std::string ext = std::filesystem::path(path).extension().string();

@@ -22,7 +22,7 @@ namespace {
 
 using internal::Look;
 
-constexpr int kMarginPx = 12;
+using internal::kMarginPx;
 constexpr double kCaptionPx = 13;      // capital letters of the caption
 constexpr double kCaptionLinePx = 22;  // baseline to baseline
 constexpr int kCaptionLines = 3;

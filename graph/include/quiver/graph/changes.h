@@ -39,13 +39,17 @@ struct NodeChange {
 };
 /// An edge created, deleted or updated. A symbolic edge is updated when its attributes' values
 /// or its version (edge_version(): a re-insert) changed; an RT edge when its current transform
-/// or the pose history of its current move changed (attrs then holds "pose"). An RT edge that
-/// changes parent is deleted under the old parent and created under the new one.
+/// or the pose history of its current move changed (attrs then holds "pose") or its attributes
+/// changed (attrs names them; they are kept on the child as rt:<name>, whose node change names
+/// them too). An RT edge that changes parent is deleted under the old parent and created under
+/// the new one.
 struct EdgeChange {
   EdgeKey key;  ///< RT edges appear with type symbols::rt(), from parent to child.
   ChangeKind kind;
   std::vector<Symbol> attrs;  ///< kCreated: every attribute; kUpdated: those that changed
-  /// kDeleted: a symbolic edge's last attribute values (the winners; empty otherwise).
+  /// kDeleted: a symbolic edge's last attribute values (the winners); an RT edge's last pose
+  /// ("translation": x, y, z; "rotation": the quaternion w, x, y, z, both DoubleVec) and
+  /// attributes.
   std::vector<std::pair<Symbol, Value>> values;
 };
 /// Everything one commit or one merge changed in the visible graph.

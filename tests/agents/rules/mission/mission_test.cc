@@ -212,6 +212,9 @@ TEST(MissionXmlTargetTest, MistakesAndFilesOfAnotherKindAreNamed) {
             "XML target with the root <AGMModel>)");
   EXPECT_EQ(error("name=HRI\n===\nr : active(1)\n{ { a:t } => { a:t } }").substr(0, 65),
             "t.xml: this is a grammar (.aggl: a domain's rules), not a mission");
+  // Quiver's grammars begin with comment lines (agents/apps/agm/grammars/*.aggl).
+  EXPECT_EQ(error("# Clean the table.\n\n// rules below\ngrammar cleanTable\ntypes {\n  robot\n}\n").substr(0, 65),
+            "t.xml: this is a grammar (.aggl: a domain's rules), not a mission");
   EXPECT_NE(error("<AGMModel><symbol").find("t.xml:1:"), std::string::npos);
   EXPECT_NE(error("<AGMModel><symbol").find("XML syntax error"), std::string::npos);
   // What a target does not match is noted, not refused.

@@ -167,6 +167,40 @@ TEST(SchemaTest, AWriteNeverChangesAnAttributesTypeSilently) {
   EXPECT_EQ(*g.get<float>(n, "count"), 2.5f);
 }
 
+// Two agents that each write an attribute first, with two types, concurrently: every replica shows
+// the same winner (attr()), and attr_values() shows both (docs/schema.md, "Types never change
+// silently").
+TEST(SchemaTest, ConcurrentWritesOfTwoTypesResolveAlikeEverywhere) {
+  Net net;
+  const int a = net.add(fnv1a64("left")), b = net.add(fnv1a64("right"));
+  net.pump();
+  NodeId robot;
+  {
+    auto tx = net.nodes[a].g->begin();
+    robot = *tx.create_node("robot", "robot");
+    ASSERT_TRUE(tx.commit().ok());
+  }
+  net.advance(200'000'000);
+  ASSERT_TRUE(net.nodes[b].g->has_node(robot));
+  {  // both commit before either hears the other
+    auto tx = net.nodes[a].g->begin();
+    ASSERT_TRUE(tx.set(robot, "count", Value::int32(3)).ok());
+    ASSERT_TRUE(tx.commit().ok());
+    auto tx2 = net.nodes[b].g->begin();
+    ASSERT_TRUE(tx2.set(robot, "count", Value(2.5f)).ok());
+    ASSERT_TRUE(tx2.commit().ok());
+  }
+  net.advance(2'000'000'000);
+  const graph::Value* left = net.nodes[a].g->attr(robot, "count");
+  const graph::Value* right = net.nodes[b].g->attr(robot, "count");
+  ASSERT_NE(left, nullptr);
+  ASSERT_NE(right, nullptr);
+  EXPECT_EQ(*left, *right) << "one winner everywhere";
+  EXPECT_EQ(net.nodes[a].g->attr_values(robot, graph::Symbol("count")).size(), 2u);
+  EXPECT_EQ(net.nodes[b].g->attr_values(robot, graph::Symbol("count")).size(), 2u);
+  EXPECT_EQ(net.nodes[a].g->digest(), net.nodes[b].g->digest());
+}
+
 // Three replicas: two honest ones with the schema (on commit and on merge) and a rogue one with
 // no schema at all. What breaks the schema is refused by both honest replicas, reported, and they
 // end equal; what it allows flows.

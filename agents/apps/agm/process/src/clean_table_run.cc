@@ -20,7 +20,7 @@ using json = nlohmann::json;
 
 // What the observer sees: the plans by version, the objects carried and put down, the room
 // changes, the plan's progress.
-struct Seen {
+struct CleanTableSeen {
   std::map<std::int64_t, std::string> plans;
   std::vector<GraspEvent> carried;  ///< kGrasped, kReleased
   int room_changes = 0;
@@ -86,7 +86,7 @@ int run_clean_table(const AgmDdsRun& r) {
   if (!opened) return 2;
   ObservedRun& run = *opened;
   graph::Graph& g = run.graph();
-  Seen seen;
+  CleanTableSeen seen;
   run.watch([&](NodeId, const graph::EdgeChange& e) { seen.on_edge(run, g, e); },
             [&] { seen.on_plan(run, g); });
   const std::vector<std::string> mission = {"--mission", kCleanTable},

@@ -16,5 +16,7 @@ namespace quiver::interop {
 /// @returns kMalformed naming `source` for text of another kind; otherwise the loader's error
 ///          (a refused commit included: nothing is loaded then).
 Status load_any_world(graph::Graph& g, std::string_view text, const std::string& source);
+/// As load_any_world(), from the file at `path` (errors name it; kIo if it cannot be read).
+Status load_any_world_file(graph::Graph& g, const std::string& path);
 
 }  // namespace quiver::interop
