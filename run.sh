@@ -56,7 +56,7 @@ case "${1:-}" in
       exit 1
     fi
     if [ "$status" -ne 0 ]; then exit "$status"; fi
-    scripts/fuzz.sh "${QUIVER_FUZZ_SECONDS:-20}"
+    scripts/fuzz.sh "${QUIVER_FUZZ_SECONDS:-10}"
     ;;
   build)
     build
