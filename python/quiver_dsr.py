@@ -182,9 +182,12 @@ class Node:
 def _typed(value, current):
     """A Python value as a quiver value: of the attribute's current type where it has one (as
     DSR keeps a type), else int -> int32 (DSR's int) or int64 if it does not fit, float -> float
-    (DSR's float), str, bool, bytes, a list or array of floats -> float_vec."""
+    (DSR's float), str, bool, bytes or a numpy uint8 array (of any shape: its bytes, row-major), a
+    list or array of floats -> float_vec."""
     if isinstance(value, _q.Value):
         return value
+    if getattr(value, "dtype", None) == _np.uint8:  # pydsr keeps a uint8 array of any shape as its bytes
+        return _q.Value("bytes", value.tobytes())
     if hasattr(value, "tolist"):  # numpy
         value = value.tolist()
     if current is not None and current.type not in ("string", "bool") and not isinstance(value, (str, bool)):
@@ -487,7 +490,7 @@ class DSRGraph:
                 attrs = [a for a in c.attrs if not a.startswith("__")]
                 if attrs:
                     self._emit(signals.UPDATE_NODE_ATTR, i, attrs)
-                if c.renamed:
+                if attrs or c.renamed:  # DSR signals a node's update with its attributes' too
                     self._emit(signals.UPDATE_NODE, i, c.type)
         for c in batch.edges:
             fr, to, t = self._id(c.key.source), self._id(c.key.target), c.key.type
@@ -501,6 +504,7 @@ class DSRGraph:
                 self._emit(signals.UPDATE_EDGE, fr, to, t)
             elif c.attrs:
                 self._emit(signals.UPDATE_EDGE_ATTR, fr, to, t, list(c.attrs))
+                self._emit(signals.UPDATE_EDGE, fr, to, t)
 
 
 class rt_api:

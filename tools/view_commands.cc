@@ -20,6 +20,7 @@
 #include "observer.h"
 #include "quiver/agents/rules/grammar/grammar_guard.h"
 #include "quiver/agents/rules/locks/locks.h"
+#include "quiver/agents/rules/schema/schema.h"
 #include "quiver/agents/view/recording/graph_recorder.h"
 #include "quiver/agents/view/recording/record_file.h"
 #include "quiver/agents/runtime/process/logging.h"
@@ -184,6 +185,14 @@ int run_view(const ViewFlags& f) {
   vo.port = listen->second;
   vo.assets_dir = f.assets;
   vo.history_bytes = static_cast<std::uint64_t>(f.history_mb * (1 << 20));
+  if (!f.dds.schema.empty()) {  // the page shows it; a live viewer's replica also enforces it
+    auto s = agents::schema::Schema::load(f.dds.schema);
+    if (!s.ok()) {
+      log->error("{}", s.error().message);
+      return 2;
+    }
+    vo.schema = nlohmann::json::parse(s->to_json());
+  }
   catch_stop_signals();
   if (!f.replay.empty() || !f.world.empty()) {
     vo.mode = f.replay.empty() ? "world" : "replay";

@@ -10,8 +10,9 @@ work=$(mktemp -d)
 pids=""
 trap 'for p in $pids; do kill "$p" 2>/dev/null; done; rm -rf "$work"' EXIT
 fail() { echo "FAILED: $*"; for f in "$work"/*; do echo "--- $f"; tail -5 "$f"; done; exit 1; }
-# A writer that seeds the world, then changes the graph at random for 8 s.
-"$q" agent --name echo-writer --domain $domain --world "$world" --churn-hz 20 --churn-for 8 --run-for 10 --hand-over 0 \
+# A writer that seeds the world, then changes the graph at random for 8 s, and counts up in its
+# node echo-writer.counter ten times a second (which the random changes leave alone).
+"$q" agent --name echo-writer --domain $domain --world "$world" --churn-hz 20 --churn-for 8 --count-hz 10 --run-for 10 --hand-over 0 \
   --status-ms 100 >"$work/writer.out" 2>"$work/writer.err" &
 pids="$pids $!"
 # The writer is up (its world seeded) before echo joins: the world is not news to echo.
@@ -23,7 +24,7 @@ done
 e1=$!
 "$q" echo --domain $domain --json --type person --count 3 --timeout 30 >"$work/person.jsonl" 2>"$work/person.err" &
 e2=$!
-"$q" echo --domain $domain --json --node robot --count 2 --timeout 30 >"$work/robot.jsonl" 2>"$work/robot.err" &
+"$q" echo --domain $domain --json --node echo-writer.counter --count 2 --timeout 30 >"$work/counter.jsonl" 2>"$work/counter.err" &
 e3=$!
 pids="$pids $e1 $e2 $e3"
 wait $e1 || fail "quiver echo exited $?"
@@ -41,8 +42,8 @@ grep -q 'following DDS domain 195' "$work/all.err" || fail "no 'following' line:
 [ "$(grep -c '^{' "$work/person.jsonl")" = 3 ] || fail "expected 3 person changes: $(cat "$work/person.jsonl")"
 if grep -v '"type":"person"' "$work/person.jsonl" | grep -q .; then fail "--type person let another type through"; fi
 # --node keeps the changes of one node (and of its edges) by name.
-[ "$(grep -c '^{' "$work/robot.jsonl")" = 2 ] || fail "expected 2 changes of robot: $(cat "$work/robot.jsonl")"
-if grep -v '"robot"' "$work/robot.jsonl" | grep -q .; then fail "--node robot let another node through"; fi
+[ "$(grep -c '^{' "$work/counter.jsonl")" = 2 ] || fail "expected 2 changes of the counter: $(cat "$work/counter.jsonl")"
+if grep -v 'echo-writer.counter' "$work/counter.jsonl" | grep -q .; then fail "--node let another node through"; fi
 # The text form, one line per change.
 "$q" echo --domain $domain --count 2 --timeout 30 >"$work/text.out" 2>/dev/null || fail "text echo exited $?"
 [ "$(grep -c ' echo-writer  ' "$work/text.out")" = 2 ] || fail "text lines: $(cat "$work/text.out")"

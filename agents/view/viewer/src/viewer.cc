@@ -172,7 +172,8 @@ void Viewer::routes() {
              {"nodes", g_.node_count()},
              {"edges", g_.edge_count()},
              {"frames", {{"begin", timeline_.begin()}, {"end", timeline_.end()}}},
-             {"agents", hooks_.agents ? hooks_.agents() : json::array()}};
+             {"agents", hooks_.agents ? hooks_.agents() : json::array()},
+             {"schema", opt_.schema}};
     });
     send_json(res, out);
   });

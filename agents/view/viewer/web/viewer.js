@@ -10,6 +10,7 @@ const quiver = window.quiver = {
   appearedAt: {},        // node name -> Date.now() when it first appeared on the page
   highlight: new Map(),  // key -> until (performance.now())
   hideGeometry: false, selected: null, filter: '',
+  schema: null,          // the shared vocabulary the viewer was given (docs/schema.md), or null
 };
 
 const $ = (id) => document.getElementById(id);
@@ -338,13 +339,34 @@ $('live').addEventListener('click', goLive);
 
 // ---- inspector, agents, legend ----
 function esc(s) { return String(s).replace(/[&<>"]/g, (c) => ({ '&': '&amp;', '<': '&lt;', '>': '&gt;', '"': '&quot;' }[c])); }
+// With a schema: an attribute's unit beside its value, and what its declaration says (type,
+// range, writers) as the row's tooltip.
+function declared(name) {
+  const a = quiver.schema && quiver.schema.attributes && quiver.schema.attributes[name];
+  if (!a) return null;
+  const range = a.min !== undefined || a.max !== undefined ? ` in [${a.min ?? ''}, ${a.max ?? ''}]` : '';
+  return { unit: a.unit || '', title: `declared ${a.type}${range}${a.writers ? ', written by ' + a.writers.join(', ') : ''}` };
+}
 function attrRows(attrs) {
   let h = '<table><tr><th>attribute</th><th>type</th><th>value</th><th>writer</th></tr>';
-  for (const a of attrs) a.values.forEach((v, i) => {
-    h += `<tr class="${a.values.length > 1 ? 'conflict' : ''}"><td>${i ? '' : esc(a.name)}</td><td>${i ? '' : a.type}</td>` +
-         `<td>${esc(JSON.stringify(v.v))}</td><td>${esc(v.writer)}</td></tr>`;
-  });
+  for (const a of attrs) {
+    const d = declared(a.name.startsWith('rt:') ? a.name.slice(3) : a.name);
+    a.values.forEach((v, i) => {
+      h += `<tr class="${a.values.length > 1 ? 'conflict' : ''}"${d ? ` title="${esc(d.title)}"` : ''}><td>${i ? '' : esc(a.name)}</td><td>${i ? '' : a.type}</td>` +
+           `<td>${esc(JSON.stringify(v.v))}${d && d.unit ? ` <span class="unit">${esc(d.unit)}</span>` : ''}</td><td>${esc(v.writer)}</td></tr>`;
+    });
+  }
   return h + '</table>';
+}
+// A node type as the schema declares it: with its bases ("mug: cup, object"); undeclared types
+// are marked when there is a schema.
+function typeText(type) {
+  const s = quiver.schema;
+  if (!s || !s.node_types) return esc(type);
+  const t = s.node_types[type];
+  if (!t) return `${esc(type)}, <span class="violation">not in the schema</span>`;
+  const is = t.is === undefined ? [] : [].concat(t.is);
+  return esc(type) + (is.length ? ': ' + is.map(esc).join(', ') : '');
 }
 function inspectNode(key) { quiver.selected = key; quiver.selectedEdge = null; refreshInspector(); dirty = true; }
 function inspectEdge(key) { quiver.selected = null; quiver.selectedEdge = key; refreshInspector(); }
@@ -352,7 +374,7 @@ function refreshInspector() {
   const el = $('inspector');
   if (quiver.selected && quiver.nodes.has(quiver.selected)) {
     const n = quiver.nodes.get(quiver.selected);
-    let h = `<h3>${esc(n.name)} <small>(${esc(n.type)})</small></h3><div>id ${n.id}</div>`;
+    let h = `<h3>${esc(n.name)} <small>(${typeText(n.type)})</small></h3><div>id ${n.id}</div>`;
     if (n.pose) h += `<div>RT parent ${esc((quiver.nodes.get(n.pose.parent) || { name: n.pose.parent }).name)}, t = [${n.pose.t.map((x) => x.toFixed(3))}]</div>`;
     if (n.lock) h += `<div class="lock">locked by ${esc(n.lock.holder)} (epoch ${n.lock.epoch}, priority ${n.lock.priority})</div>`;
     for (const v of n.violations) h += `<div class="violation">violates ${esc(v)}</div>`;
@@ -426,3 +448,4 @@ function animate(now) {
 window.addEventListener('resize', resize);
 resize();
 goLive().then(() => requestAnimationFrame(animate));
+fetch('api/info').then((r) => r.json()).then((i) => { quiver.schema = i.schema || null; refreshInspector(); });

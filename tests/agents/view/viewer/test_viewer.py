@@ -190,3 +190,36 @@ def test_an_image_attribute_is_shown_in_the_inspector(page, writer):
     writer.write(lambda t: t.set("robot", "screen_width", 65))
     wait_for(page, "(() => { const n = [...quiver.nodes.values()].find((n) => n.name === 'robot');"
                    " return !n.images.some((i) => i.prefix === 'screen'); })()")
+
+
+def test_with_a_schema_the_inspector_shows_units_and_declared_types(tmp_path):
+    import json
+    world = tmp_path / "w.json"
+    world.write_text(json.dumps({"quiver_world": 1, "nodes": [
+        {"name": "robot", "type": "robot", "attrs": {"voltage": 24.5}},
+        {"name": "mug", "type": "mug"},
+        {"name": "boo", "type": "ghost"}]}))
+    schema = tmp_path / "vocab.json"
+    schema.write_text(json.dumps({"quiver_schema": 1,
+                                  "node_types": {"robot": {}, "thing": {}, "mug": {"is": "thing"}},
+                                  "edge_types": {},
+                                  "attributes": {"voltage": {"type": "double", "unit": "V", "min": 0, "max": 48}}}))
+    view, url = start_view(["--world", str(world), "--schema", str(schema)])
+    driver = chromium()
+    try:
+        driver.get(url)
+        wait_for(driver, "quiver.loadedMs !== null && quiver.schema !== null")
+        inspector = "document.getElementById('inspector').innerText"
+        driver.execute_script("quiver.inspectByName('robot')")
+        text = wait_for(driver, f"{inspector}.includes('24.5 V') && {inspector}")
+        assert "voltage" in text, text
+        title = driver.execute_script("return document.querySelector('#inspector tr[title]').title")
+        assert title == "declared double in [0, 48]", title
+        driver.execute_script("quiver.inspectByName('mug')")
+        assert "mug: thing" in wait_for(driver, f"{inspector}.includes('mug: thing') && {inspector}")
+        driver.execute_script("quiver.inspectByName('boo')")
+        assert "not in the schema" in wait_for(driver, f"{inspector}.includes('not in the schema') && {inspector}")
+        driver.save_screenshot(os.path.join(ARTIFACTS, "viewer-schema.png"))
+    finally:
+        driver.quit()
+        stop(view)

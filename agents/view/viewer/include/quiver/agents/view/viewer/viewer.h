@@ -38,6 +38,9 @@ struct ViewerOptions {
   /// Changes are pushed at most this often, and less often when pushing takes more than a tenth
   /// of the time.
   std::int64_t flush_ns = 33'000'000;
+  /// The shared vocabulary (docs/schema.md, Schema::to_json() parsed) the page shows: units and
+  /// declarations beside attributes, node types with their bases. Null: none.
+  nlohmann::json schema;
 };
 
 /// Where the page's files are: $QUIVER_VIEWER_ASSETS, else the source tree (a build that was not
