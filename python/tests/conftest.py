@@ -3,6 +3,7 @@ it at build/python/module); the C++ CLI from QUIVER_BIN (else build/quiver)."""
 import os
 import pathlib
 import sys
+import time
 
 import pytest
 
@@ -11,6 +12,16 @@ if "quiver" not in sys.modules and not any("module" in p for p in sys.path):
     sys.path.insert(0, str(ROOT / "build" / "python" / "module"))
 
 import quiver  # noqa: E402
+
+
+def wait(pred, timeout=10.0):
+    """Polls pred() every 20 ms until it is true or `timeout` seconds passed; its last value."""
+    end = time.monotonic() + timeout
+    while time.monotonic() < end:
+        if pred():
+            return True
+        time.sleep(0.02)
+    return pred()
 
 
 @pytest.fixture

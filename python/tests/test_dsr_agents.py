@@ -17,17 +17,9 @@ import numpy as np
 import pytest
 
 from quiver.dsr import DSRGraph, Edge, Node, Attribute, signals, rt_api
+from conftest import wait
 
 DOMAIN = 86
-
-
-def wait(pred, timeout=10.0):
-    end = time.monotonic() + timeout
-    while time.monotonic() < end:
-        if pred():
-            return True
-        time.sleep(0.02)
-    return pred()
 
 
 def world_file(tmp_path, nodes):

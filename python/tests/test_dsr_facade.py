@@ -12,23 +12,14 @@ quiver.Agent replicas over Cyclone DDS, loopback only.
 """
 
 import math
-import time
 
 import pytest
 
 import quiver
 from quiver.dsr import DSRGraph, Edge, Node, Attribute, signals, rt_api
+from conftest import wait
 
 DOMAIN = 88
-
-
-def wait(pred, timeout=10.0):
-    end = time.monotonic() + timeout
-    while time.monotonic() < end:
-        if pred():
-            return True
-        time.sleep(0.02)
-    return pred()
 
 
 @pytest.fixture
