@@ -61,8 +61,15 @@ class Printer {
       }
       emit(t, b, graph::to_string(c.kind), json{{"node", name}, {"type", c.type.str()}}, values, c.renamed);
     }
+    // An edge's end by name, also when the node went in the same batch (its last name).
+    auto end_name = [&](const graph::NodeId& id) {
+      std::string n = g_.name_of(id);
+      for (const graph::NodeChange& c : b.nodes)
+        if (n.empty() && c.id == id && c.kind == graph::ChangeKind::kDeleted) n = c.name;
+      return n;
+    };
     for (const graph::EdgeChange& c : b.edges) {
-      const std::string from = g_.name_of(c.key.from), to = g_.name_of(c.key.to);
+      const std::string from = end_name(c.key.from), to = end_name(c.key.to);
       if (!nodes_.empty() && !nodes_.count(from) && !nodes_.count(to)) continue;
       json values = json::object();
       if (c.kind == graph::ChangeKind::kDeleted) {

@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "commands.h"
+#include "grammar_schema.h"
 #include "quiver/agents/rules/grammar/grammar.h"
 #include "quiver/agents/rules/mission/mission.h"
 #include "quiver/agents/rules/planner/planner.h"
@@ -33,8 +34,24 @@ std::int64_t steady_ns() {
 
 using interop::load_any_world_file;
 
+// --schema (docs/schema.md): the mission, and the grammar when there is one, against the shared
+// vocabulary; an error listing what it does not declare.
+Status fits_schema(const std::string& path, const agents::Mission& m, const agents::Grammar* g) {
+  if (path.empty()) return {};
+  auto s = agents::schema::Schema::load(path);
+  if (!s.ok()) return s.error();
+  std::vector<std::string> errors;
+  pattern_schema_errors(m.pattern, *s, "mission", errors);
+  if (g != nullptr)
+    for (std::string& e : grammar_schema_errors(*g, *s)) errors.push_back(std::move(e));
+  if (errors.empty()) return {};
+  std::string what = "the schema " + path + " does not declare what the mission or the grammar uses:";
+  for (const std::string& e : errors) what += "\n  " + e;
+  return make_error(ErrorCode::kInvalidArgument, what);
+}
+
 struct MissionArgs {
-  std::string world, mission, domain;
+  std::string world, mission, domain, schema;
   std::vector<std::string> include_dirs;
   bool json = false;
 };
@@ -47,11 +64,14 @@ void run_mission_check(const MissionArgs& a) {
   auto m = agents::load_mission_file(a.mission);
   if (!m.ok()) return fail(m.error().message);
   agents::TypeSystem types;
+  std::optional<agents::Grammar> domain;
   if (!a.domain.empty()) {
     auto g = agents::load_grammar_file(a.domain, a.include_dirs);
     if (!g.ok()) return fail(g.error().message);
     types = g->types;
+    domain = std::move(*g);
   }
+  if (Status s = fits_schema(a.schema, *m, domain ? &*domain : nullptr); !s.ok()) return fail(s.error().message);
   graph::Graph g(graph::ReplicaId{0x6d697373696f6eULL, 1});
   if (Status s = load_any_world_file(g, a.world); !s.ok()) return fail(s.error().message);
   agents::MissionReport r = agents::check_mission(*m, g, types);
@@ -76,7 +96,7 @@ void run_mission_check(const MissionArgs& a) {
 }
 
 struct PlanArgs {
-  std::string grammar, world, mission;
+  std::string grammar, world, mission, schema;
   std::vector<std::string> include_dirs;
   double max_time_s = 60;
   int max_world_increment = 5;
@@ -133,6 +153,8 @@ void run_plan(const PlanArgs& a) {
     const std::int64_t t0 = steady_ns();
     auto loaded = load_problem(a.grammar, a.world, a.mission, a.include_dirs);
     if (!loaded.ok()) return fail(loaded.error().message);
+    if (run == 0)
+      if (Status s = fits_schema(a.schema, loaded->mission, &loaded->grammar); !s.ok()) return fail(s.error().message);
     p = std::move(*loaded);
     world = agents::symbolic::read_world(*p->graph, p->grammar.types);
     domain = std::make_unique<agents::planner::Domain>(p->grammar, world.vocabulary);
@@ -307,6 +329,9 @@ void add_planner_commands(CLI::App& app) {
       ->allow_extra_args(false)
       ->check(CLI::ExistingDirectory);
   check->add_flag("--json", ma->json, "one JSON line");
+  check->add_option("--schema", ma->schema,
+                    "the shared vocabulary (docs/schema.md): exit 2 if the mission (or --domain) uses what it does not declare")
+      ->check(CLI::ExistingFile);
   check->callback([ma] { run_mission_check(*ma); });
 
   auto pa = std::make_shared<PlanArgs>();
@@ -343,6 +368,9 @@ void add_planner_commands(CLI::App& app) {
                    "meaning of the rules, and tell whether it reaches the mission")
       ->check(CLI::ExistingFile);
   plan->add_flag("--json", pa->json, "one JSON line");
+  plan->add_option("--schema", pa->schema,
+                   "the shared vocabulary (docs/schema.md): exit 2 if the mission or the grammar uses what it does not declare")
+      ->check(CLI::ExistingFile);
   plan->callback([pa] { run_plan(*pa); });
 
   CLI::App* bench = app.get_subcommand("bench");

@@ -42,6 +42,14 @@ printf '{\n  m:mug\n  t:room\n  m->t(in)\n}\n' >"$work/m.aggt"
 "$q" schema check "$work/narrow.json" "$work/m.aggt" >"$work/narrow_mission" 2>&1 && fail "a mission with a mug passed"
 grep -q "mission: the node type 'mug' (variable m) is not in the schema" "$work/narrow_mission" ||
   fail "the mission error does not name the type: $(cat "$work/narrow_mission")"
+# quiver mission check and quiver plan take the schema too: exit 2, naming what it lacks.
+"$q" mission check "$world" "$work/m.aggt" --schema "$work/narrow.json" >"$work/mc" 2>&1
+[ $? = 2 ] || fail "mission check --schema did not exit 2: $(cat "$work/mc")"
+grep -q "does not declare what the mission or the grammar uses" "$work/mc" && grep -q "node type 'mug' (variable m)" "$work/mc" ||
+  fail "mission check --schema: $(cat "$work/mc")"
+"$q" plan "$grammar" "$world" "$work/m.aggt" --schema "$work/narrow.json" >"$work/pl" 2>&1
+[ $? = 2 ] || fail "plan --schema did not exit 2: $(cat "$work/pl")"
+grep -q "grasping.aggl:[0-9]*): the edge type" "$work/pl" || fail "plan --schema does not name the grammar's rule: $(cat "$work/pl")"
 # AGM's XML targets too (--mission: a file name cannot tell a target from an AGM world).
 printf '<AGMModel>\n<symbol id="tazaR" type="mug"/>\n<symbol id="5" type="room"/>\n<link src="tazaR" dst="5" label="in"/>\n</AGMModel>\n' >"$work/target.xml"
 "$q" schema check "$work/narrow.json" --mission "$work/target.xml" >"$work/narrow_xml" 2>&1 && fail "an XML target with a mug passed"
