@@ -420,6 +420,20 @@ TEST(ReplicatorTest, MalformedSamplesAreRejectedAndChangeNothing) {
   EXPECT_EQ(net.nodes[a].rep->stats().rejected, 3u);
 }
 
+// A malformed sample from a peer this replica knows names it by its name, not only its id.
+TEST(ReplicatorTest, AMalformedSampleFromAKnownPeerNamesIt) {
+  Net net;
+  int a = net.add(1), b = net.add(2);
+  net.advance(200'000'000);
+  ASSERT_EQ(net.nodes[a].rep->name_of(net.nodes[b].g->replica()), "agent2");
+  const PeerId bad = net.nodes[b].g->replica();
+  Sample s{bad, PeerId{}, DeltaMsg{bad, 5, 3, std::make_shared<const std::vector<std::uint8_t>>(), nullptr}};
+  net.nodes[a].rep->on_sample(s, net.now);
+  ASSERT_FALSE(net.nodes[a].errors.empty());
+  const std::string& m = net.nodes[a].errors.back().message;
+  EXPECT_EQ(m.rfind("from 'agent2' (" + bad.to_string() + "): delta: ", 0), 0u) << m;
+}
+
 TEST(ReplicatorTest, ARogueDeltaWithCorruptPayloadIsRejected) {
   Net net;
   int a = net.add(1), b = net.add(2);
