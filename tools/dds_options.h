@@ -23,6 +23,7 @@ struct DdsFlags : agents::ProcessFlags {
   void add_to(CLI::App* cmd) { add_dds(cmd); }
   /// A replica on the chosen domain and configuration; the other options come from `o`.
   Result<std::unique_ptr<agents::DdsReplica>> create_agent(agents::DdsReplicaOptions o) const {
+    if (Status s = check(); !s.ok()) return s.error();
     if (Status s = apply_to(o.dds); !s.ok()) return s.error();
     apply_to(o.replicator);
     if (!security.empty())

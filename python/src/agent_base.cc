@@ -219,15 +219,6 @@ void bind_agent_base(py::module_& m) {
         f.store_compact_mb = store_compact_mb;
         if (security) f.security = *security;
         f.membership = membership;
-        if (durability != "none" && durability != "batch" && durability != "always")
-          raise(make_error(ErrorCode::kInvalidArgument,
-                           "run_agent(): durability '" + durability + "' is none of none, batch, always"));
-        if (membership != "gossip" && membership != "all-to-all")
-          raise(make_error(ErrorCode::kInvalidArgument,
-                           "run_agent(): membership '" + membership + "' is neither gossip nor all-to-all"));
-        if (lease <= 0 || hand_over < 0 || store_compact_mb <= 0)
-          raise(make_error(ErrorCode::kInvalidArgument,
-                           "run_agent(): lease and store_compact_mb must be positive, hand_over not negative"));
         if (domain > 230)
           raise(make_error(ErrorCode::kInvalidArgument,
                            "run_agent(): domain " + std::to_string(domain) + " is above 230"));

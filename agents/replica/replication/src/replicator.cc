@@ -168,13 +168,8 @@ void Replicator::on_sample(const Sample& s, std::int64_t now_ns) {
   now_ = std::max(now_, now_ns);
   if (s.from == self_ || s.from.is_null()) return;
   if (!s.to.is_null() && !(s.to == self_)) return;
-  if (Status st = validate(s, opt_.limits); !st.ok()) {
-    // validate() names the sender by its id; a peer this replica knows is named by its name too.
-    Error e = st.error();
-    const std::string by_id = "from " + s.from.to_string() + ":";
-    if (e.message.rfind(by_id, 0) == 0) e.message = "from " + who(s.from) + ":" + e.message.substr(by_id.size());
-    return reject(e);
-  }
+  if (Status st = validate(s, opt_.limits, [this](const PeerId& id) { return who(id); }); !st.ok())
+    return reject(st.error());
   ++stats_.samples_received;
   if (heard_from(s.from) == nullptr) return;
   addressed_ = !s.to.is_null();

@@ -100,12 +100,13 @@ Status check(const ByeMsg&, const SampleLimits&) { return {}; }
 
 }  // namespace
 
-Status validate(const Sample& s, const SampleLimits& lim) {
+Status validate(const Sample& s, const SampleLimits& lim, const std::function<std::string(const PeerId&)>& who) {
   if (s.from.is_null()) return make_error(ErrorCode::kMalformed, "a sample from the null replica");
   Status st = std::visit([&](const auto& msg) { return check(msg, lim); }, s.message);
   if (!st.ok())
     return make_error(st.error().code,
-                      "from " + s.from.to_string() + ": " + message_kind(s.message) + ": " + st.error().message);
+                      "from " + (who ? who(s.from) : s.from.to_string()) + ": " + message_kind(s.message) + ": " +
+                          st.error().message);
   return {};
 }
 

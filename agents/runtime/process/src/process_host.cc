@@ -186,7 +186,18 @@ Status ProcessFlags::apply_schema(DdsReplicaOptions& o) const {
   return {};
 }
 
+Status ProcessFlags::check() const {
+  if (membership != "gossip" && membership != "all-to-all")
+    return make_error(ErrorCode::kInvalidArgument, "--membership: '" + membership + "' is neither gossip nor all-to-all");
+  if (auto d = parse_durability(durability); !d.ok()) return make_error(d.error().code, "--durability: " + d.error().message);
+  if (!(lease_s > 0)) return make_error(ErrorCode::kInvalidArgument, "--lease: must be positive");
+  if (!(hand_over_s >= 0)) return make_error(ErrorCode::kInvalidArgument, "--hand-over: must not be negative");
+  if (!(store_compact_mb > 0)) return make_error(ErrorCode::kInvalidArgument, "--store-compact-mb: must be positive");
+  return {};
+}
+
 Result<DdsReplicaOptions> replica_options(const std::string& name, const ProcessFlags& f) {
+  if (Status s = f.check(); !s.ok()) return s.error();
   DdsReplicaOptions o;
   o.name = name;
   f.apply_to(o.replicator);
@@ -198,9 +209,7 @@ Result<DdsReplicaOptions> replica_options(const std::string& name, const Process
   if (!f.store.empty()) {
     StoreOptions so;
     so.dir = f.store;
-    auto d = parse_durability(f.durability);
-    if (!d.ok()) return make_error(d.error().code, "--durability: " + d.error().message);
-    so.durability = *d;
+    so.durability = *parse_durability(f.durability);  // checked above
     so.compact_log_bytes = static_cast<std::size_t>(f.store_compact_mb * (1 << 20));
     o.store = so;
   }

@@ -8,6 +8,8 @@
 /// message, the field and the value.
 
 #include <cstdint>
+#include <functional>
+#include <string>
 
 #include "quiver/agents/replica/replication/messages.h"
 #include "quiver/graph/limits.h"
@@ -28,10 +30,13 @@ struct SampleLimits {
 
 /// Checks a sample against `limits`. Pure and thread-safe; payloads are not decoded here (the
 /// replicator decodes a delta's payload after this check).
+/// `who`, if given, names the sender in errors (a replicator: "'speech' (<id>)"); else its id. It
+/// is called only for a refused sample.
 /// @returns kMalformed or kTooLarge naming the sender, the message kind, the field and the value.
 ///          kMalformed: a null sender or origin, a range or interval with lo = 0, hi < lo or a
 ///          counter above crdt::kMaxCounter, an empty payload or chunk, a chunk index out of
 ///          range, a name not UTF-8. kTooLarge: a count or size over `limits`.
-Status validate(const Sample& s, const SampleLimits& limits = {});
+Status validate(const Sample& s, const SampleLimits& limits = {},
+                const std::function<std::string(const PeerId&)>& who = {});
 
 }  // namespace quiver::agents

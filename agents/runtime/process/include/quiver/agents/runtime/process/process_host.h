@@ -67,7 +67,11 @@ struct ProcessFlags {
   /// --hang, --hand-over, --store, --durability.
   /// And --store-compact-mb. @pre as add_dds().
   void add_all(CLI::App* cmd);
-  /// The replicator options these flags choose (--membership) on `o`.
+  /// Ok, or what is wrong with a value the command line would have refused (set in code, e.g. from
+  /// Python's run_agent()): a membership, durability, lease, hand-over or compaction size.
+  /// replica_options() and every command's create_agent() check first.
+  Status check() const;
+  /// The replicator options these flags choose (--membership) on `o`. @pre check() is ok.
   void apply_to(ReplicatorOptions& o) const { o.gossip = membership == "gossip"; }
   /// Sets the DDS configuration these flags choose (domain, source, loss) on `c`.
   /// For a `dds_config` that names a file, reads it as the XML. Security is not set here
