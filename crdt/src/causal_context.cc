@@ -9,9 +9,15 @@
 namespace quiver::crdt {
 
 std::string ReplicaId::to_string() const {
+  std::string s;
+  write_to(s);
+  return s;
+}
+
+void ReplicaId::write_to(std::string& out) const {
   char buf[48];
-  std::snprintf(buf, sizeof buf, "%016" PRIx64 ".%" PRIu64, agent, incarnation);
-  return buf;
+  const int n = std::snprintf(buf, sizeof buf, "%016" PRIx64 ".%" PRIu64, agent, incarnation);
+  out.assign(buf, static_cast<std::size_t>(n));
 }
 
 std::string Dot::to_string() const { return replica.to_string() + ":" + std::to_string(counter); }
@@ -33,16 +39,32 @@ std::uint64_t& CausalContext::find_or_add(const ReplicaId& r) {
   return replicas_.insert(it, {r, 0})->second;
 }
 
+std::pair<CausalContext::CloudIt, CausalContext::CloudIt> CausalContext::cloud(const ReplicaId& r) const {
+  if (cloud_.empty()) return {cloud_.end(), cloud_.end()};
+  auto first = std::lower_bound(cloud_.begin(), cloud_.end(), r,
+                                [](const CloudRange& c, const ReplicaId& key) { return c.replica < key; });
+  auto last = std::upper_bound(first, cloud_.cend(), r,
+                               [](const ReplicaId& key, const CloudRange& c) { return key < c.replica; });
+  return {first, last};
+}
+
+namespace {
+// The first range of [first, last) (ascending, disjoint) that starts beyond `counter`.
+template <class It>
+It starting_beyond(It first, It last, std::uint64_t counter) {
+  return std::upper_bound(first, last, counter, [](std::uint64_t c, const auto& range) { return c < range.lo; });
+}
+}  // namespace
+
 bool CausalContext::contains(const ReplicaId& r, std::uint64_t counter) const {
   const std::uint64_t* max = find(r);
   if (max == nullptr || counter == 0) return false;
   if (counter <= *max) return true;
-  const Cloud* c = cloud(r);
-  if (c == nullptr) return false;
-  auto it = c->upper_bound(counter);
-  if (it == c->begin()) return false;
+  auto [first, last] = cloud(r);
+  auto it = starting_beyond(first, last, counter);
+  if (it == first) return false;
   --it;
-  return counter <= it->second;
+  return counter <= it->hi;
 }
 
 void CausalContext::add_range(const ReplicaId& r, std::uint64_t lo, std::uint64_t hi) {
@@ -53,36 +75,37 @@ void CausalContext::add_range(const ReplicaId& r, std::uint64_t lo, std::uint64_
   max_overall_ = std::max(max_overall_, hi);
   std::uint64_t& max = find_or_add(r);
   if (hi <= max) return;
+  auto [cfirst, clast] = cloud(r);
+  // Positions into cloud_ (erasing and inserting below keep them meaningful).
+  const std::size_t first = static_cast<std::size_t>(cfirst - cloud_.cbegin());
+  std::size_t last = static_cast<std::size_t>(clast - cloud_.cbegin());
   if (lo - 1 <= max) {
     max = hi;
     // Absorb cloud ranges that the version vector has reached.
-    if (clouds_.empty()) return;
-    auto c = clouds_.find(r);
-    if (c == clouds_.end()) return;
-    auto it = c->second.begin();
-    while (it != c->second.end() && it->first - 1 <= max) {
-      max = std::max(max, it->second);
-      it = c->second.erase(it);
-    }
-    if (c->second.empty()) clouds_.erase(c);
+    std::size_t reached = first;
+    while (reached != last && cloud_[reached].lo - 1 <= max) max = std::max(max, cloud_[reached++].hi);
+    cloud_.erase(cloud_.begin() + first, cloud_.begin() + reached);
     return;
   }
-  // Insert [lo, hi] into the cloud, merging with overlapping or adjacent ranges.
-  Cloud& cloud = clouds_[r];
-  auto it = cloud.upper_bound(lo);
-  if (it != cloud.begin()) {
-    auto prev = std::prev(it);
-    if (prev->second >= lo - 1) {
-      if (prev->second >= hi) return;
-      lo = prev->first;
-      it = prev;
+  // Insert [lo, hi] into the replica's ranges, merging with overlapping or adjacent ones.
+  std::size_t at = static_cast<std::size_t>(
+      starting_beyond(cloud_.begin() + first, cloud_.begin() + last, lo) - cloud_.begin());
+  if (at != first) {
+    const CloudRange& prev = cloud_[at - 1];
+    if (prev.hi >= lo - 1) {
+      if (prev.hi >= hi) return;
+      lo = prev.lo;
+      --at;
     }
   }
-  while (it != cloud.end() && it->first - 1 <= hi) {
-    hi = std::max(hi, it->second);
-    it = cloud.erase(it);
+  std::size_t end = at;
+  while (end != last && cloud_[end].lo - 1 <= hi) hi = std::max(hi, cloud_[end++].hi);
+  if (end > at) {
+    cloud_[at] = CloudRange{r, lo, hi};
+    cloud_.erase(cloud_.begin() + at + 1, cloud_.begin() + end);
+  } else {
+    cloud_.insert(cloud_.begin() + at, CloudRange{r, lo, hi});
   }
-  cloud.emplace(lo, hi);
 }
 
 void CausalContext::join(const CausalContext& other) {
@@ -95,25 +118,23 @@ bool CausalContext::includes(const ReplicaId& r, std::uint64_t lo, std::uint64_t
   const std::uint64_t* max = find(r);
   if (max == nullptr) return false;
   if (hi <= *max) return true;
-  const Cloud* c = cloud(r);
-  if (c == nullptr) return false;
+  auto [first, last] = cloud(r);
   const std::uint64_t from = std::max(lo, *max + 1);
-  auto it = c->upper_bound(from);
-  if (it == c->begin()) return false;
+  auto it = starting_beyond(first, last, from);
+  if (it == first) return false;
   --it;
-  return it->first <= from && hi <= it->second;
+  return it->lo <= from && hi <= it->hi;
 }
 
 bool CausalContext::intersects(const ReplicaId& r, std::uint64_t lo, std::uint64_t hi) const {
   const std::uint64_t* max = find(r);
   if (max == nullptr) return false;
   if (lo <= *max) return true;
-  const Cloud* c = cloud(r);
-  if (c == nullptr) return false;
-  auto it = c->upper_bound(hi);  // the first range starting beyond hi
-  if (it == c->begin()) return false;
+  auto [first, last] = cloud(r);
+  auto it = starting_beyond(first, last, hi);
+  if (it == first) return false;
   --it;
-  return it->second >= lo;
+  return it->hi >= lo;
 }
 
 bool CausalContext::includes(const CausalContext& other) const {
@@ -134,26 +155,24 @@ CausalContext CausalContext::minus(const CausalContext& other) const {
     }
     std::uint64_t cur = std::max(lo, *max + 1);
     if (cur > hi) return;
-    static const Cloud kNone;
-    const Cloud* c = other.cloud(r);
-    const Cloud& cl = c ? *c : kNone;
     // Walk the other side's cloud ranges that intersect [cur, hi].
-    auto it = cl.upper_bound(cur);
-    if (it != cl.begin()) {
+    auto [first, last] = other.cloud(r);
+    auto it = starting_beyond(first, last, cur);
+    if (it != first) {
       auto prev = std::prev(it);
-      if (prev->second >= cur) {
-        if (prev->second >= hi) return;  // covered to the end (also avoids wrapping at 2^64 - 1)
-        cur = prev->second + 1;
+      if (prev->hi >= cur) {
+        if (prev->hi >= hi) return;  // covered to the end (also avoids wrapping at 2^64 - 1)
+        cur = prev->hi + 1;
       }
     }
     while (cur <= hi) {
-      if (it == cl.end() || it->first > hi) {
+      if (it == last || it->lo > hi) {
         out.add_range(r, cur, hi);
         break;
       }
-      if (it->first > cur) out.add_range(r, cur, it->first - 1);
-      if (it->second >= hi) break;  // covered to the end (also avoids wrapping at 2^64 - 1)
-      cur = it->second + 1;
+      if (it->lo > cur) out.add_range(r, cur, it->lo - 1);
+      if (it->hi >= hi) break;  // covered to the end (also avoids wrapping at 2^64 - 1)
+      cur = it->hi + 1;
       ++it;
     }
   });
@@ -168,23 +187,18 @@ std::uint64_t CausalContext::contiguous(const ReplicaId& r) const {
 std::uint64_t CausalContext::max_counter(const ReplicaId& r) const {
   const std::uint64_t* max = find(r);
   if (max == nullptr) return 0;
-  const Cloud* c = cloud(r);
-  return c == nullptr ? *max : c->rbegin()->second;
+  auto [first, last] = cloud(r);
+  return first == last ? *max : std::prev(last)->hi;
 }
 
 std::size_t CausalContext::range_count() const {
   std::size_t n = 0;
   for (const auto& [r, max] : replicas_) n += max > 0 ? 1 : 0;
-  for (const auto& [r, c] : clouds_) n += c.size();
-  return n;
+  return n + cloud_.size();
 }
 
 std::size_t CausalContext::memory_bytes() const {
-  // A std::map node: its value plus about 48 bytes (links, colour, allocator overhead).
-  constexpr std::size_t kNode = 48;
-  std::size_t n = replicas_.capacity() * sizeof(replicas_[0]);
-  for (const auto& [r, c] : clouds_) n += kNode + sizeof(r) + sizeof(c) + c.size() * (kNode + 16);
-  return n;
+  return replicas_.capacity() * sizeof(replicas_[0]) + cloud_.capacity() * sizeof(CloudRange);
 }
 
 std::uint64_t CausalContext::dot_count() const {
@@ -209,7 +223,7 @@ Digest128 CausalContext::digest() const {
 }
 
 bool operator==(const CausalContext& a, const CausalContext& b) {
-  return a.replicas_ == b.replicas_ && a.clouds_ == b.clouds_;
+  return a.replicas_ == b.replicas_ && a.cloud_ == b.cloud_;
 }
 
 }  // namespace quiver::crdt

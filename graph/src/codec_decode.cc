@@ -12,10 +12,28 @@ namespace {
 
 using namespace internal;
 
+// A message's tables, kept per thread from one message to the next: decoding a delta like the
+// last one allocates nothing. Tables a large state grew are released after it.
+struct DecodeTables {
+  std::vector<ReplicaId> replicas;
+  std::vector<Symbol> symbols;
+  std::vector<std::string_view> names;
+};
+
 class Decoder {
  public:
   Decoder(std::span<const std::uint8_t> in, GraphDelta& out, const DecodeLimits& lim)
-      : r_(in, "graph delta"), d_(out), lim_(lim) {}
+      : r_(in, "graph delta"), d_(out), lim_(lim) {
+    replicas_.clear();
+    symbols_.clear();
+    names_.clear();
+  }
+  ~Decoder() {
+    if (replicas_.capacity() + symbols_.capacity() > kKeptEntries) tables_ = DecodeTables{};
+    names_.clear();  // they view the input
+  }
+  Decoder(const Decoder&) = delete;
+  Decoder& operator=(const Decoder&) = delete;
 
   Status run() {
     d_.clear();
@@ -451,9 +469,11 @@ class Decoder {
   bytes::Reader r_;
   GraphDelta& d_;
   const DecodeLimits& lim_;
-  std::vector<ReplicaId> replicas_;
-  std::vector<Symbol> symbols_;
-  std::vector<std::string_view> names_;  // the message's table, viewing the input
+  static constexpr std::size_t kKeptEntries = 64;
+  static thread_local DecodeTables tables_;
+  std::vector<ReplicaId>& replicas_ = tables_.replicas;
+  std::vector<Symbol>& symbols_ = tables_.symbols;
+  std::vector<std::string_view>& names_ = tables_.names;  // the message's table, viewing the input
   bool provisional_ = false;
   bool implicit_ = false;
   bool sorted_ = false;
@@ -462,6 +482,8 @@ class Decoder {
   std::uint64_t next_implicit_ = 0;
   std::uint64_t base_ = 0;
 };
+
+thread_local DecodeTables Decoder::tables_;
 
 }  // namespace
 

@@ -12,10 +12,29 @@ namespace {
 
 using namespace internal;
 
+// A message's tables, kept per thread from one message to the next: encoding a delta like the
+// last one allocates nothing. Tables a large state grew are released after it.
+struct EncodeTables {
+  std::vector<ReplicaId> replicas;
+  std::unordered_map<ReplicaId, std::uint64_t> rmap;
+  std::vector<Symbol> symbols;
+  std::unordered_map<Symbol, std::uint64_t> smap;
+};
+
 class Encoder {
  public:
   Encoder(const GraphDelta& d, std::vector<std::uint8_t>& out, std::uint64_t seq_lo, std::uint64_t seq_hi)
-      : d_(d), w_(out), seq_lo_(seq_lo), seq_hi_(seq_hi) {}
+      : d_(d), w_(out), seq_lo_(seq_lo), seq_hi_(seq_hi) {
+    replicas_.clear();
+    symbols_.clear();
+    rmap_.clear();
+    smap_.clear();
+  }
+  ~Encoder() {
+    if (replicas_.size() + symbols_.size() > kKeptEntries) tables_ = EncodeTables{};
+  }
+  Encoder(const Encoder&) = delete;
+  Encoder& operator=(const Encoder&) = delete;
 
   void run() {
     collect_tables();
@@ -350,11 +369,13 @@ class Encoder {
   const GraphDelta& d_;
   bytes::Writer w_;
   std::uint64_t seq_lo_, seq_hi_;
-  std::vector<ReplicaId> replicas_;
-  std::unordered_map<ReplicaId, std::uint64_t> rmap_;
+  static constexpr std::size_t kKeptEntries = 64;
+  static thread_local EncodeTables tables_;
+  std::vector<ReplicaId>& replicas_ = tables_.replicas;
+  std::unordered_map<ReplicaId, std::uint64_t>& rmap_ = tables_.rmap;
   std::size_t rlast_ = 0;
-  std::vector<Symbol> symbols_;
-  std::unordered_map<Symbol, std::uint64_t> smap_;
+  std::vector<Symbol>& symbols_ = tables_.symbols;
+  std::unordered_map<Symbol, std::uint64_t>& smap_ = tables_.smap;
   std::size_t slast_ = 0;
   bool implicit_ = false;
   bool sorted_ = true;
@@ -364,12 +385,23 @@ class Encoder {
   std::uint64_t base_ = 0;
 };
 
+thread_local EncodeTables Encoder::tables_;
+
 }  // namespace
 
-void encode(const GraphDelta& d, std::vector<std::uint8_t>& out) { Encoder(d, out, d.seq_lo, d.seq_hi).run(); }
+void encode(const GraphDelta& d, std::vector<std::uint8_t>& out) { encode(d, out, d.seq_lo, d.seq_hi); }
 
 void encode(const GraphDelta& d, std::vector<std::uint8_t>& out, std::uint64_t seq_lo, std::uint64_t seq_hi) {
-  Encoder(d, out, seq_lo, seq_hi).run();
+  if (out.capacity() != 0) return Encoder(d, out, seq_lo, seq_hi).run();
+  // A fresh vector (encode(d), a message kept apart): encoded in this thread's scratch, then
+  // copied once at its size, rather than grown a byte at a time (a small delta reallocated eight
+  // times). A large state's scratch is released after it.
+  constexpr std::size_t kKeptScratch = 64 * 1024;
+  thread_local std::vector<std::uint8_t> scratch;
+  scratch.clear();
+  Encoder(d, scratch, seq_lo, seq_hi).run();
+  out.assign(scratch.begin(), scratch.end());
+  if (scratch.capacity() > kKeptScratch) std::vector<std::uint8_t>().swap(scratch);
 }
 
 std::vector<std::uint8_t> encode(const GraphDelta& d) {

@@ -15,9 +15,7 @@ namespace quiver::graph {
 void Transaction::abort() {
   release();
   ops_.clear();
-  Graph* g = graph_;
-  book_ = std::make_unique<Book>();
-  book_->epoch = g->impl_->epoch;
+  book_->reset(graph_->impl_->epoch);
 }
 
 Status Transaction::revalidate() const {

@@ -122,7 +122,8 @@ std::vector<std::pair<Symbol, Value>> Graph::Impl::last_rt_values(const RtView& 
 
 // A change of an RT edge's attributes (rt:<name> on its child) is a change of that edge too, as
 // DSR reports it: named <name> in the edge's change, merged with a pose change of the same edge.
-void Graph::Impl::report_rt_attrs(ChangeBatch& b, std::size_t first_rt) const {
+void Graph::Impl::report_rt_attrs(Dispatch& d, std::size_t first_rt) const {
+  ChangeBatch& b = d.batch;
   for (const NodeChange& n : b.nodes) {
     if (n.kind != ChangeKind::kUpdated) continue;
     std::vector<Symbol> names;
@@ -136,7 +137,7 @@ void Graph::Impl::report_rt_attrs(ChangeBatch& b, std::size_t first_rt) const {
     auto same = std::find_if(b.edges.begin() + static_cast<std::ptrdiff_t>(first_rt), b.edges.end(),
                              [&](const EdgeChange& e) { return e.key == key && e.kind != ChangeKind::kDeleted; });
     if (same == b.edges.end()) {
-      b.edges.push_back(EdgeChange{key, ChangeKind::kUpdated, std::move(names)});
+      d.add_edge(key, ChangeKind::kUpdated).attrs = std::move(names);
     } else if (same->kind == ChangeKind::kUpdated) {
       same->attrs.insert(same->attrs.end(), names.begin(), names.end());
     }
@@ -170,78 +171,136 @@ void Graph::Impl::touch_incident_edges(NodeRec* r) {
   for (EdgeRec* e : r->in) touch_edge(*e);  // a self-loop again: touching is idempotent
 }
 
+void Graph::Impl::Dispatch::recycle() {
+  for (NodeChange& c : batch.nodes) spare_nodes.push_back(std::move(c));
+  for (EdgeChange& c : batch.edges) spare_edges.push_back(std::move(c));
+  batch.nodes.clear();
+  batch.edges.clear();
+}
+
+namespace {
+// A change appended to `into`: the last spare when there is one (its containers keep their capacity).
+template <class Change>
+Change& append_recycled(std::vector<Change>& into, std::vector<Change>& spares) {
+  if (spares.empty()) return into.emplace_back();
+  into.push_back(std::move(spares.back()));
+  spares.pop_back();
+  return into.back();
+}
+}  // namespace
+
+NodeChange& Graph::Impl::Dispatch::add_node(NodeId id, ChangeKind kind, Symbol type) {
+  NodeChange& c = append_recycled(batch.nodes, spare_nodes);
+  c.id = id;
+  c.kind = kind;
+  c.type = type;
+  c.attrs.clear();
+  c.renamed = false;
+  c.name.clear();
+  c.values.clear();
+  return c;
+}
+
+EdgeChange& Graph::Impl::Dispatch::add_edge(const EdgeKey& key, ChangeKind kind) {
+  EdgeChange& c = append_recycled(batch.edges, spare_edges);
+  c.key = key;
+  c.kind = kind;
+  c.attrs.clear();
+  c.values.clear();
+  return c;
+}
+
+void Graph::Impl::Dispatch::drop_last_node() {
+  spare_nodes.push_back(std::move(batch.nodes.back()));
+  batch.nodes.pop_back();
+}
+
+void Graph::Impl::Dispatch::drop_last_edge() {
+  spare_edges.push_back(std::move(batch.edges.back()));
+  batch.edges.pop_back();
+}
+
 void Graph::Impl::finish_tracking(bool local, ReplicaId origin,
                                   const std::vector<std::pair<NodeRec*, NodeRec*>>*) {
   if (!tracker.enabled) return;
-  ChangeBatch b;
+  if (dispatch_depth == dispatches.size()) dispatches.push_back(std::make_unique<Dispatch>());
+  Dispatch& d = *dispatches[dispatch_depth];
+  d.recycle();
+  ChangeBatch& b = d.batch;
   b.local = local;
   b.origin = origin;
   for (auto& t : tracker.nodes()) {
     const NodeRec* r = find_node(t.id);
     bool now = r && r->alive;
     if (!t.was_alive && now) {
-      NodeChange c{t.id, ChangeKind::kCreated, r->type, {}, false};
+      NodeChange& c = d.add_node(t.id, ChangeKind::kCreated, r->type);
       for (const AttrSlot& a : r->attrs)
         c.attrs.push_back(a.name);  // all of them, whenever they came
-      b.nodes.push_back(std::move(c));
     } else if (t.was_alive && !now) {
-      NodeChange c{t.id, ChangeKind::kDeleted, t.type, {}, false, std::move(t.last_name), std::move(t.last_values)};
-      b.nodes.push_back(std::move(c));
+      NodeChange& c = d.add_node(t.id, ChangeKind::kDeleted, t.type);
+      c.name = std::move(t.last_name);
+      c.values = std::move(t.last_values);
     } else if (now) {
-      NodeChange c{t.id, ChangeKind::kUpdated, r->type, {}, false};
+      NodeChange& c = d.add_node(t.id, ChangeKind::kUpdated, r->type);
       for (const auto& [name, fp] : t.attrs)
         if (register_fingerprint(r->attrs, name) != fp) c.attrs.push_back(name);
       c.renamed = t.name_saved && visible_name(*r) != t.name_before;
-      if (!c.attrs.empty() || c.renamed) b.nodes.push_back(std::move(c));
+      if (c.attrs.empty() && !c.renamed) d.drop_last_node();
     }
   }
   for (auto& t : tracker.edges()) {
-    const EdgeRec* e = find_edge(t.key);
+    const EdgeRec* e = find_edge(t.edge);
     const bool now = e && edge_visible(*e);
     if (!t.was_visible && now) {
-      EdgeChange c{t.key, ChangeKind::kCreated, {}};
+      EdgeChange& c = d.add_edge(t.edge, ChangeKind::kCreated);
       for (const AttrSlot& a : e->attrs) c.attrs.push_back(a.name);
-      b.edges.push_back(std::move(c));
     } else if (t.was_visible && !now) {
-      b.edges.push_back(EdgeChange{t.key, ChangeKind::kDeleted, {}, std::move(t.last_values)});
+      d.add_edge(t.edge, ChangeKind::kDeleted).values = std::move(t.last_values);
     } else if (now) {
-      EdgeChange c{t.key, ChangeKind::kUpdated, {}};
+      EdgeChange& c = d.add_edge(t.edge, ChangeKind::kUpdated);
       for (const auto& [name, fp] : t.attrs)
         if (register_fingerprint(e->attrs, name) != fp) c.attrs.push_back(name);
       const bool version = t.version_saved && dots_fingerprint(e->exists) != t.version_before;
-      if (!c.attrs.empty() || version) b.edges.push_back(std::move(c));
+      if (c.attrs.empty() && !version) d.drop_last_edge();
     }
   }
   const std::size_t first_rt = b.edges.size();
-  for (const auto& [child, before] : tracker.rt_before()) {
+  for (const auto& rt : tracker.rt_before()) {
+    const NodeId child = rt.child;
+    const RtView& before = rt.before;
     const NodeRec* c = find_node(child);
     const RtView after = c ? rt_view(*c) : RtView{};
     if (after == before) continue;
     if (before.parent != after.parent) {
       if (!before.parent.is_null())
-        b.edges.push_back(EdgeChange{EdgeKey{before.parent, child, symbols::rt()}, ChangeKind::kDeleted, {},
-                                     last_rt_values(before, b.nodes, child, c)});
+        d.add_edge(EdgeKey{before.parent, child, symbols::rt()}, ChangeKind::kDeleted).values =
+            last_rt_values(before, b.nodes, child, c);
       if (!after.parent.is_null())
-        b.edges.push_back(EdgeChange{
-            EdgeKey{after.parent, child, symbols::rt()}, ChangeKind::kCreated, {symbols::pose()}});
+        d.add_edge(EdgeKey{after.parent, child, symbols::rt()}, ChangeKind::kCreated).attrs.push_back(symbols::pose());
     } else if (!after.parent.is_null()) {
-      b.edges.push_back(EdgeChange{
-          EdgeKey{after.parent, child, symbols::rt()}, ChangeKind::kUpdated, {symbols::pose()}});
+      d.add_edge(EdgeKey{after.parent, child, symbols::rt()}, ChangeKind::kUpdated).attrs.push_back(symbols::pose());
     }
   }
-  report_rt_attrs(b, first_rt);
+  report_rt_attrs(d, first_rt);
   tracker.reset();
   tracker.enabled = false;
   if (b.empty()) return;
-  b.origin_name = origin_namer ? origin_namer(origin) : origin.to_string();
-  // Copy: a callback may unsubscribe.
-  auto subs = subscribers;
-  for (auto& [id, cb] : subs) cb(b);
+  name_origin(origin, b.origin_name);
+  // The subscribers at the start: one added by a callback hears the next batch; one removed by a
+  // callback (marked until the dispatch ends) is not called again.
+  ++dispatch_depth;
+  const std::size_t n = subscribers.size();
+  for (std::size_t i = 0; i < n; ++i)
+    if (!subscribers[i].removed) subscribers[i].cb(b);
+  if (--dispatch_depth == 0 && unsubscribed_in_dispatch) {
+    unsubscribed_in_dispatch = false;
+    std::erase_if(subscribers, [](const Subscriber& s) { return s.removed; });
+  }
 }
 
 Graph::SubscriptionId Graph::subscribe(ChangeCallback cb) {
   SubscriptionId id = impl_->next_subscription++;
-  impl_->subscribers.emplace_back(id, std::move(cb));
+  impl_->subscribers.push_back(Impl::Subscriber{id, std::move(cb)});
   return id;
 }
 
@@ -256,13 +315,19 @@ Graph::SubscriptionId Graph::subscribe(ChangeFilter filter, ChangeCallback cb) {
 void Graph::set_origin_namer(OriginNamer namer) { impl_->origin_namer = std::move(namer); }
 
 std::string Graph::origin_name(const ReplicaId& id) const {
-  return impl_->origin_namer ? impl_->origin_namer(id) : id.to_string();
+  std::string name;
+  impl_->name_origin(id, name);
+  return name;
 }
 
 void Graph::unsubscribe(SubscriptionId id) {
   auto& s = impl_->subscribers;
-  s.erase(std::remove_if(s.begin(), s.end(), [&](const auto& p) { return p.first == id; }),
-          s.end());
+  if (impl_->dispatch_depth == 0) return (void)std::erase_if(s, [&](const Impl::Subscriber& x) { return x.id == id; });
+  for (Impl::Subscriber& x : s)
+    if (x.id == id && !x.removed) {
+      x.removed = true;
+      impl_->unsubscribed_in_dispatch = true;
+    }
 }
 
 }  // namespace quiver::graph

@@ -2,8 +2,11 @@
 // Private: the records behind quiver::graph::Graph.
 
 #include <algorithm>
+#include <deque>
 #include <functional>
 #include <map>
+#include <memory>
+#include <span>
 #include <string>
 #include <unordered_map>
 #include <unordered_set>
@@ -12,6 +15,8 @@
 #include "quiver/crdt/dot_store.h"
 #include "quiver/crdt/small_vector.h"
 #include "quiver/graph/graph.h"
+#include "small_index.h"
+#include "transaction_book.h"
 
 namespace quiver::graph {
 
@@ -76,6 +81,38 @@ struct RtView {
   bool operator==(const RtView&) const = default;
 };
 
+/// Entries of one kind a batch touched, kept from batch to batch so that their containers keep
+/// their capacity (a batch like the last one allocates nothing).
+template <class Key, class Touch>
+class TouchList {
+ public:
+  Touch* find(const Key& k) {
+    const std::size_t i = index_.find(k, n_, [this](std::size_t j) { return items_[j].key(); });
+    return i == SmallIndex<Key>::npos ? nullptr : &items_[i];
+  }
+  const Touch* find(const Key& k) const { return const_cast<TouchList*>(this)->find(k); }
+  /// A fresh entry (recycled: its containers empty) for `k`, which find() did not find.
+  Touch& add(const Key& k) {
+    if (n_ == items_.size()) items_.emplace_back();
+    Touch& t = items_[n_++];
+    t.recycle(k);
+    index_.added(k, n_, [this](std::size_t j) { return items_[j].key(); });
+    return t;
+  }
+  std::span<Touch> items() { return {items_.data(), n_}; }
+  void reset() {
+    n_ = 0;
+    index_.clear();
+    if (items_.size() > kKeep) items_.resize(kKeep);
+  }
+
+ private:
+  static constexpr std::size_t kKeep = 64;
+  std::vector<Touch> items_;
+  std::size_t n_ = 0;
+  SmallIndex<Key> index_;
+};
+
 /// Collects what a commit or merge changed, to produce a ChangeBatch. Node and symbolic edge
 /// changes are noted as they happen; RT edges are compared as a whole: the view of every child
 /// whose kinematic state may change is saved before its first change in the batch, and
@@ -85,11 +122,9 @@ class ChangeTracker {
   bool enabled = false;
 
   void reset() {
-    node_index_.clear();
-    nodes_.clear();
-    edge_index_.clear();
-    edges_.clear();
-    rt_before_.clear();
+    nodes_.reset();
+    edges_.reset();
+    rt_before_.reset();
   }
   // Attributes are compared by a fingerprint of their register (the values a reader sees),
   // saved before the first change in the batch.
@@ -97,7 +132,7 @@ class ChangeTracker {
   using Values = std::vector<std::pair<Symbol, Value>>;
   struct NodeTouch {
     NodeId id;
-    bool was_alive;
+    bool was_alive = false;
     Symbol type;
     AttrBefore attrs;
     bool name_saved = false;  // its visible name may change: name_before holds the old one
@@ -105,53 +140,73 @@ class ChangeTracker {
     bool last_saved = false;  // it may be deleted: its name and values before (save_last())
     std::string last_name;
     Values last_values;
+    const NodeId& key() const { return id; }
+    void recycle(NodeId k) {
+      id = k;
+      attrs.clear();
+      name_saved = last_saved = false;
+      name_before.clear();
+      last_name.clear();
+      last_values.clear();
+    }
   };
   struct EdgeTouch {
-    EdgeKey key;
-    bool was_visible;
+    EdgeKey edge;
+    bool was_visible = false;
     AttrBefore attrs;
     bool version_saved = false;  // its existence dots may change: version_before fingerprints them
     std::uint64_t version_before = 0;
     bool last_saved = false;  // it may be deleted: its values before (save_last())
     Values last_values;
+    const EdgeKey& key() const { return edge; }
+    void recycle(const EdgeKey& k) {
+      edge = k;
+      attrs.clear();
+      version_saved = last_saved = false;
+      version_before = 0;
+      last_values.clear();
+    }
+  };
+  struct RtTouch {
+    NodeId child;
+    RtView before;
+    const NodeId& key() const { return child; }
+    void recycle(NodeId k) { child = k; }
   };
   NodeTouch* touch_node(NodeId id, bool was_alive, Symbol type) {
-    auto [it, fresh] = node_index_.try_emplace(id, nodes_.size());
-    if (fresh) nodes_.push_back(NodeTouch{id, was_alive, type, {}, false, {}, false, {}, {}});
-    return &nodes_[it->second];
+    if (NodeTouch* t = nodes_.find(id)) return t;
+    NodeTouch& t = nodes_.add(id);
+    t.was_alive = was_alive;
+    t.type = type;
+    return &t;
   }
-  NodeTouch* find_node_touch(NodeId id) {
-    auto it = node_index_.find(id);
-    return it == node_index_.end() ? nullptr : &nodes_[it->second];
-  }
-  EdgeTouch* find_edge_touch(const EdgeKey& key) {
-    auto it = edge_index_.find(key);
-    return it == edge_index_.end() ? nullptr : &edges_[it->second];
-  }
+  NodeTouch* find_node_touch(NodeId id) { return nodes_.find(id); }
+  EdgeTouch* find_edge_touch(const EdgeKey& key) { return edges_.find(key); }
   bool node_was_alive(NodeId id, bool current) const {
-    auto it = node_index_.find(id);
-    return it == node_index_.end() ? current : nodes_[it->second].was_alive;
+    const NodeTouch* t = nodes_.find(id);
+    return t == nullptr ? current : t->was_alive;
   }
   EdgeTouch* touch_edge(const EdgeKey& key, bool was_visible) {
-    auto [it, fresh] = edge_index_.try_emplace(key, edges_.size());
-    if (fresh) edges_.push_back(EdgeTouch{key, was_visible, {}, false, 0, false, {}});
-    return &edges_[it->second];
+    if (EdgeTouch* t = edges_.find(key)) return t;
+    EdgeTouch& t = edges_.add(key);
+    t.was_visible = was_visible;
+    return &t;
   }
-  bool edge_touched(const EdgeKey& key) const { return edge_index_.count(key) != 0; }
+  bool edge_touched(const EdgeKey& key) const { return edges_.find(key) != nullptr; }
   /// True if `child`'s RT view was already saved in this batch.
-  bool rt_saved(NodeId child) const { return rt_before_.count(child) != 0; }
-  void save_rt(NodeId child, const RtView& v) { rt_before_.emplace(child, v); }
+  bool rt_saved(NodeId child) const { return rt_before_.find(child) != nullptr; }
+  void save_rt(NodeId child, const RtView& v) {
+    if (!rt_saved(child)) rt_before_.add(child).before = v;
+  }
 
-  std::vector<NodeTouch>& nodes() { return nodes_; }
-  std::vector<EdgeTouch>& edges() { return edges_; }
-  const std::unordered_map<NodeId, RtView>& rt_before() const { return rt_before_; }
+  std::span<NodeTouch> nodes() { return nodes_.items(); }
+  std::span<EdgeTouch> edges() { return edges_.items(); }
+  std::span<RtTouch> rt_before() { return rt_before_.items(); }
 
  private:
-  std::unordered_map<NodeId, std::size_t> node_index_;
-  std::vector<NodeTouch> nodes_;
-  std::unordered_map<EdgeKey, std::size_t> edge_index_;
-  std::vector<EdgeTouch> edges_;
-  std::unordered_map<NodeId, RtView> rt_before_;
+  TouchList<NodeId, NodeTouch> nodes_;
+  TouchList<EdgeKey, EdgeTouch> edges_;
+  TouchList<NodeId, RtTouch> rt_before_;
 };
 
 /// Fingerprints of a register and of an edge's version (its greatest existence dot), for change
@@ -200,6 +255,7 @@ struct Graph::Impl {
 
   // Output of local commits.
   GraphDelta out;
+  std::unique_ptr<Transaction::Book> spare_book;  // the last transaction's, for the next one
   std::function<void(const GraphDelta&)> sink;
   CommitValidator validator;
   CommitValidator permission_check;
@@ -212,10 +268,39 @@ struct Graph::Impl {
   /// An edge attribute carries the higher fence of its two ends.
   std::uint64_t edge_fence(const EdgeKey& k) const { return std::max(fence(k.from), fence(k.to)); }
 
-  // Events.
-  std::vector<std::pair<SubscriptionId, ChangeCallback>> subscribers;
+  // Events. A deque: a callback may subscribe (the running callback's element stays put); one
+  // unsubscribed during a dispatch is marked and erased once the dispatch ends.
+  struct Subscriber {
+    SubscriptionId id;
+    ChangeCallback cb;
+    bool removed = false;
+  };
+  std::deque<Subscriber> subscribers;
   SubscriptionId next_subscription = 1;
   ChangeTracker tracker;
+  // The batch being built and dispatched, one per nesting level (a callback may commit), kept
+  // with its changes' containers so that a batch like the last one allocates nothing.
+  struct Dispatch {
+    ChangeBatch batch;
+    std::vector<NodeChange> spare_nodes;
+    std::vector<EdgeChange> spare_edges;
+    /// Empties the batch, keeping its changes (and their containers' capacity) as spares.
+    void recycle();
+    /// A change appended to the batch: recycled when there is one, its containers empty.
+    NodeChange& add_node(NodeId id, ChangeKind kind, Symbol type);
+    EdgeChange& add_edge(const EdgeKey& key, ChangeKind kind);
+    /// Takes back the last change added (it turned out to change nothing).
+    void drop_last_node();
+    void drop_last_edge();
+  };
+  std::vector<std::unique_ptr<Dispatch>> dispatches;
+  std::size_t dispatch_depth = 0;
+  bool unsubscribed_in_dispatch = false;
+  /// Writes the origin's name (origin_namer, else its id) into `out`.
+  void name_origin(const ReplicaId& origin, std::string& out) const {
+    if (origin_namer) origin_namer(origin, out);
+    else origin.write_to(out);
+  }
 
   // Scratch for commits and merges.
   std::vector<std::uint32_t> commit_order;
@@ -299,7 +384,7 @@ struct Graph::Impl {
   void finish_tracking(bool local, ReplicaId origin, const std::vector<std::pair<NodeRec*, NodeRec*>>* rt_before);
   std::vector<std::pair<Symbol, Value>> last_rt_values(const RtView& before, const std::vector<NodeChange>& nodes,
                                                        NodeId child, const NodeRec* now) const;
-  void report_rt_attrs(ChangeBatch& b, std::size_t first_rt) const;
+  void report_rt_attrs(Dispatch& d, std::size_t first_rt) const;
 
   // ---- kinematic tree (graph_rt.cc) ----
   void recompute_rt(std::vector<std::pair<NodeId, NodeId>>* changes);

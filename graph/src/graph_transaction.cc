@@ -25,13 +25,22 @@ std::uint64_t attrs_bytes(const std::vector<std::pair<Symbol, Value>>& attrs) {
 }
 }  // namespace
 
-Transaction::Transaction(Graph* g) : graph_(g), book_(std::make_unique<Book>()) {
+// A transaction takes the graph's spare book (and the capacity of the last one's ops) and gives
+// it back when it ends: one transaction after another allocates nothing for its bookkeeping.
+Transaction::Transaction(Graph* g) : graph_(g) {
+  std::unique_ptr<Book>& spare = g->impl_->spare_book;
+  if (spare) {
+    book_ = std::move(spare);
+    ops_.swap(book_->spare_ops);
+  } else {
+    book_ = std::make_unique<Book>();
+  }
   book_->epoch = g->impl_->epoch;
 }
 Transaction::Transaction(Transaction&&) noexcept = default;
 Transaction& Transaction::operator=(Transaction&& o) noexcept {
   if (this != &o) {
-    if (book_) release();
+    if (book_) end();
     graph_ = o.graph_;
     ops_ = std::move(o.ops_);
     book_ = std::move(o.book_);
@@ -39,7 +48,17 @@ Transaction& Transaction::operator=(Transaction&& o) noexcept {
   return *this;
 }
 Transaction::~Transaction() {
-  if (book_) release();
+  if (book_) end();
+}
+
+void Transaction::end() {
+  release();
+  std::unique_ptr<Book>& spare = graph_->impl_->spare_book;
+  if (spare) return;
+  ops_.clear();
+  book_->reset(0);
+  book_->spare_ops.swap(ops_);
+  spare = std::move(book_);
 }
 
 Transaction Graph::begin() { return Transaction(this); }
@@ -88,16 +107,14 @@ bool Transaction::node_usable(NodeId id) const {
 
 bool Transaction::edge_usable(NodeId from, NodeId to, Symbol type) const {
   if (!node_usable(from) || !node_usable(to)) return false;
-  auto it = book_->edges.find(EdgeKey{from, to, type});
-  if (it != book_->edges.end()) return it->second;
+  if (const bool* here = book_->edges.find(EdgeKey{from, to, type})) return *here;
   return graph_->has_edge(from, to, type);
 }
 
 Status Transaction::check_attrs(const char* fn, const std::vector<std::pair<Symbol, Value>>& attrs) const {
   for (const auto& [k, v] : attrs) {
     if (k.is_null()) return make_error(ErrorCode::kInvalidArgument, std::string(fn) + ": an attribute name is empty");
-    if (Status s = check_name(std::string(fn) + ": the attribute name", k.str()); !s.ok()) return s;
-    if (Status s = check_value(std::string(fn) + ": attribute '" + k.str() + "'", v); !s.ok()) return s;
+    if (Status s = check_attribute(fn, k.str(), v); !s.ok()) return s;
   }
   return {};
 }
@@ -154,8 +171,7 @@ Status Transaction::set(NodeId id, Symbol attr, Value value) {
   const NodeRec* rec = book_->deleted.empty() ? graph_->impl_->visible_node(id) : nullptr;
   if (rec == nullptr && !node_usable(id)) return not_found("set()", id);
   if (attr.is_null()) return make_error(ErrorCode::kInvalidArgument, "set(): the attribute name is empty");
-  if (Status s = check_name("set(): the attribute name", attr.str()); !s.ok()) return s;
-  if (Status s = check_value("set(): attribute '" + attr.str() + "'", value); !s.ok()) return s;
+  if (Status s = check_attribute("set()", attr.str(), value); !s.ok()) return s;
   // The attribute's visible value, from the node's record already at hand (a write's hot path).
   const Value* current = nullptr;
   if (const NodeRec* r = rec != nullptr ? rec : graph_->impl_->visible_node(id))
@@ -342,7 +358,7 @@ Status Transaction::insert_edge(NodeId from, NodeId to, Symbol type, std::vector
 bool Transaction::rt_parent_is(NodeId from, NodeId to) const {
   if (!node_usable(from) || !node_usable(to)) return false;
   std::optional<NodeId> p;
-  if (auto it = book_->parent.find(to); it != book_->parent.end()) p = it->second;
+  if (const auto* moved = book_->parent.find(to)) p = *moved;
   else p = graph_->rt_parent(to);
   return p && *p == from;
 }
@@ -378,8 +394,7 @@ Status Transaction::set_edge_attr(const EdgeKey& key, Symbol attr, Value value) 
   if (!edge_usable(key.from, key.to, key.type))
     return make_error(ErrorCode::kNotFound, "set_edge_attr(): no edge " + key.to_string());
   if (attr.is_null()) return make_error(ErrorCode::kInvalidArgument, "set_edge_attr(): the attribute name is empty");
-  if (Status s = check_name("set_edge_attr(): the attribute name", attr.str()); !s.ok()) return s;
-  if (Status s = check_value("set_edge_attr(): attribute '" + attr.str() + "'", value); !s.ok()) return s;
+  if (Status s = check_attribute("set_edge_attr()", attr.str(), value); !s.ok()) return s;
   if (Status s = type_kept("set_edge_attr()", graph_->edge_attr(key, attr), value, key.from, attr, &key); !s.ok())
     return s;
   if (Status s = add_bytes("set_edge_attr()", op_bytes(attr.str(), key.type.str()) + value.payload_bytes()); !s.ok())
@@ -435,7 +450,7 @@ Status Transaction::cycle_check(NodeId parent, NodeId child) const {
   // A child with no RT children (in the replica or gained in this transaction) cannot be an
   // ancestor of its new parent: building a chain top-down never walks it.
   const NodeRec* c = graph_->impl_->visible_node(child);
-  const bool has_children = (c != nullptr && !c->rt_children.empty()) || book_->parents.count(child) != 0;
+  const bool has_children = (c != nullptr && !c->rt_children.empty()) || book_->parents.contains(child);
   if (!has_children) return {};
   auto name = [&](NodeId n) {
     if (book_->created.count(n))
@@ -449,8 +464,8 @@ Status Transaction::cycle_check(NodeId parent, NodeId child) const {
       return make_error(ErrorCode::kRefused, "set_rt(): putting " + name(child) + " under " + name(parent) +
                                                  " would close a cycle");
     if (steps > graph_->node_count() + ops_.size()) break;
-    auto it = book_->parent.find(*x);
-    x = it != book_->parent.end() ? it->second : graph_->rt_parent(*x);
+    const auto* moved = book_->parent.find(*x);
+    x = moved != nullptr ? *moved : graph_->rt_parent(*x);
   }
   return {};
 }
@@ -472,7 +487,7 @@ Status Transaction::set_rt(NodeId parent, NodeId child, const Pose& X_PC, std::i
   op.type = symbols::rt();
   record(std::move(op));
   book_->parent[child] = parent;
-  book_->parents.insert(parent);
+  book_->parents[parent] = true;
   return {};
 }
 

@@ -65,6 +65,14 @@ Status check_name(std::string_view what, std::string_view name) {
   return {};
 }
 
+Status check_attribute(std::string_view fn, std::string_view name, const Value& v) {
+  if (name.empty() || name.size() > limits::kMaxNameBytes || !valid_utf8(name))
+    return check_name(std::string(fn) + ": the attribute name", name);
+  if (v.payload_bytes() > limits::kMaxValueBytes)
+    return check_value(std::string(fn) + ": attribute '" + std::string(name) + "'", v);
+  return {};
+}
+
 Status check_value(std::string_view what, const Value& v) {
   if (v.payload_bytes() > limits::kMaxValueBytes)
     return make_error(ErrorCode::kTooLarge, std::string(what) + " holds " + std::to_string(v.payload_bytes()) +

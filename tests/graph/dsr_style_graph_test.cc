@@ -247,7 +247,7 @@ TEST(OriginName, NamerOrIdFallback) {
   ASSERT_EQ(seen_b.size(), 1u);
   EXPECT_EQ(seen_b[0].origin, rid(1));
   EXPECT_EQ(seen_b[0].origin_name, rid(1).to_string());  // no namer: the id
-  b.set_origin_namer([](const ReplicaId& r) { return r.agent == 1 ? std::string("alice") : r.to_string(); });
+  b.set_origin_namer([](const ReplicaId& r, std::string& name) { name = r.agent == 1 ? std::string("alice") : r.to_string(); });
   {
     auto tx = a.begin();
     ASSERT_TRUE(tx.create_node("robot", "s").ok());

@@ -29,7 +29,7 @@ std::size_t approx_bytes(const graph::GraphDelta& d) {
 Replicator::Replicator(graph::Graph& g, Transport& t, ReplicatorOptions options)
     : g_(g), t_(t), opt_(std::move(options)), self_(g.replica()) {
   g_.set_delta_sink([this](const graph::GraphDelta& d) { on_local_delta(d); });
-  g_.set_origin_namer([this](const PeerId& id) { return name_of(id); });
+  g_.set_origin_namer([this](const PeerId& id, std::string& name) { write_name(id, name); });
 }
 
 Replicator::~Replicator() {
@@ -38,12 +38,20 @@ Replicator::~Replicator() {
 }
 
 std::string Replicator::name_of(const PeerId& id) const {
-  if (id == self_) return opt_.name.empty() ? id.to_string() : opt_.name;
-  if (auto p = peers_.find(id); p != peers_.end() && !p->second.info.name.empty()) return p->second.info.name;
-  if (auto n = names_.find(id.agent); n != names_.end()) return n->second;
+  std::string name;
+  write_name(id, name);
+  return name;
+}
+
+void Replicator::write_name(const PeerId& id, std::string& out) const {
+  if (id == self_ && !opt_.name.empty()) return (void)out.assign(opt_.name);
+  if (id == self_) return id.write_to(out);
+  if (auto p = peers_.find(id); p != peers_.end() && !p->second.info.name.empty())
+    return (void)out.assign(p->second.info.name);
+  if (auto n = names_.find(id.agent); n != names_.end()) return (void)out.assign(n->second);
   // A world seed's changes (graph::world_seed(): incarnation 0, never an agent's) have no agent.
-  if (id.incarnation == 0) return "world seed " + id.to_string().substr(0, 16);
-  return id.to_string();
+  if (id.incarnation == 0) return (void)out.assign("world seed " + id.to_string().substr(0, 16));
+  id.write_to(out);
 }
 
 std::string Replicator::who(const PeerId& id) const {
@@ -85,18 +93,18 @@ void Replicator::on_local_delta(const graph::GraphDelta& d) {
   }
   ++seq_;
   applied_.add(crdt::Dot{self_, seq_});
-  std::vector<std::uint8_t> bytes;
-  graph::encode(d, bytes, seq_, seq_);
+  auto bytes = fresh_bytes();
+  graph::encode(d, *bytes, seq_, seq_);
   stage_marks::mark(stage_marks::Stage::kEncoded);
-  if (journal_ != nullptr) journal_->local(seq_, bytes);
+  if (journal_ != nullptr) journal_->local(seq_, *bytes);
   publish(std::move(bytes), seq_, seq_);
 }
 
 void Replicator::flush() {
   if (pending_lo_ == 0) return;
   std::uint64_t lo = pending_lo_;
-  std::vector<std::uint8_t> bytes;
-  graph::encode(pending_, bytes, lo, seq_);
+  auto bytes = fresh_bytes();
+  graph::encode(pending_, *bytes, lo, seq_);
   stage_marks::mark(stage_marks::Stage::kEncoded);
   publish(std::move(bytes), lo, seq_);
   pending_.clear();
@@ -104,8 +112,8 @@ void Replicator::flush() {
   pending_bytes_ = 0;
 }
 
-void Replicator::publish(std::vector<std::uint8_t> bytes, std::uint64_t lo, std::uint64_t hi) {
-  auto shared = std::make_shared<const std::vector<std::uint8_t>>(std::move(bytes));
+void Replicator::publish(std::shared_ptr<std::vector<std::uint8_t>> bytes, std::uint64_t lo, std::uint64_t hi) {
+  Bytes shared = std::move(bytes);
   Bytes signature;
   if (admission_ != nullptr)
     if (auto sig = admission_->sign(*shared); !sig.empty())
@@ -114,7 +122,7 @@ void Replicator::publish(std::vector<std::uint8_t> bytes, std::uint64_t lo, std:
   applied_.add_range(self_, lo, hi);
   ++state_version_;
   applied_changed_ns_ = now_;
-  remember(self_, lo, hi, digest_of(*shared), shared, signature);
+  remember(self_, lo, hi, digest_of(*shared), shared, signature, true);
   ++stats_.deltas_published;
   stats_.bytes_published += shared->size();
   queue(PeerId{}, DeltaMsg{self_, lo, hi, std::move(shared), std::move(signature)});

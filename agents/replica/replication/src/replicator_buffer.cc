@@ -7,13 +7,45 @@
 
 namespace quiver::agents::inline replica {
 
+namespace {
+// Spares kept for the next deltas: enough for a burst, not a second buffer.
+constexpr std::size_t kSpareEntries = 1024, kSpareBytes = 256, kSpareCapacity = 4096, kEmptyOrigins = 64;
+}  // namespace
+
+std::shared_ptr<std::vector<std::uint8_t>> Replicator::fresh_bytes() {
+  if (spare_.bytes.empty()) return std::make_shared<std::vector<std::uint8_t>>();
+  auto b = std::move(spare_.bytes.back());
+  spare_.bytes.pop_back();
+  b->clear();
+  return b;
+}
+
 void Replicator::remember(const PeerId& origin, std::uint64_t lo, std::uint64_t hi, std::uint64_t digest, Bytes bytes,
-                          Bytes signature) {
-  auto& idx = buffer_index_[origin];
+                          Bytes signature, bool ours) {
+  BufferIndex& idx = buffer_index_[origin];
   if (idx.count(lo)) return;
   buffer_bytes_ += bytes->size();
-  buffer_.push_back(Buffered{origin, lo, hi, now_, std::move(bytes), std::move(signature), digest, {}});
-  idx.emplace(lo, std::prev(buffer_.end()));
+  if (spare_.entries.empty()) buffer_.emplace_back();
+  else buffer_.splice(buffer_.end(), spare_.entries, spare_.entries.begin());
+  Buffered& b = buffer_.back();
+  b.origin = origin;
+  b.lo = lo;
+  b.hi = hi;
+  b.at_ns = now_;
+  b.bytes = std::move(bytes);
+  b.signature = std::move(signature);
+  b.digest = digest;
+  b.others.clear();
+  b.ours = ours;
+  if (spare_.index.empty()) {
+    idx.emplace(lo, std::prev(buffer_.end()));
+  } else {
+    BufferIndex::node_type node = std::move(spare_.index.back());
+    spare_.index.pop_back();
+    node.key() = lo;
+    node.mapped() = std::prev(buffer_.end());
+    idx.insert(std::move(node));
+  }
   while (buffer_bytes_ > opt_.buffer_bytes && buffer_.size() > 1) {
     evict_front();
     ++stats_.buffer_evictions;
@@ -25,9 +57,24 @@ void Replicator::evict_front() { erase_buffered(buffer_.begin()); }
 std::list<Replicator::Buffered>::iterator Replicator::erase_buffered(std::list<Buffered>::iterator it) {
   buffer_bytes_ -= it->bytes->size();
   auto idx = buffer_index_.find(it->origin);
-  idx->second.erase(it->lo);
-  if (idx->second.empty()) buffer_index_.erase(idx);
-  return buffer_.erase(it);
+  BufferIndex::node_type node = idx->second.extract(it->lo);
+  if (spare_.index.size() < kSpareEntries) spare_.index.push_back(std::move(node));
+  // Our own bytes no one else holds any more (the transports copy what they send) serve the next
+  // delta we publish; they were made mutable by fresh_bytes().
+  if (it->ours && it->bytes.use_count() == 1 && it->bytes->capacity() <= kSpareCapacity &&
+      spare_.bytes.size() < kSpareBytes)
+    spare_.bytes.push_back(std::const_pointer_cast<std::vector<std::uint8_t>>(std::move(it->bytes)));
+  it->bytes.reset();
+  it->signature.reset();
+  auto next = std::next(it);
+  if (spare_.entries.size() < kSpareEntries) spare_.entries.splice(spare_.entries.end(), buffer_, it);
+  else buffer_.erase(it);
+  return next;
+}
+
+void Replicator::forget_empty_origins() {
+  if (buffer_index_.size() <= kEmptyOrigins) return;
+  std::erase_if(buffer_index_, [](const auto& entry) { return entry.second.empty(); });
 }
 
 void Replicator::trim_buffer() {
@@ -41,6 +88,7 @@ void Replicator::trim_buffer() {
     }
     it = erase_buffered(it);
   }
+  forget_empty_origins();
 }
 
 }  // namespace quiver::agents

@@ -20,13 +20,15 @@ Replicator::Buffered* Replicator::recorded(const PeerId& origin, std::uint64_t l
 }
 
 Status Replicator::decode_delta(const PeerId& from, const DeltaMsg& m) {
-  const std::string what = "delta " + delta_of(m.origin, m.lo, m.hi) + " relayed by " + who(from);
+  // The message names the delta only when there is something to say (the path stays free of
+  // allocations when all is well).
+  auto what = [&] { return "delta " + delta_of(m.origin, m.lo, m.hi) + " relayed by " + who(from); };
   Status s = graph::decode(*m.payload, scratch_);
-  if (!s.ok()) return make_error(s.error().code, what + ": " + s.error().message);
+  if (!s.ok()) return make_error(s.error().code, what() + ": " + s.error().message);
   if (!(scratch_.origin == m.origin) || scratch_.kind != graph::GraphDelta::Kind::kDelta)
-    return make_error(ErrorCode::kMalformed, what + ": the payload's origin or kind does not match");
+    return make_error(ErrorCode::kMalformed, what() + ": the payload's origin or kind does not match");
   if (scratch_.seq_lo != m.lo || scratch_.seq_hi != m.hi)
-    return make_error(ErrorCode::kMalformed, what + ": the payload names the interval [" +
+    return make_error(ErrorCode::kMalformed, what() + ": the payload names the interval [" +
                                                  std::to_string(scratch_.seq_lo) + ", " +
                                                  std::to_string(scratch_.seq_hi) + "], not the one claimed");
   return {};

@@ -554,6 +554,7 @@ void Replicator::trim_buffer_gossip() {
     }
     it = drop ? erase_buffered(it) : std::next(it);
   }
+  forget_empty_origins();
 }
 
 void Replicator::offer_all() {

@@ -7,7 +7,6 @@
 /// on one object, a mutation needs exclusive access. Nothing here throws (but std::bad_alloc).
 
 #include <cstdint>
-#include <map>
 #include <utility>
 #include <vector>
 
@@ -17,8 +16,10 @@
 namespace quiver::crdt {
 
 /// A set of dots. Per replica: every counter in [1, max] plus disjoint ranges above max+1.
-/// Adding a dot or a range is O(log k) for k ranges of that replica, compaction included
-/// (ranges that become contiguous with the version vector are absorbed as they are reached).
+/// Both kinds live in sorted flat arrays: a lookup is O(log k); adding a range at the end (as
+/// decoding and joining do, in ascending order) is amortized O(1), and elsewhere O(k) for k
+/// ranges in all. clear() keeps the arrays' capacity, so a context reused for one delta after
+/// another allocates nothing once it has grown.
 class CausalContext {
  public:
   struct Range {
@@ -71,10 +72,10 @@ class CausalContext {
   /// Number of dots (may be huge; for tests).
   /// @returns the sum of the ranges' lengths (modulo 2^64).
   std::uint64_t dot_count() const;
-  /// Removes every dot; max_counter_overall() becomes 0.
+  /// Removes every dot (keeping the arrays' capacity); max_counter_overall() becomes 0.
   void clear() {
     replicas_.clear();
-    clouds_.clear();
+    cloud_.clear();
     max_overall_ = 0;
   }
 
@@ -83,17 +84,14 @@ class CausalContext {
   /// @pre `f` does not modify this context.
   template <class F>
   void for_each_range(F&& f) const {
-    auto c = clouds_.begin();
+    auto c = cloud_.begin();
     for (const auto& [r, max] : replicas_) {
       if (max > 0) f(r, std::uint64_t{1}, max);
-      if (c != clouds_.end() && c->first == r) {
-        for (const auto& [lo, hi] : c->second) f(r, lo, hi);
-        ++c;
-      }
+      for (; c != cloud_.end() && c->replica == r; ++c) f(r, c->lo, c->hi);
     }
   }
-  /// Bytes this context holds (its vectors' capacity and its clouds' nodes, estimated): a
-  /// replica costs 24 bytes while its dots are contiguous.
+  /// Bytes this context holds (its arrays' capacity): a replica costs 24 bytes while its dots
+  /// are contiguous, and each range beyond 32 more.
   std::size_t memory_bytes() const;
   /// Replicas present, ascending.
   /// @returns the replicas with at least one dot, in ReplicaId order.
@@ -105,21 +103,23 @@ class CausalContext {
   friend bool operator==(const CausalContext& a, const CausalContext& b);
 
  private:
-  // Ranges beyond a replica's version-vector entry, lo -> hi, disjoint, lo > max + 1. Kept apart
-  // from the entries (and only for replicas that have them: a gap is rare and brief) so that a
-  // replica whose dots are contiguous costs its id and one counter.
-  using Cloud = std::map<std::uint64_t, std::uint64_t>;
+  // A range beyond its replica's version-vector entry: lo > max + 1, disjoint from and not
+  // adjacent to the replica's other ranges. Kept apart from the entries (a gap is rare and brief)
+  // so that a replica whose dots are contiguous costs its id and one counter.
+  struct CloudRange {
+    ReplicaId replica;
+    std::uint64_t lo, hi;
+    bool operator==(const CloudRange&) const = default;
+  };
+  using CloudIt = std::vector<CloudRange>::const_iterator;
   std::uint64_t* find(const ReplicaId& r);
   const std::uint64_t* find(const ReplicaId& r) const;
   std::uint64_t& find_or_add(const ReplicaId& r);
-  const Cloud* cloud(const ReplicaId& r) const {
-    if (clouds_.empty()) return nullptr;
-    auto it = clouds_.find(r);
-    return it == clouds_.end() ? nullptr : &it->second;
-  }
+  /// The ranges of `r` beyond its entry, ascending: [first, second) of cloud_.
+  std::pair<CloudIt, CloudIt> cloud(const ReplicaId& r) const;
 
   std::vector<std::pair<ReplicaId, std::uint64_t>> replicas_;  // sorted by replica: [1, max] present
-  std::map<ReplicaId, Cloud> clouds_;                           // non-empty clouds only
+  std::vector<CloudRange> cloud_;                               // sorted by (replica, lo)
   std::uint64_t max_overall_ = 0;
 };
 

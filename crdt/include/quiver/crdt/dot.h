@@ -34,6 +34,9 @@ struct ReplicaId {
   bool is_null() const { return agent == 0 && incarnation == 0; }
   /// @returns "00000000000000ab.3": the agent as 16 hex digits, a dot, the incarnation.
   std::string to_string() const;
+  /// Writes to_string() into `out` (replacing its contents; no allocation once `out` holds 24
+  /// bytes).
+  void write_to(std::string& out) const;
 };
 
 /// A dot names one event of one replica: its counter-th. Counters start at 1.

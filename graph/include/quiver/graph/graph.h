@@ -295,6 +295,8 @@ class Transaction {
   TxnOp& record(TxnOp op);
   Status revalidate() const;
   void release();
+  /// release(), then the book (and the ops' capacity) goes back to the graph for the next one.
+  void end();
 
   Graph* graph_;
   std::vector<TxnOp> ops_;
@@ -550,7 +552,9 @@ class Graph {
   void unsubscribe(SubscriptionId id);
   /// Names the agent of a replica id for ChangeBatch::origin_name (a replicator installs one
   /// that knows what its peers announced). Without one, batches carry origin.to_string().
-  using OriginNamer = std::function<std::string(const ReplicaId&)>;
+  /// The namer writes the name into its second argument, whose capacity is kept from batch to
+  /// batch (assigning a name into it allocates nothing once it has held one as long).
+  using OriginNamer = std::function<void(const ReplicaId&, std::string& name)>;
   /// Installs the namer (replacing the previous one; null: none). Owner thread only.
   void set_origin_namer(OriginNamer namer);
   /// @returns the agent behind `id` as the namer names it ("locked by planner"), else id.to_string().

@@ -44,6 +44,10 @@ Status check_name(std::string_view what, std::string_view name);
 /// @returns kTooLarge if Value::payload_bytes() exceeds the limit; OK otherwise.
 Status check_value(std::string_view what, const Value& v);
 
+/// check_name() of an attribute's name and check_value() of its value, as `fn` (e.g. "set()")
+/// names them in errors ("set(): attribute 'x' holds ..."); builds no message when both pass.
+Status check_attribute(std::string_view fn, std::string_view name, const Value& v);
+
 /// A name shortened for an error message ("abc…(5000 bytes)").
 /// @returns `name` in single quotes; past 40 bytes, its first 40 bytes then "...(<n> bytes)".
 std::string quote_name(std::string_view name);

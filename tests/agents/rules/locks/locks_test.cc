@@ -74,7 +74,7 @@ TEST(LocksTest, AcquiredOnceAcknowledgedAndOthersAreRefused) {
   EXPECT_TRUE(w.has(0, LockEventKind::kAcquired));
   // The scope covers the RT subtree: the gripper is locked too. The refusal names the holder as
   // the graph's namer does (a replicator's names the agents by what they announced).
-  w.net.nodes[1].g->set_origin_namer([](const graph::ReplicaId& r) { return "agent" + std::to_string(r.agent); });
+  w.net.nodes[1].g->set_origin_namer([](const graph::ReplicaId& r, std::string& name) { name = "agent" + std::to_string(r.agent); });
   Status s = w.write(1, w.gripper, "open", Value(true));
   ASSERT_FALSE(s.ok());
   EXPECT_EQ(s.error().code, ErrorCode::kRefused);

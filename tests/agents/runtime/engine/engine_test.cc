@@ -216,7 +216,7 @@ rule startMoving : active { { r:robot  !r->r(moving) } => { r:robot  r->r(moving
   o.warn = [&](std::string_view line) { warnings.emplace_back(line); };
   Engine e(*net.nodes[a].g, net.nodes[a].rep.get(), o);
   ASSERT_TRUE(e.start().ok());
-  net.nodes[a].g->set_origin_namer([](const graph::ReplicaId& r) { return "agent" + std::to_string(r.agent); });
+  net.nodes[a].g->set_origin_namer([](const graph::ReplicaId& r, std::string& name) { name = "agent" + std::to_string(r.agent); });
   add_node(*net.nodes[b].g, "robot");  // b has no grammar: its commit claims no rule
   net.pump();
   ASSERT_EQ(warnings.size(), 1u);

@@ -46,6 +46,7 @@
 
 #include "quiver/agents/replica/replication/admission.h"
 #include "quiver/agents/replica/replication/journal.h"
+#include "quiver/agents/replica/replication/buffered_delta.h"
 #include "quiver/agents/replica/replication/messages.h"
 #include "quiver/agents/replica/replication/replicator_options.h"
 #include "quiver/agents/replica/replication/transport.h"
@@ -214,6 +215,8 @@ class Replicator {
   /// (also after it left, if its name hashes to its id), or id.to_string() when unknown. The
   /// graph's change batches carry it (ChangeBatch::origin_name). Owner thread only.
   std::string name_of(const PeerId& id) const;
+  /// name_of(), written into `out` (its capacity reused: the graph's origin namer). Owner thread only.
+  void write_name(const PeerId& id, std::string& out) const;
   /// A replica as errors name it: "'speech' (00000000000000ab.3)" when its name is known, else
   /// its id. Owner thread only.
   std::string who(const PeerId& id) const;
@@ -326,28 +329,8 @@ class Replicator {
   graph::Graph& graph() { return g_; }
 
  private:
-  // The versions seen under one (origin, lo) besides the first (an equivocation), each known by
-  // its interval's end and its payload's digest.
-  struct Version {
-    std::uint64_t hi = 0;
-    std::uint64_t digest = 0;
-    bool operator==(const Version&) const = default;
-  };
-  // A delta kept to answer pulls, and the record that tells a duplicate of it from an
-  // equivocation (another payload under its (origin, lo)): its payload's digest and any other
-  // version seen. The record lives as long as the delta is buffered.
-  struct Buffered {
-    PeerId origin;
-    std::uint64_t lo, hi;
-    std::int64_t at_ns;
-    std::shared_ptr<const std::vector<std::uint8_t>> bytes;
-    std::shared_ptr<const std::vector<std::uint8_t>> signature;
-    std::uint64_t digest = 0;
-    std::vector<Version> others;
-    bool knows(std::uint64_t hi_, std::uint64_t d) const {
-      return (hi == hi_ && digest == d) || std::find(others.begin(), others.end(), Version{hi_, d}) != others.end();
-    }
-  };
+  using Buffered = BufferedDelta;
+  using Version = BufferedDelta::Version;
   using Bytes = std::shared_ptr<const std::vector<std::uint8_t>>;
   struct Peer {
     PeerInfo info;
@@ -397,7 +380,10 @@ class Replicator {
   };
   void on_local_delta(const graph::GraphDelta& d);
   void pull_if_stale();  // stale_pull_ns: pulls from a peer whose hash kept differing
-  void publish(std::vector<std::uint8_t> bytes, std::uint64_t lo, std::uint64_t hi);
+  /// Signs, buffers and sends our delta [lo, hi], encoded into `bytes` (from fresh_bytes()).
+  void publish(std::shared_ptr<std::vector<std::uint8_t>> bytes, std::uint64_t lo, std::uint64_t hi);
+  /// An empty buffer for a delta we publish: one a dropped delta of ours left, when there is one.
+  std::shared_ptr<std::vector<std::uint8_t>> fresh_bytes();
   void handle_own(const PeerId& from, const DeltaMsg& m);
   /// Decodes and checks a delta payload against its message; the error names what is wrong.
   Status decode_delta(const PeerId& from, const DeltaMsg& m);
@@ -460,9 +446,10 @@ class Replicator {
   std::uint64_t set_hash() const { refresh_set_hash(); return set_hash_; }
   std::uint64_t set_count() const { refresh_set_hash(); return set_count_; }
   std::int64_t suspect_timeout() const;
-  /// Buffers a delta and its digest (nothing when its (origin, lo) is buffered already).
+  /// Buffers a delta and its digest (nothing when its (origin, lo) is buffered already); `ours`:
+  /// its bytes came from fresh_bytes() and go back to the spares when it is dropped.
   void remember(const PeerId& origin, std::uint64_t lo, std::uint64_t hi, std::uint64_t digest, Bytes bytes,
-                Bytes signature);
+                Bytes signature, bool ours = false);
   void evict_front();
   std::list<Buffered>::iterator erase_buffered(std::list<Buffered>::iterator it);
   /// Stores `applied` as p's set; false (rejected, p unchanged) beyond max_peer_ranges.
@@ -520,8 +507,12 @@ class Replicator {
   std::uint64_t pending_lo_ = 0;
 
   std::list<Buffered> buffer_;
-  std::map<PeerId, std::map<std::uint64_t, std::list<Buffered>::iterator>> buffer_index_;
+  using BufferIndex = std::map<std::uint64_t, std::list<Buffered>::iterator>;  // lo -> entry
+  std::map<PeerId, BufferIndex> buffer_index_;  // an origin's index may be empty (see trim_buffer())
   std::size_t buffer_bytes_ = 0;
+  BufferSpares<BufferIndex> spare_;
+  /// Forgets origins whose index is empty, once there are many of them.
+  void forget_empty_origins();
 
   std::map<PeerId, Peer> peers_;
   std::map<std::uint64_t, std::string> names_;  // agent id -> announced name (bounded)
