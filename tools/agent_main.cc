@@ -6,8 +6,10 @@
 #include <CLI/CLI.hpp>
 
 #include "commands.h"
+#include "huge_pages.h"
 
 int main(int argc, char** argv) {
+  quiver::tools::use_huge_pages(argv, true);  // its commands hold replicas; re-executing costs ~7 ms
   CLI::App app{"quiver-agent: a replicating agent, a team gateway, an observer (the same commands as in `quiver`)"};
   quiver::tools::add_global_options(app, "quiver-agent");
   quiver::tools::add_agent_commands(app);

@@ -5,10 +5,14 @@
 
 #include <CLI/CLI.hpp>
 
+#include <cstring>
+
 #include "commands.h"
+#include "huge_pages.h"
 #include "run_flags.h"
 
 int main(int argc, char** argv) {
+  quiver::tools::use_huge_pages(argv, argc > 1 && std::strcmp(argv[1], "run") == 0);  // an agent role
   CLI::App app{"quiver-barthel: the Barthel test by agent processes over DDS (the same commands as in `quiver`)"};
   quiver::tools::add_global_options(app, "quiver-barthel");
   app.add_subcommand("bench", "Benchmarks (one JSON line per result)");

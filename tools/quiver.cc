@@ -9,6 +9,7 @@
 #include <string>
 
 #include "commands.h"
+#include "huge_pages.h"
 #include "quiver/agents/runtime/process/subprocess.h"
 
 namespace {
@@ -37,6 +38,12 @@ void become_lean_executable(int argc, char** argv) {
 
 int main(int argc, char** argv) {
   become_lean_executable(argc, argv);
+  // Re-executing the whole CLI costs about as much as starting it (0.24 s): only for the commands
+  // that hold a replica for long (`agent` and its kin usually became quiver-agent just above).
+  bool replica = false;
+  for (const char* command : {"bench-dds-role", "view", "run", "agent", "gateway", "echo", "dump"})
+    replica = replica || (argc > 1 && std::strcmp(argv[1], command) == 0);
+  quiver::tools::use_huge_pages(argv, replica);
   CLI::App app{"quiver: a replicated world model for robot agents (no executive, delta CRDTs over DDS)"};
   quiver::tools::build_app(app);
   return quiver::tools::run_cli(app, argc, argv);

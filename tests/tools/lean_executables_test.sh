@@ -25,7 +25,8 @@ agent_maps() {
   grep -q '"nodes":10' "$work/agent.out" || { cat "$work/agent.err"; fail "the agent did not seed kitchen.json"; }
   { basename "$(readlink /proc/$pid/exe)"
     grep -oE "/($heavy)[^/ ]*\.so[^/ ]*" /proc/$pid/maps | sort -u | tr '\n' ' '
-    echo; } >"$work/maps"
+    echo
+    tr '\0' '\n' </proc/$pid/environ | grep '^GLIBC_TUNABLES=' || echo "GLIBC_TUNABLES unset"; } >"$work/maps"
   kill -TERM "$pid"
   wait "$pid" || fail "the agent exited $? after SIGTERM"
   pid=""
@@ -36,6 +37,12 @@ out=$(cat "$work/maps")
 echo "quiver agent: $out"
 [ "$(echo "$out" | sed -n 1p)" = quiver-agent ] || fail "quiver agent did not become quiver-agent: $out"
 [ -z "$(echo "$out" | sed -n 2p | tr -d ' ')" ] || fail "quiver-agent maps $(echo "$out" | sed -n 2p)"
+# Its heap may use transparent huge pages (tools/huge_pages.h): it runs with glibc's tunable set,
+# and without it when QUIVER_HUGE_PAGES=0.
+echo "$out" | sed -n 3p | grep -q 'glibc.malloc.hugetlb=1' || fail "quiver-agent runs without glibc.malloc.hugetlb=1: $out"
+QUIVER_HUGE_PAGES=0 agent_maps
+out=$(cat "$work/maps")
+echo "$out" | sed -n 3p | grep -q 'hugetlb' && fail "QUIVER_HUGE_PAGES=0 still set the tunable: $out"
 # The check can fail: the same command kept inside quiver maps OpenCV.
 QUIVER_IN_ONE_EXECUTABLE=1 agent_maps
 out=$(cat "$work/maps")
