@@ -392,16 +392,18 @@ thread_local EncodeTables Encoder::tables_;
 void encode(const GraphDelta& d, std::vector<std::uint8_t>& out) { encode(d, out, d.seq_lo, d.seq_hi); }
 
 void encode(const GraphDelta& d, std::vector<std::uint8_t>& out, std::uint64_t seq_lo, std::uint64_t seq_hi) {
-  if (out.capacity() != 0) return Encoder(d, out, seq_lo, seq_hi).run();
-  // A fresh vector (encode(d), a message kept apart): encoded in this thread's scratch, then
-  // copied once at its size, rather than grown a byte at a time (a small delta reallocated eight
-  // times). A large state's scratch is released after it.
-  constexpr std::size_t kKeptScratch = 64 * 1024;
+  // A small delta into a fresh vector (encode(d), a message kept apart) is encoded in this
+  // thread's scratch and copied once at its size, rather than grown a byte at a time (a
+  // one-attribute delta reallocated eight times). Not a large one: a state would pay a second
+  // copy of megabytes, and a scratch that large is not worth keeping.
+  constexpr std::size_t kSmall = 256;
+  if (out.capacity() != 0 || d.nodes.size() + d.edges.size() + d.values.size() > kSmall)
+    return Encoder(d, out, seq_lo, seq_hi).run();
   thread_local std::vector<std::uint8_t> scratch;
   scratch.clear();
   Encoder(d, scratch, seq_lo, seq_hi).run();
   out.assign(scratch.begin(), scratch.end());
-  if (scratch.capacity() > kKeptScratch) std::vector<std::uint8_t>().swap(scratch);
+  if (scratch.capacity() > 64 * 1024) std::vector<std::uint8_t>().swap(scratch);  // large values
 }
 
 std::vector<std::uint8_t> encode(const GraphDelta& d) {
