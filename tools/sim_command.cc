@@ -2,6 +2,7 @@
 #include <algorithm>
 #include <cstdio>
 #include <iostream>
+#include <sstream>
 
 #include "commands.h"
 #include "progress.h"
@@ -9,6 +10,8 @@
 #include <nlohmann/json.hpp>
 
 #include "quiver/agents/apps/agm/sim/agm_scenario.h"
+#include "quiver/agents/apps/agm/sim/team_scenario.h"
+#include "quiver/agents/apps/agm/team_world.h"
 #include "quiver/agents/apps/barthel/sim/barthel_scenario.h"
 #include "quiver/base/rng.h"
 #include "quiver/sim/simulator.h"
@@ -52,6 +55,44 @@ int run_team_schedules(const sim::SimConfig& base, int n, std::function<void(std
                               {"robots", base.team.robots}, {"agents", base.agents}}
                    .dump()
             << std::endl;
+  return failed ? 1 : 0;
+}
+
+// The team scenario in seed 001's world (`--agm --team R`): one run without faults, or N seeded
+// random schedules (team link cuts, robot and gateway crashes, loss on the team network).
+int run_agm_team(int robots, int agents_per_robot, double humans_hz, std::uint64_t first_seed, int schedules,
+                 std::function<void(std::int64_t, const std::string&)> log) {
+  const int n = std::max(1, schedules);
+  int failed = 0;
+  ProgressLine progress("team schedules", n);
+  for (int k = 0; k < n; ++k) {
+    const std::uint64_t seed = first_seed + static_cast<std::uint64_t>(k);
+    agents::agm::TeamScenario s = schedules > 0 ? agents::agm::TeamScenario::random_faults(seed, robots, agents_per_robot)
+                                                : agents::agm::TeamScenario{};
+    s.robots = robots;
+    s.agents_per_robot = agents_per_robot;
+    s.humans_hz = humans_hz;
+    agents::agm::TeamResult r = agents::agm::run_team_scenario(s, seed, log);
+    if (!r.passed) ++failed;
+    progress.update(k + 1, std::to_string(failed) + " failed");
+    if (!r.passed || n == 1) {
+      progress.clear();
+      nlohmann::json j = r.to_json();
+      if (!r.passed) {
+        std::ostringstream replay;
+        replay << "quiver sim --agm --team " << robots << " --agents-per-robot " << agents_per_robot << " --humans-hz "
+               << humans_hz << (schedules > 0 ? " --schedules 1" : "") << " --seed " << seed;
+        j["replay"] = replay.str();
+      }
+      std::cout << j.dump() << std::endl;
+    }
+  }
+  progress.finish();
+  if (n > 1)
+    std::cout << nlohmann::json{{"agm_team_schedules", n}, {"passed", n - failed}, {"failed", failed}, {"first_seed", first_seed},
+                                {"robots", robots}, {"agents_per_robot", agents_per_robot}}
+                     .dump()
+              << std::endl;
   return failed ? 1 : 0;
 }
 
@@ -106,10 +147,30 @@ void add_sim_command(CLI::App& app) {
                   "with --agm: clean-table (the planner agent plans, navigation and grasping follow its plan: both mugs "
                   "from the table to the kitchen)")
       ->check(CLI::IsMember({"", "clean-table"}));
-  cmd->callback([cfg, verbose, scenario, schedules, agm, mission, protocol] {
+  auto per_robot = std::make_shared<int>(6);
+  cmd->add_option("--agents-per-robot", *per_robot,
+                  "with --agm --team R: processes per robot, its gateway included (navigation, rooms, grasping, planner, "
+                  "the human tracker on robot A, then idle agents)")
+      ->check(CLI::Range(6, 29))
+      ->capture_default_str();
+  auto humans_hz = std::make_shared<double>(30);
+  cmd->add_option("--humans-hz", *humans_hz, "with --agm --team R: the tracker's frame rate (2 people x 15 joints)")
+      ->check(CLI::Range(1.0, 120.0))
+      ->capture_default_str();
+  cmd->callback([cfg, verbose, scenario, schedules, agm, mission, protocol, per_robot, humans_hz] {
     cfg->replicator.gossip = *protocol == "gossip";
     auto log = agents::named_logger("quiver sim");
     auto narrate = [log](std::int64_t t, const std::string& line) { log->info("[{:8.3f} s] {}", static_cast<double>(t) / 1e9, line); };
+    if (*agm && cfg->team.robots >= 2) {
+      if (cfg->team.robots > agents::agm::kMaxTeamRobots) {
+        log->error("--agm --team takes 2 to {} robots, not {}", agents::agm::kMaxTeamRobots, cfg->team.robots);
+        set_exit_code(2);
+        return;
+      }
+      set_exit_code(run_agm_team(cfg->team.robots, *per_robot, *humans_hz, cfg->seed, *schedules,
+                                 *verbose ? narrate : std::function<void(std::int64_t, const std::string&)>{}));
+      return;
+    }
     if (*agm) {
       const int n = scenario->empty() ? std::max(1, *schedules) : 1;
       int failed = 0;

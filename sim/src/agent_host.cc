@@ -6,6 +6,7 @@
 #include "quiver/graph/world_file.h"
 #include "quiver/base/hash.h"
 #include "quiver/sim/simulator.h"
+#include "sim_gateway.h"
 
 namespace quiver::sim {
 
@@ -19,19 +20,36 @@ struct AgentHost::Slot {
   std::unique_ptr<agents::Agent> agent;
   std::unique_ptr<agents::Engine> engine;  // from boot on; runs the agent once it is set up
   bool agent_running = false;
+  // Its store (AgentHostOptions::durable): what the replica had joined when it was killed.
+  std::unique_ptr<graph::GraphDelta> stored;
+  crdt::CausalContext stored_applied;
 };
 
 AgentHost::AgentHost(std::vector<SimAgentSpec> agents, AgentHostOptions o)
-    : opt_(std::move(o)), rng_(opt_.seed), net_(static_cast<int>(agents.size()), Rng(opt_.seed ^ 0x9e3779b97f4a7c15ULL), opt_.links) {
+    : opt_(std::move(o)),
+      rng_(opt_.seed),
+      net_(static_cast<int>(agents.size() + (opt_.team.robots.size() >= 2 ? 2 * opt_.team.robots.size() : 0)),
+           Rng(opt_.seed ^ 0x9e3779b97f4a7c15ULL), opt_.links) {
   for (auto& a : agents) {
     auto s = std::make_unique<Slot>();
     s->spec = std::move(a);
     agents_.push_back(std::move(s));
   }
+  if (opt_.team.robots.size() < 2) return;
+  // Each robot its own network (segment r), the team network segment R with its own links.
+  const int n = static_cast<int>(opt_.team.robots.size());
+  for (int r = 0; r < n; ++r) gateways_.push_back(std::make_unique<SimGateway>());
+  for (int i = 0; i < size(); ++i) net_.set_segment(i, robot_of(i));
+  for (int r = 0; r < n; ++r) {
+    net_.set_segment(gateway_node(r, 0), r);
+    net_.set_segment(gateway_node(r, 1), n);
+  }
+  net_.set_segment_faults(n, opt_.team.links);
 }
 
 AgentHost::~AgentHost() {
   // Engines first: they refer to the replicas and agents.
+  gateways_.clear();
   for (auto& s : agents_) {
     s->engine.reset();
     s->agent.reset();
@@ -51,7 +69,78 @@ Status AgentHost::start() {
     world_ = std::make_unique<graph::GraphDelta>(std::move(seed->delta));
   }
   for (int i = 0; i < size(); ++i) boot(i);
+  for (int r = 0; r < robots(); ++r) {
+    restart_gateway(r);
+    net_.at(net_.now() + static_cast<std::int64_t>(rng_.below(static_cast<std::uint64_t>(opt_.tick_ns))),
+            [this, r] { tick_gateway(r); });
+  }
   return {};
+}
+
+// ---- robot teams ----
+
+int AgentHost::robot_index(std::string_view name) const {
+  for (int r = 0; r < robots(); ++r)
+    if (robot_name(r) == name) return r;
+  return -1;
+}
+
+int AgentHost::robot_of(int agent) const {
+  const int r = agents_[static_cast<std::size_t>(agent)]->spec.robot;
+  return robots() > 0 && r >= 0 && r < robots() ? r : 0;
+}
+
+bool AgentHost::gateway_up(int r) const { return gateways_[static_cast<std::size_t>(r)]->up; }
+
+graph::Graph* AgentHost::gateway_graph(int r, int side) {
+  SimGateway& g = *gateways_[static_cast<std::size_t>(r)];
+  return g.up ? g.graph[side].get() : nullptr;
+}
+
+agents::Replicator* AgentHost::gateway_replicator(int r, int side) {
+  SimGateway& g = *gateways_[static_cast<std::size_t>(r)];
+  return g.up ? g.replicator[side].get() : nullptr;
+}
+
+void AgentHost::kill_gateway(int r) {
+  SimGateway& g = *gateways_[static_cast<std::size_t>(r)];
+  if (!g.up) return;
+  SimGateway::Place at;
+  at.node[0] = gateway_node(r, 0);
+  at.node[1] = gateway_node(r, 1);
+  rejected_ += g.crash(net_, at);
+  note(robot_name(r) + "-gateway killed (kill -9: both its replicas are gone)");
+}
+
+void AgentHost::restart_gateway(int r) {
+  SimGateway& g = *gateways_[static_cast<std::size_t>(r)];
+  kill_gateway(r);
+  SimGateway::Place at;
+  at.node[0] = gateway_node(r, 0);
+  at.node[1] = gateway_node(r, 1);
+  at.name = robot_name(r) + "-gateway";
+  at.robot = robot_name(r);
+  at.replica_base = fnv1a64(at.name) & ~std::uint64_t{1};
+  g.boot(net_, at, opt_.replicator, [this](const std::string& side, const Error& e) {
+    ++rejected_;
+    note(side + " rejected: " + e.to_string());
+  });
+  note(at.name + (g.incarnation > 1 ? " restarts (incarnation " + std::to_string(g.incarnation) + ", empty replicas)" : " starts"));
+}
+
+void AgentHost::tick_gateway(int r) {
+  gateways_[static_cast<std::size_t>(r)]->tick(net_.now());
+  net_.at(net_.now() + opt_.tick_ns, [this, r] { tick_gateway(r); });
+}
+
+void AgentHost::set_team_loss(double p) {
+  if (FaultConfig* f = net_.segment_faults(robots())) f->loss = p;
+}
+
+std::uint64_t AgentHost::team_bytes() const {
+  const auto& seg = net_.stats().segment_bytes;
+  const auto r = static_cast<std::size_t>(robots());
+  return robots() > 0 && seg.size() > r ? seg[r] : 0;
 }
 
 int AgentHost::index(std::string_view name) const {
@@ -91,6 +180,8 @@ void AgentHost::boot(int i) {
   s.up = true;
   const int inc = s.incarnation;
   s.graph = std::make_unique<graph::Graph>(graph::ReplicaId{fnv1a64(s.spec.name), static_cast<std::uint64_t>(inc)});
+  const bool from_store = s.stored != nullptr;
+  if (from_store) s.graph->merge(*s.stored);
   net_.set_up(i, true);
   net_.set_address(i, s.graph->replica());
   agents::ReplicatorOptions ro = opt_.replicator;
@@ -124,9 +215,15 @@ void AgentHost::boot(int i) {
     ++rejected_;
     note(name(i) + " rejected: " + e.to_string());
   });
+  if (from_store) {
+    s.replicator->restore(s.stored_applied);
+    s.stored.reset();
+  }
   s.replicator->start(net_.now());
   if (world_) (void)s.replicator->seed(*world_);
-  note(name(i) + (inc > 1 ? " restarts (incarnation " + std::to_string(inc) + ", empty replica)" : " starts"));
+  note(name(i) + (inc == 1 ? " starts"
+                  : " restarts (incarnation " + std::to_string(inc) +
+                        (from_store ? ", its replica loaded from its store)" : ", empty replica)")));
   net_.at(net_.now() + static_cast<std::int64_t>(rng_.below(static_cast<std::uint64_t>(opt_.tick_ns))),
           [this, i, inc] { tick(i, inc); });
   net_.at(net_.now() + opt_.join_wait_ns, [this, i, inc] { try_setup(i, inc, net_.now() + 4 * opt_.join_wait_ns); });
@@ -173,15 +270,34 @@ void AgentHost::kill(int i) {
   if (!s.up) return;
   s.up = false;
   net_.set_up(i, false);
+  if (opt_.durable && s.graph && s.replicator) {
+    s.stored = std::make_unique<graph::GraphDelta>(s.graph->state());
+    s.stored_applied = s.replicator->applied();
+  }
   s.engine.reset();
   s.agent_running = false;
   s.agent.reset();
   s.replicator.reset();
   s.graph.reset();
-  note(name(i) + " killed (kill -9: its replica and devices are gone)");
+  note(name(i) + (opt_.durable ? " killed (kill -9: its devices are gone; its store keeps its replica)"
+                                : " killed (kill -9: its replica and devices are gone)"));
 }
 
 bool AgentHost::kill(const std::string& agent) {
+  for (int r = 0; r < robots(); ++r) {
+    if (agent == robot_name(r) + "-gateway") {
+      if (!gateway_up(r)) return false;
+      kill_gateway(r);
+      return true;
+    }
+    if (agent == robot_name(r)) {  // the whole robot: every process at once
+      note("robot " + agent + " crashes: all its processes are killed");
+      kill_gateway(r);
+      for (int i = 0; i < size(); ++i)
+        if (robot_of(i) == r) kill(i);
+      return true;
+    }
+  }
   const int i = index(agent);
   if (i < 0 || !up(i)) return false;
   kill(i);
@@ -189,6 +305,19 @@ bool AgentHost::kill(const std::string& agent) {
 }
 
 bool AgentHost::restart(const std::string& agent) {
+  for (int r = 0; r < robots(); ++r) {
+    if (agent == robot_name(r) + "-gateway") {
+      if (gateway_up(r)) return false;
+      restart_gateway(r);
+      return true;
+    }
+    if (agent == robot_name(r)) {
+      if (!gateway_up(r)) restart_gateway(r);
+      for (int i = 0; i < size(); ++i)
+        if (robot_of(i) == r && !up(i)) boot(i);
+      return true;
+    }
+  }
   const int i = index(agent);
   if (i < 0 || up(i)) return false;
   restart(i);
@@ -201,10 +330,20 @@ void AgentHost::restart(int i) {
 }
 
 void AgentHost::partition(const std::vector<std::vector<std::string>>& groups) {
-  for (int i = 0; i < size(); ++i) net_.set_group(i, static_cast<int>(groups.size()) + 1);
-  for (std::size_t g = 0; g < groups.size(); ++g)
-    for (const std::string& n : groups[g])
-      if (int i = index(n); i >= 0) net_.set_group(i, static_cast<int>(g) + 1);
+  bool robots_named = robots() > 0 && !groups.empty();
+  for (const auto& g : groups)
+    for (const std::string& n : g) robots_named = robots_named && robot_index(n) >= 0;
+  if (robots_named) {
+    // The team network splits; each robot's own network stays whole.
+    for (int r = 0; r < robots(); ++r) net_.set_group(gateway_node(r, 1), static_cast<int>(groups.size()) + 1);
+    for (std::size_t g = 0; g < groups.size(); ++g)
+      for (const std::string& n : groups[g]) net_.set_group(gateway_node(robot_index(n), 1), static_cast<int>(g) + 1);
+  } else {
+    for (int i = 0; i < size(); ++i) net_.set_group(i, static_cast<int>(groups.size()) + 1);
+    for (std::size_t g = 0; g < groups.size(); ++g)
+      for (const std::string& n : groups[g])
+        if (int i = index(n); i >= 0) net_.set_group(i, static_cast<int>(g) + 1);
+  }
   std::string desc;
   for (const auto& g : groups) {
     desc += desc.empty() ? "{" : " | {";

@@ -57,8 +57,8 @@ bool Simulation::linked(int x, int y) const {
   if (net_.group(x) != net_.group(y)) return false;
   if (robots() == 0 || robot_of(x) == robot_of(y)) return true;
   const int rx = robot_of(x), ry = robot_of(y);
-  const Gateway& gx = gateways_[rx];
-  const Gateway& gy = gateways_[ry];
+  const SimGateway& gx = gateways_[rx];
+  const SimGateway& gy = gateways_[ry];
   if (!gx.up || !gy.up || net_.group(gateway_node(rx, 1)) != net_.group(gateway_node(ry, 1)) ||
       !gx.replicator[1]->peer_alive(gy.graph[1]->replica()) || !gy.replicator[1]->peer_alive(gx.graph[1]->replica()))
     return false;
@@ -69,7 +69,7 @@ bool Simulation::linked(int x, int y) const {
     if (std::none_of(told.begin(), told.end(), [&](const agents::Member& m) { return m.id == want; })) return false;
   }
   for (auto [agent, r] : {std::pair{x, rx}, std::pair{y, ry}}) {
-    const Gateway& g = gateways_[r];
+    const SimGateway& g = gateways_[r];
     const agents::Replicator& mine = *agents_[agent].replicator;
     // (A gateway without the role, -1, announces no generation: nothing to wait for.)
     const int heard = mine.generation_heard(g.graph[0]->replica());

@@ -28,6 +28,7 @@
 #include "quiver/sim/network.h"
 #include "quiver/sim/simulator.h"
 #include "quiver/sim/workload.h"
+#include "sim_gateway.h"
 
 namespace quiver::sim {
 
@@ -116,18 +117,12 @@ class Simulation final : public FaultTarget {
 
   // Robot teams (replica_team.cc): gateway r's replicas are network nodes gateway_node(r, 0) (on
   // robot r's network) and gateway_node(r, 1) (on the team's).
-  struct Gateway {
-    bool up = false;
-    std::uint64_t incarnation = 0;
-    std::unique_ptr<graph::Graph> graph[2];
-    std::unique_ptr<agents::Replicator> replicator[2];
-    std::unique_ptr<agents::ReplicaBridge> bridge;
-  };
   static int robots(const SimConfig& c) { return c.team.robots >= 2 ? c.team.robots : 0; }
   int robots() const { return robots(cfg_); }
   int robot_of(int agent) const { return agent % robots(); }
   int gateway_node(int r, int side) const { return cfg_.agents + 2 * r + side; }
   void make_team();
+  SimGateway::Place gateway_place(int r) const;
   void boot_gateway(int r);
   void crash_gateway(int r);
   void tick_gateway(int r);
@@ -151,7 +146,7 @@ class Simulation final : public FaultTarget {
   Rng rng_;
   VirtualNetwork net_;
   std::vector<Agent> agents_;
-  std::vector<Gateway> gateways_;
+  std::vector<SimGateway> gateways_;
   std::vector<graph::NodeId> scope_roots_;        // "scope0", ... as create_scopes made them
   Churn churn_{ChurnMix{}};
   SimResult result_;

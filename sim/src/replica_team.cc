@@ -3,7 +3,6 @@
 // with the gateways' other sides, slower and lossier; a gateway's two replicas are joined by a
 // ReplicaBridge, pumped after every sample either side receives and every tick. Partitions cut
 // robots off the team network; a gateway killed loses both replicas and restarts empty.
-#include "quiver/agents/transport/wire/cdr_sample.h"
 #include "replica_simulation.h"
 
 namespace quiver::sim {
@@ -29,69 +28,37 @@ int Simulation::gateway_index(const std::string& name) const {
   return -1;
 }
 
+SimGateway::Place Simulation::gateway_place(int r) const {
+  SimGateway::Place at;
+  at.node[0] = gateway_node(r, 0);
+  at.node[1] = gateway_node(r, 1);
+  at.replica_base = 0x6100 + 2 * static_cast<std::uint64_t>(r);
+  at.name = "gateway" + std::to_string(r);
+  at.robot = "robot" + std::to_string(r);
+  return at;
+}
+
 void Simulation::boot_gateway(int r) {
-  Gateway& g = gateways_[r];
-  ++g.incarnation;
-  for (int side = 0; side < 2; ++side) {
-    const int node = gateway_node(r, side);
-    const std::string name = "gateway" + std::to_string(r) + (side == 0 ? "" : ".team");
-    g.graph[side] = std::make_unique<graph::Graph>(
-        graph::ReplicaId{0x6100 + 2 * static_cast<std::uint64_t>(r) + static_cast<std::uint64_t>(side), g.incarnation});
-    agents::ReplicatorOptions opt = cfg_.replicator;
-    opt.name = name;
-    opt.gateway = true;
-    opt.robot = "robot" + std::to_string(r);
-    g.replicator[side] = std::make_unique<agents::Replicator>(*g.graph[side], net_.endpoint(node), opt);
-    g.replicator[side]->on_error([this, name](const Error& e) {
-      const std::string line = name + " rejected: " + e.to_string();
-      if (result_.first_rejection.empty()) result_.first_rejection = "t=" + std::to_string(net_.now()) + "ns " + line;
-      note(line);
-    });
-    net_.set_up(node, true);
-    net_.set_address(node, g.graph[side]->replica());
-  }
-  g.bridge = std::make_unique<agents::ReplicaBridge>(*g.replicator[0], *g.replicator[1]);
-  g.up = true;
-  for (int side = 0; side < 2; ++side) {
-    const int node = gateway_node(r, side);
-    agents::Replicator& rep = *g.replicator[side];
-    rep.start(net_.now());
-    net_.discover(node, {g.graph[side]->replica(), rep.options().name, false, true}, [this, r, side](const agents::PeerCard& c) {
-      if (gateways_[r].up) gateways_[r].replicator[side]->introduce(c);
-    });
-    net_.set_receiver(node, [this, r, side](const agents::CdrSample& sample, std::int64_t now) {
-      Gateway& gw = gateways_[r];
-      auto decoded = agents::decode_cdr_sample(sample.topic, sample.bytes);
-      if (decoded.ok()) gw.replicator[side]->on_sample(*decoded, now);
-      else gw.replicator[side]->on_undecodable(decoded.error());
-      gw.bridge->pump(now);
-    });
-  }
+  SimGateway& g = gateways_[r];
+  g.boot(net_, gateway_place(r), cfg_.replicator, [this](const std::string& name, const Error& e) {
+    const std::string line = name + " rejected: " + e.to_string();
+    if (result_.first_rejection.empty()) result_.first_rejection = "t=" + std::to_string(net_.now()) + "ns " + line;
+    note(line);
+  });
   if (g.incarnation > 1) note("gateway" + std::to_string(r) + " restarts empty (incarnation " + std::to_string(g.incarnation) + ")");
 }
 
 void Simulation::crash_gateway(int r) {
-  Gateway& g = gateways_[r];
+  SimGateway& g = gateways_[r];
   if (!g.up) return;
-  g.up = false;
-  g.bridge.reset();
-  for (int side = 0; side < 2; ++side) {
-    net_.set_up(gateway_node(r, side), false);
-    result_.rejected_samples += g.replicator[side]->stats().rejected;
-    g.replicator[side].reset();
-    g.graph[side].reset();
-  }
+  result_.rejected_samples += g.crash(net_, gateway_place(r));
   ++result_.crashes;
   ++result_.gateway_crashes;
   note("gateway" + std::to_string(r) + " crashes (kill -9: both its replicas are lost)");
 }
 
 void Simulation::tick_gateway(int r) {
-  Gateway& g = gateways_[r];
-  if (g.up) {
-    for (auto& rep : g.replicator) rep->tick(net_.now());
-    g.bridge->pump(net_.now());
-  }
+  gateways_[r].tick(net_.now());
   net_.at(net_.now() + cfg_.tick_interval_ns, [this, r] { tick_gateway(r); });
 }
 
@@ -130,7 +97,7 @@ void Simulation::check_team_members() {
 }
 
 bool Simulation::gateways_converged(const Digest128& d, const crdt::CausalContext& applied) const {
-  for (const Gateway& g : gateways_) {
+  for (const SimGateway& g : gateways_) {
     if (!g.up) return false;
     for (int side = 0; side < 2; ++side)
       if (!(g.replicator[side]->applied() == applied) || !(g.graph[side]->digest() == d)) return false;

@@ -56,6 +56,11 @@ ScenarioApp& ScenarioApp::settle(std::function<void(ScenarioRun&)> fn) {
   return *this;
 }
 
+ScenarioApp& ScenarioApp::team(std::function<AgentHostOptions::Team(const nlohmann::json&)> fn) {
+  team_ = std::move(fn);
+  return *this;
+}
+
 ScenarioApp& ScenarioApp::report(std::function<void(ScenarioRun&, nlohmann::json&)> fn) {
   report_ = std::move(fn);
   return *this;

@@ -57,6 +57,11 @@ ScenarioOutcome ScenarioRun::run() {
                      }});
   }
   AgentHostOptions ho;
+  ho.team = app_.team_of(s_.settings);
+  ho.durable = app_.has_stores();
+  for (SimAgentSpec& spec : specs)
+    for (std::size_t r = 0; r < ho.team.robots.size(); ++r)
+      if (spec.name.rfind(ho.team.robots[r] + "-", 0) == 0) spec.robot = static_cast<int>(r);
   ho.seed = seed_;
   ho.replicator = SimConfig::default_replicator();
   ho.locks.lease_ns = 1'000'000'000;

@@ -103,6 +103,15 @@ NodeId node_by_key(const graph::Graph& g, const std::string& key) {
 
 }  // namespace
 
+RobotNames RobotNames::of(std::string_view tag) {
+  RobotNames n;
+  if (tag.empty()) return n;
+  n.robot += tag;
+  n.gripper += tag;
+  n.plan += tag;
+  return n;
+}
+
 std::optional<PlanStep> next_plan_step(const graph::Graph& g, std::string_view plan_node) {
   const NodeId plan = node_id(g, plan_node);
   if (plan.is_null() || string_attr(g, plan, "status") != "executing") return std::nullopt;

@@ -28,6 +28,8 @@ const char* GraspEvent::name() const {
       return "grasped";
     case Kind::kReleased:
       return "released";
+    case Kind::kMissed:
+      return "missed";
   }
   return "?";
 }
@@ -42,13 +44,13 @@ class GraspAction final : public Action {
   std::vector<Match> find(AgentContext& ctx) override {
     std::vector<Match> out;
     graph::Graph& g = ctx.graph();
-    const NodeId robot = node_id(g, node::kRobot);
+    const NodeId robot = node_id(g, agent_.options().names.robot);
     if (robot.is_null() || !agent_.platform_still(ctx)) return out;
     for (const graph::EdgeKey& e : g.edges_from(robot, edge::kFetch))
-      if (ready(g, robot, e.to))
+      if (ready(g, robot, e.to) && !resting(e.to, ctx.now()))
         out.push_back(Match{g.name_of(e.to), {{"robot", robot}, {"object", e.to}}});
     if (const NodeId o = planned(g); !o.is_null() && !g.has_edge(robot, o, edge::kFetch) &&
-                                     ready(g, robot, o) &&
+                                     ready(g, robot, o) && !resting(o, ctx.now()) &&
                                      g.edges_from(robot, edge::kCarrying).empty())
       out.push_back(Match{g.name_of(o), {{"robot", robot}, {"object", o}}});
     return out;
@@ -59,6 +61,11 @@ class GraspAction final : public Action {
     return (g.has_edge(m.at("robot"), m.at("object"), edge::kFetch) ||
             planned(g) == m.at("object")) &&
            g.has_edge(m.at("robot"), m.at("object"), edge::kReach) && agent_.platform_still(ctx);
+  }
+
+  std::optional<LockNeed> lock(AgentContext&, const Match& m) override {
+    if (!agent_.options().lock_objects) return std::nullopt;
+    return LockNeed{m.at("object"), 1};
   }
 
   Status start(AgentContext& ctx, const Match& m) override {
@@ -78,14 +85,21 @@ class GraspAction final : public Action {
   Progress process(AgentContext& ctx, const Match& m) override {
     // Checked again right before the grasp closes: nothing may have moved since the last look.
     if (!holds(ctx, m)) return Progress::kFailed;
-    return ctx.now() - started_[m.key] >= agent_.options().grasp_ns ? Progress::kDone
-                                                                    : Progress::kRunning;
+    if (ctx.now() - started_[m.key] < agent_.options().grasp_ns) return Progress::kRunning;
+    // The hand closes: on nothing if another robot holds the object.
+    const GraspingOptions& o = agent_.options();
+    if (o.custody && !o.custody->take(m.key, o.names.robot)) {
+      missed_[m.at("object")] = ctx.now();
+      agent_.note({GraspEvent::Kind::kMissed, m.key, ctx.now()});
+      return Progress::kFailed;
+    }
+    return Progress::kDone;
   }
 
   Status finish(AgentContext& ctx, const Match& m) override {
     graph::Graph& g = ctx.graph();
     const NodeId robot = m.at("robot"), object = m.at("object"),
-                 gripper = node_id(g, node::kGripper);
+                 gripper = node_id(g, agent_.options().names.gripper);
     const std::int64_t now = ctx.now();
     graph::Transaction tx = g.begin();
     Status s = tx.delete_edge(robot, object, Symbol(edge::kGrasping));
@@ -103,7 +117,11 @@ class GraspAction final : public Action {
     if (s.ok()) {
       if (auto c = tx.commit(); !c.ok()) s = c.error();
     }
-    if (!s.ok()) return s;
+    if (!s.ok()) {
+      // The graph refuses what the hand did (the object left the table meanwhile): let go.
+      if (agent_.options().custody) agent_.options().custody->put(m.key, agent_.options().names.robot);
+      return s;
+    }
     agent_.note({GraspEvent::Kind::kGrasped, m.key, now});
     return {};
   }
@@ -123,17 +141,38 @@ class GraspAction final : public Action {
   // The object the plan's next step asks to grasp (follow_plan), or the null id.
   NodeId planned(const graph::Graph& g) const {
     if (!agent_.options().follow_plan) return {};
-    auto step = next_plan_step(g);
+    auto step = next_plan_step(g, agent_.options().names.plan);
     return step && step->rule == "grasp" ? step->at("o") : NodeId{};
+  }
+  // Missed lately (another robot holds it): left alone for a while.
+  bool resting(NodeId object, std::int64_t now) const {
+    auto it = missed_.find(object);
+    return it != missed_.end() && now - it->second < agent_.options().retry_ns;
   }
   static bool ready(const graph::Graph& g, NodeId robot, NodeId object) {
     return g.has_edge(robot, object, edge::kReach) && !g.has_edge(robot, object, edge::kCarrying);
   }
   Grasping& agent_;
   std::map<std::string, std::int64_t> started_;
+  std::map<NodeId, std::int64_t> missed_;
 };
 
 }  // namespace
+
+bool SharedCustody::take(const std::string& object, const std::string& robot) {
+  auto [it, fresh] = held_.emplace(object, robot);
+  return fresh || it->second == robot;
+}
+
+void SharedCustody::put(const std::string& object, const std::string& robot) {
+  auto it = held_.find(object);
+  if (it != held_.end() && it->second == robot) it->second.clear();
+}
+
+std::string SharedCustody::holder(const std::string& object) const {
+  auto it = held_.find(object);
+  return it == held_.end() ? std::string() : it->second;
+}
 
 Grasping::Grasping(GraspingOptions o, std::string name)
     : Agent(std::move(name)), opt_(std::move(o)) {
@@ -160,7 +199,7 @@ void Grasping::teardown(AgentContext&) {
 
 bool Grasping::platform_still(AgentContext& ctx) const {
   const graph::Graph& g = ctx.graph();
-  const NodeId robot = node_id(g, node::kRobot);
+  const NodeId robot = node_id(g, opt_.names.robot);
   if (robot.is_null() || g.has_edge(robot, robot, edge::kMoved)) return false;
   auto X_WR = g.rt_edge(robot);
   return X_WR && ctx.now() - X_WR->stamp <= opt_.fresh_ns;
@@ -175,7 +214,7 @@ void Grasping::note(const GraspEvent& e) {
 
 void Grasping::measure(AgentContext& ctx) {
   graph::Graph& g = ctx.graph();
-  const NodeId robot = node_id(g, node::kRobot), gripper = node_id(g, node::kGripper);
+  const NodeId robot = node_id(g, opt_.names.robot), gripper = node_id(g, opt_.names.gripper);
   if (robot.is_null() || gripper.is_null() || !scene_) return;
   const auto X_WR = g.rt_edge(robot);
   const std::int64_t stamp = X_WR ? X_WR->stamp : 0;
@@ -216,10 +255,10 @@ void Grasping::measure(AgentContext& ctx) {
 
 void Grasping::release(AgentContext& ctx) {
   graph::Graph& g = ctx.graph();
-  auto step = next_plan_step(g);
+  auto step = next_plan_step(g, opt_.names.plan);
   if (!step || step->rule != "release") return;
-  const NodeId robot = node_id(g, node::kRobot), object = step->at("o"),
-               gripper = node_id(g, node::kGripper), world = node_id(g, node::kWorld);
+  const NodeId robot = node_id(g, opt_.names.robot), object = step->at("o"),
+               gripper = node_id(g, opt_.names.gripper), world = node_id(g, node::kWorld);
   if (robot.is_null() || object.is_null() || world.is_null() ||
       !g.has_edge(robot, object, edge::kCarrying) || !platform_still(ctx))
     return;
@@ -237,6 +276,7 @@ void Grasping::release(AgentContext& ctx) {
     ctx.log("release of " + g.name_of(object) + " refused: " + s.error().to_string());
     return;
   }
+  if (opt_.custody) opt_.custody->put(g.name_of(object), opt_.names.robot);
   note({GraspEvent::Kind::kReleased, g.name_of(object), now});
 }
 

@@ -22,7 +22,7 @@ void Navigation::setup(AgentContext& ctx) {
   // The route starts once: a restarted agent finds the start in the graph (the platform device
   // itself may have outlived the agent, as in the simulator).
   graph::Graph& g = ctx.graph();
-  const NodeId robot = node_id(g, node::kRobot);
+  const NodeId robot = node_id(g, opt_.names.robot);
   if (!platform_->started()) {
     const Value* t0 = robot.is_null() ? nullptr : g.attr(robot, attr::kRouteT0);
     platform_->start(t0 && t0->get_if<std::int64_t>() ? *t0->get_if<std::int64_t>() : ctx.now());
@@ -36,7 +36,7 @@ void Navigation::setup(AgentContext& ctx) {
 
 void Navigation::frame(AgentContext& ctx) {
   graph::Graph& g = ctx.graph();
-  const NodeId robot = node_id(g, node::kRobot), world = node_id(g, node::kWorld);
+  const NodeId robot = node_id(g, opt_.names.robot), world = node_id(g, node::kWorld);
   if (robot.is_null() || world.is_null()) return;
   const std::int64_t now = ctx.now();
   const bool moved = platform_->moved_between(now - opt_.moved_window_ns, now);
@@ -44,7 +44,7 @@ void Navigation::frame(AgentContext& ctx) {
   if (opt_.follow_plan && platform_->finished(now)) steer(g, now);
   bool done = platform_->finished(now);
   if (opt_.follow_plan) {
-    const NodeId plan = node_id(g, "plan");
+    const NodeId plan = node_id(g, opt_.names.plan);
     const Value* st = plan.is_null() ? nullptr : g.attr(plan, "status");
     done = done && st && st->get_if<std::string>() && *st->get_if<std::string>() == "achieved";
   }
@@ -78,7 +78,7 @@ void Navigation::frame(AgentContext& ctx) {
 }
 
 void Navigation::steer(const graph::Graph& g, std::int64_t now) {
-  auto step = next_plan_step(g);
+  auto step = next_plan_step(g, opt_.names.plan);
   if (!step) return;
   double x = 0, y = 0, speed = opt_.speed;
   if (step->rule == "changeRoom") {

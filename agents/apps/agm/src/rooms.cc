@@ -19,7 +19,7 @@ void Rooms::setup(AgentContext& ctx) {
   ChangeFilter poses;
   poses.edge_types = {"RT"};
   subscribe(poses, [this](AgentContext& c, const graph::ChangeBatch& b) {
-    const NodeId robot = node_id(c.graph(), node::kRobot);
+    const NodeId robot = node_id(c.graph(), opt_.names.robot);
     for (const graph::EdgeChange& e : b.edges)
       if (e.key.to == robot && e.kind != graph::ChangeKind::kDeleted) {
         check(c);
@@ -32,7 +32,7 @@ void Rooms::setup(AgentContext& ctx) {
 
 void Rooms::check(AgentContext& ctx) {
   graph::Graph& g = ctx.graph();
-  const NodeId robot = node_id(g, node::kRobot);
+  const NodeId robot = node_id(g, opt_.names.robot);
   if (robot.is_null()) return;
   auto X_WR = g.rt_edge(robot);
   auto here = room_of(g, robot);

@@ -113,7 +113,9 @@ void PlannerAgent::think(AgentContext& ctx) {
     }
     impl_->mission = std::move(*m);
   }
-  symbolic::World world = symbolic::read_world(g, impl_->grammar.types);
+  symbolic::World world =
+      opt_.hide ? symbolic::read_world(g, impl_->grammar.types, [&](graph::NodeId n) { return opt_.hide(g, n); })
+                : symbolic::read_world(g, impl_->grammar.types);
   Domain domain(impl_->grammar, world.vocabulary);
   auto cm = compile_mission(*impl_->mission, world);
   if (!cm.ok()) {

@@ -141,13 +141,14 @@ std::string World::label(NodeIx n) const {
   return "new_" + std::to_string(n);
 }
 
-World read_world(const graph::Graph& g, TypeSystem types) {
+World read_world(const graph::Graph& g, TypeSystem types, const std::function<bool(graph::NodeId)>& hide) {
   World w;
   w.vocabulary = Vocabulary(std::move(types));
   std::vector<graph::NodeId> ids = g.nodes();
   std::vector<std::pair<std::string, graph::NodeId>> named;
   named.reserve(ids.size());
-  for (graph::NodeId id : ids) named.emplace_back(g.name_of(id), id);
+  for (graph::NodeId id : ids)
+    if (!hide || !hide(id)) named.emplace_back(g.name_of(id), id);
   std::sort(named.begin(), named.end());
   std::unordered_map<graph::NodeId, NodeIx> ix;
   for (auto& [name, id] : named) {

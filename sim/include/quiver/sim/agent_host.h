@@ -26,6 +26,8 @@ struct SimAgentSpec {
   std::string name;
   /// Makes the agent (again, on every restart).
   std::function<std::unique_ptr<agents::Agent>()> make;
+  /// A team (AgentHostOptions::team): the index of the robot it runs on.
+  int robot = 0;
 };
 
 struct AgentHostOptions {
@@ -39,7 +41,20 @@ struct AgentHostOptions {
   /// The shared vocabulary every agent loads (docs/schema.md): checked on commit and merge. Null: none.
   std::shared_ptr<const agents::schema::Schema> schema;
   std::function<void(std::int64_t t_ns, const std::string& line)> log;
+  /// A robot team (docs/teams.md): each agent on its robot's own network (SimAgentSpec::robot),
+  /// one gateway per robot (`NAME-gateway`: two replicas and a bridge, as `quiver gateway` runs
+  /// them) joining it to the team network, whose links have their own faults.
+  /// Agents with stores (`--durability always`): kill -9 keeps everything the agent's replica had
+  /// joined, and a restart loads it into a new incarnation (its peers then send only what it
+  /// lacks). Without: a restart is empty.
+  bool durable = false;
+  struct Team {
+    std::vector<std::string> robots;  ///< the robots' names; fewer than two: one network
+    FaultConfig links;                ///< the team network's delays and base faults
+  } team;
 };
+
+struct SimGateway;
 
 class AgentHost final : public FaultTarget {
  public:
@@ -69,19 +84,46 @@ class AgentHost final : public FaultTarget {
   agents::Replicator* replicator(int i);
   int incarnation(int i) const;
 
-  /// kill -9: the agent, its devices and its replica vanish at once (no teardown, no goodbye).
+  /// kill -9: the agent, its devices and its replica vanish at once (no teardown, no goodbye);
+  /// with `durable`, its store keeps what the replica had joined.
   void kill(int i);
-  /// A fresh incarnation with an empty replica.
+  /// A fresh incarnation: with an empty replica, or loaded from its store (`durable`).
   void restart(int i);
-  /// Agents hear each other only within a group; agents not named form one more group.
+  /// Agents hear each other only within a group; agents not named form one more group. In a
+  /// team, groups naming robots cut the team network between them (the robots' own networks stay
+  /// whole; robots not named form one more group).
   void partition(const std::vector<std::vector<std::string>>& groups) override;
   void heal() override { net_.heal(); }
-  void set_loss(double p) override { net_.faults().loss = p; }
+  /// Loss on every link; in a team, on the team network only (the robots' own networks are
+  /// their loopbacks).
+  void set_loss(double p) override {
+    if (robots() > 0) set_team_loss(p);
+    else net_.faults().loss = p;
+  }
   /// FaultTarget by name: kill -9 / restart of the agent called `agent` (false: not running /
-  /// already running, or no such agent).
+  /// already running, or no such agent). In a team also `NAME-gateway` (a robot's gateway) and
+  /// `NAME` (a robot: all its agents and its gateway at once).
   bool kill(const std::string& agent) override;
   bool restart(const std::string& agent) override;
   VirtualNetwork& network() { return net_; }
+
+  // ---- robot teams (AgentHostOptions::team) ----
+  int robots() const { return static_cast<int>(gateways_.size()); }
+  const std::string& robot_name(int r) const { return opt_.team.robots[static_cast<std::size_t>(r)]; }
+  /// The robot called `name`, or -1.
+  int robot_index(std::string_view name) const;
+  int robot_of(int agent) const;
+  bool gateway_up(int r) const;
+  /// Side 0 (the robot's network) or 1 (the team's) of robot r's gateway (null while down).
+  graph::Graph* gateway_graph(int r, int side);
+  agents::Replicator* gateway_replicator(int r, int side);
+  /// kill -9 of robot r's gateway (both replicas vanish), and its restart (empty).
+  void kill_gateway(int r);
+  void restart_gateway(int r);
+  /// Loss on the team network only (the robots' own networks keep theirs).
+  void set_team_loss(double p);
+  /// Bytes sent on the team network so far.
+  std::uint64_t team_bytes() const;
 
   /// Every action event of every agent (index, event).
   void on_action_event(std::function<void(int, const agents::ActionEvent&)> cb) { action_cb_ = std::move(cb); }
@@ -96,11 +138,14 @@ class AgentHost final : public FaultTarget {
   void tick(int i, int incarnation);
   void note(const std::string& line);
   void repeat(std::int64_t period_ns, std::shared_ptr<std::function<void()>> fn);
+  void tick_gateway(int r);
+  int gateway_node(int r, int side) const { return size() + 2 * r + side; }
 
   AgentHostOptions opt_;
   Rng rng_;
   VirtualNetwork net_;
   std::vector<std::unique_ptr<Slot>> agents_;
+  std::vector<std::unique_ptr<SimGateway>> gateways_;  // one per robot of a team
   std::unique_ptr<graph::GraphDelta> world_;
   std::function<void(int, const agents::ActionEvent&)> action_cb_;
   std::function<void(int)> started_cb_;

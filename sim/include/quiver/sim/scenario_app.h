@@ -20,6 +20,7 @@
 
 #include "quiver/agents/runtime/api/agent.h"
 #include "quiver/base/result.h"
+#include "quiver/sim/agent_host.h"
 
 namespace quiver::sim {
 
@@ -89,6 +90,16 @@ class ScenarioApp {
   ScenarioApp& settle(std::function<void(ScenarioRun&)> fn);
   /// Adds the app's figures to a run's outcome when it ends.
   ScenarioApp& report(std::function<void(ScenarioRun&, nlohmann::json& metrics)> fn);
+  /// A robot team (AgentHostOptions::team, docs/teams.md): the robots and the team network's
+  /// links, from the run's settings. Each agent runs on the robot whose name, with a dash, begins
+  /// its own (`A-navigation` on robot A).
+  ScenarioApp& team(std::function<AgentHostOptions::Team(const nlohmann::json& settings)> fn);
+  /// The agents keep stores (AgentHostOptions::durable): a restart loads what the replica had.
+  ScenarioApp& stores(bool on) {
+    stores_ = on;
+    return *this;
+  }
+  bool has_stores() const { return stores_; }
 
   // ---- for the runner ----
   bool has_role(const std::string& r) const { return roles_.count(r) > 0; }
@@ -108,6 +119,7 @@ class ScenarioApp {
   void add_report(ScenarioRun& run, nlohmann::json& metrics) const {
     if (report_) report_(run, metrics);
   }
+  AgentHostOptions::Team team_of(const nlohmann::json& settings) const { return team_ ? team_(settings) : AgentHostOptions::Team{}; }
 
  private:
   std::string name_;
@@ -121,6 +133,8 @@ class ScenarioApp {
   std::function<bool(ScenarioRun&)> done_when_;
   std::function<void(ScenarioRun&)> settle_;
   std::function<void(ScenarioRun&, nlohmann::json&)> report_;
+  std::function<AgentHostOptions::Team(const nlohmann::json&)> team_;
+  bool stores_ = false;
 };
 
 /// A check that is on or off in a scenario file ("name": true; false makes none): `finish` adds

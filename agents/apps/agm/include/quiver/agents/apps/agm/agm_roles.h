@@ -4,6 +4,7 @@
 /// `quiver bench humans` and the simulator create them here. Each agent verifies the others'
 /// changes against their own grammars.
 #include <memory>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -12,6 +13,7 @@
 #include "quiver/agents/apps/agm/humans.h"
 #include "quiver/agents/apps/agm/navigation.h"
 #include "quiver/agents/apps/agm/rooms.h"
+#include "quiver/agents/apps/agm/team_world.h"
 #include "quiver/base/result.h"
 
 namespace quiver::agents::inline apps::agm {
@@ -31,6 +33,13 @@ struct AgmRoleOptions {
   bool clean_table = false;
   /// agm-planner: the planner agent's search bound (expansions).
   std::int64_t planner_max_expansions = 200'000;
+  /// A team (team_world.h): the robot the agent works for. Navigation, rooms and grasping use its
+  /// nodes; grasping locks the object it grasps; the planner writes the robot's plan node, plans
+  /// the robot's own mission and does not see the other robots. Implies clean_table.
+  std::optional<TeamRobot> team;
+  /// A team: how many robots it has (their agents, `A-navigation`, ..., are the peers whose
+  /// changes each agent verifies with their grammars).
+  int team_size = 2;
 };
 
 /// The planner agent of the clean-the-table mission (agents/apps/planning's PlannerAgent with the

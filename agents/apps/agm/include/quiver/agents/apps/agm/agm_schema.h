@@ -23,6 +23,15 @@ inline constexpr const char* kRobot = "robot";
 inline constexpr const char* kGripper = "gripper";
 }  // namespace node
 
+/// The nodes of one robot: its body, its gripper and the plan node its planner writes and its
+/// agents follow. One robot: `robot`, `gripper`, `plan`; in a team (team_world.h) each robot's own,
+/// `robotA`, `gripperA`, `planA` for robot A.
+struct RobotNames {
+  std::string robot = node::kRobot, gripper = node::kGripper, plan = "plan";
+  /// The names of the team's robot called `tag` (empty: the single robot's).
+  static RobotNames of(std::string_view tag);
+};
+
 namespace edge {
 inline constexpr const char* kIn = "in";
 inline constexpr const char* kTransitable = "transitable";

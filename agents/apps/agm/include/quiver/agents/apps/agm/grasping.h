@@ -14,11 +14,18 @@
 /// pose goes stale) it is paused: the mark goes, and it starts again once the robot is still.
 /// After `grasp_ns` of uninterrupted grasping the object is carried: its RT edge moves under the
 /// gripper. Grammar: grammars/grasping.aggl.
+///
+/// In a team (docs/teams.md) robots reach for the same objects: the grasp then holds a priority
+/// lock on the object (`lock_objects`, across robots through the gateways), and the hand closes
+/// through the Custody device, which lets only one robot hold an object (a robot cut off from the
+/// others by a partition finds the object gone, as a real gripper would).
 #include <cstdint>
 #include <functional>
+#include <map>
 #include <memory>
 #include <string>
 
+#include "quiver/agents/apps/agm/agm_schema.h"
 #include "quiver/agents/apps/agm/latency_probe.h"
 #include "quiver/agents/runtime/api/agent.h"
 
@@ -37,7 +44,8 @@ struct GraspEvent {
     kStarted,
     kPaused,
     kGrasped,
-    kReleased  ///< clean the table: put down in the robot's room
+    kReleased,  ///< clean the table: put down in the robot's room
+    kMissed     ///< the hand closed on nothing: another robot holds the object (Custody)
   } kind = Kind::kReach;
   std::string object;
   std::int64_t t_ns = 0;
@@ -46,7 +54,35 @@ struct GraspEvent {
   const char* name() const;
 };
 
+/// The physical side of grasping, shared by every robot that can reach the objects (a simulated
+/// device, as the Platform is): an object stands where the world put it (on the table) until a
+/// hand takes it, is in one hand at most, and once put down elsewhere it is no longer there to
+/// take.
+class Custody {
+ public:
+  virtual ~Custody() = default;
+  /// Closes `robot`'s hand on `object` where it stood. @returns false (and changes nothing) when
+  /// another robot holds it or it was put down elsewhere; true when `robot` holds it now.
+  virtual bool take(const std::string& object, const std::string& robot) = 0;
+  /// `robot` lets go of `object` (nothing if it did not hold it).
+  virtual void put(const std::string& object, const std::string& robot) = 0;
+};
+
+/// Custody within one process (the simulator's robots).
+class SharedCustody final : public Custody {
+ public:
+  bool take(const std::string& object, const std::string& robot) override;
+  void put(const std::string& object, const std::string& robot) override;
+  /// Who holds `object` ("" if nobody).
+  std::string holder(const std::string& object) const;
+
+ private:
+  std::map<std::string, std::string> held_;  // object -> robot; "" once put down
+};
+
 struct GraspingOptions {
+  /// Which robot's nodes it works on (a team: RobotNames::of(tag)).
+  RobotNames names;
   double rate_hz = 15;
   double reach_on_m = 0.10;
   double reach_off_m = 0.15;
@@ -59,6 +95,12 @@ struct GraspingOptions {
   /// where the gripper is).
   bool follow_plan = false;
   std::function<void(const GraspEvent&)> on_event;
+  /// A team: hold a priority lock on the object while grasping it, and close the hand through
+  /// `custody` (null: the hand always closes). After a miss the object is left alone for
+  /// `retry_ns`.
+  bool lock_objects = false;
+  std::shared_ptr<Custody> custody;
+  std::int64_t retry_ns = 1'000'000'000;
 };
 
 class Grasping final : public Agent {
@@ -75,6 +117,8 @@ class Grasping final : public Agent {
   bool platform_still(AgentContext& ctx) const;
   void note(const GraspEvent& e);
   const GraspingOptions& options() const { return opt_; }
+  /// A control for tests: grasp without the lock on the object (GraspingOptions::lock_objects).
+  void drop_object_locks() { opt_.lock_objects = false; }
   const LatencyProbe& probe() const { return probe_; }
 
  private:

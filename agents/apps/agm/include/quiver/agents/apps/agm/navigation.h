@@ -10,6 +10,7 @@
 #include <cstdint>
 #include <memory>
 
+#include "quiver/agents/apps/agm/agm_schema.h"
 #include "quiver/agents/apps/agm/latency_probe.h"
 #include "quiver/agents/apps/agm/platform.h"
 #include "quiver/agents/runtime/api/agent.h"
@@ -17,6 +18,8 @@
 namespace quiver::agents::inline apps::agm {
 
 struct NavigationOptions {
+  /// Which robot's nodes it works on (a team: RobotNames::of(tag)).
+  RobotNames names;
   double rate_hz = 30;
   std::int64_t moved_window_ns = 1'000'000'000;
   double jitter_m = 0.003;  ///< localization noise (uniform, each axis)

@@ -12,6 +12,7 @@
 #include <string>
 #include <vector>
 
+#include "quiver/agents/apps/agm/agm_schema.h"
 #include "quiver/agents/apps/agm/latency_probe.h"
 #include "quiver/agents/runtime/api/agent.h"
 
@@ -26,6 +27,8 @@ struct RoomChange {
 };
 
 struct RoomsOptions {
+  /// Which robot's nodes it works on (a team: RobotNames::of(tag)).
+  RobotNames names;
   bool measure_humans = false;
   /// Told of every committed change (the simulator's checks keep them across restarts).
   std::function<void(const RoomChange&)> on_change;

@@ -33,6 +33,9 @@ struct PlannerAgentOptions {
   /// The mission (.aggt text). Empty: read from the plan node's `mission` attribute.
   std::string mission_text, mission_source = "mission.aggt";
   std::string plan_node = "plan";
+  /// Nodes the planner does not see (with their edges): a team's robot plans for itself, without
+  /// the other robots and what they carry. Empty: it sees the whole graph.
+  std::function<bool(const graph::Graph&, graph::NodeId)> hide;
   /// The search; bounded by expansions (deterministic) so that one plan never holds the agent's
   /// thread for long: 200k expansions are well under a second on the public AGM domains.
   planner::PlannerOptions planner = [] {

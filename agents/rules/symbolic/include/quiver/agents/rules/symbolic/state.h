@@ -9,6 +9,7 @@
 /// Types and labels are indices into a Vocabulary shared by every state of the problem.
 
 #include <cstdint>
+#include <functional>
 #include <limits>
 #include <string>
 #include <string_view>
@@ -118,7 +119,8 @@ struct World {
 /// Reads the symbolic part of `g`: every node (type, name, `agm_id`), every symbolic edge and
 /// every RT edge (label "RT", parent -> child), in a deterministic order (by name).
 /// `types` gives inheritance (a grammar's); types and labels are interned in the result's
-/// vocabulary.
-World read_world(const graph::Graph& g, TypeSystem types = {});
+/// vocabulary. Nodes for which `hide` returns true are left out, with their edges.
+World read_world(const graph::Graph& g, TypeSystem types = {},
+                 const std::function<bool(graph::NodeId)>& hide = {});
 
 }  // namespace quiver::agents::inline rules::symbolic
