@@ -2,11 +2,17 @@
 // human tracking — one process per agent over DDS on loopback, checked from an observer replica)
 // and quiver bench humans (the human-tracking load reaching the other agents while they work):
 // their options; the runs are agents/apps/agm/process's.
+#include <cstdio>
+#include <nlohmann/json.hpp>
+
 #include "commands.h"
 #include "dds_options.h"
 #include "quiver/agents/apps/agm/agm_roles.h"
 #include "quiver/agents/apps/agm/agm_schema.h"
+#include "quiver/agents/apps/agm/custody.h"
+#include "quiver/agents/apps/agm/team_world.h"
 #include "quiver/agents/apps/agm/process/agm_runs.h"
+#include "quiver/agents/apps/agm/process/team_run.h"
 #include "quiver/agents/runtime/process/logging.h"
 #include "run_flags.h"
 
@@ -31,12 +37,43 @@ int run_agm_role(RunFlags f) {
   ro.measure_humans = f.measure_humans;
   ro.navigation.quiet_when_done = f.quiet_when_done;
   ro.clean_table = f.mission == agm::kCleanTable;
+  // One line per grasp event and per drive, flushed at once (the team scenario reads them, also
+  // from a process killed with SIGKILL).
+  auto say = [](const nlohmann::json& j) {
+    std::printf("%s\n", j.dump().c_str());
+    std::fflush(stdout);
+  };
+  if (!f.team_robot.empty()) {
+    for (const agm::TeamRobot& r : agm::team_robots(f.robots))
+      if (r.tag == f.team_robot) ro.team = r;
+    if (!ro.team) {
+      agents::named_logger("quiver run")->error("--team-robot {}: a team of {} robots has robots A to {}", f.team_robot,
+                                                f.robots, std::string(1, static_cast<char>('A' + f.robots - 1)));
+      return 2;
+    }
+    ro.team_size = f.robots;
+    ro.navigation.resume_from_graph = true;
+    ro.navigation.on_drive = [say](std::int64_t b, std::int64_t e) { say({{"drive", {{"begin_ns", b}, {"end_ns", e}}}}); };
+    ro.grasping.on_event = [say](const agm::GraspEvent& e) {
+      say({{"grasp_event", {{"kind", e.name()}, {"object", e.object}, {"t_ns", e.t_ns}}}});
+    };
+    if (!f.custody.empty()) {
+      auto c = agm::FileCustody::open(f.custody);
+      if (!c.ok()) {
+        agents::named_logger("quiver run")->error("{}", c.error().to_string());
+        return 2;
+      }
+      ro.grasping.custody = std::move(*c);
+    }
+  }
   auto agent = agm::make_role(f.role, ro);
   if (!agent.ok()) {
     agents::named_logger("quiver run")->error("{}", agent.error().to_string());
     return 2;
   }
-  if (f.process.world.empty())
+  if (f.process.world.empty() && ro.team)
+    f.process.world_text = *agm::team_world_json(f.robots);
+  else if (f.process.world.empty())
     f.process.world_text = std::string(ro.clean_table || f.role == agm::kPlannerRole ? agm::embedded_file("clean-table.json")
                                                                                      : agm::world_json());
   return agents::run_process(**agent, f.process);
@@ -68,11 +105,56 @@ ExtraRoles agm_roles() {
     run->add_flag("--quiet-when-done", f.quiet_when_done, "AGM navigation: stop publishing once the route is done");
     run->add_option("--mission", f.mission, "AGM: clean-table (its world; navigation and grasping follow the plan agm-planner writes)")
         ->check(CLI::IsMember({"", "clean-table"}));
+    run->add_option("--team-robot", f.team_robot,
+                    "AGM in a team (docs/teams.md): the robot this agent works for (A, B, ...): its nodes, its plan, the team's world")
+        ->check(CLI::IsMember({"A", "B", "C", "D", "E", "F", "G", "H"}));
+    run->add_option("--robots", f.robots, "AGM in a team: how many robots it has")
+        ->check(CLI::Range(2, agm::kMaxTeamRobots))
+        ->capture_default_str();
+    run->add_option("--custody", f.custody,
+                    "AGM grasping in a team: the directory through which the robots' hands hold the objects (one hand each)");
   };
   return r;
 }
 
+// quiver scenario team: robots as network namespaces with real processes (root).
+void add_team_scenario(CLI::App* scenario) {
+  auto t = std::make_shared<agm::TeamDdsRun>();
+  auto* c = scenario->add_subcommand(
+      "team", "The team scenario in seed 001's world (docs/teams.md): robots as network namespaces (root), each with its "
+              "gateway and agents; the team link cut and healed, a robot crashed and restarted from its stores; checked");
+  c->add_option("--robots", t->robots, "robots (A, B, ...)")->check(CLI::Range(2, agm::kMaxTeamRobots))->capture_default_str();
+  c->add_option("--agents-per-robot", t->agents_per_robot,
+                "processes per robot, its gateway included (navigation, rooms, grasping, planner, the human tracker on "
+                "robot A, then idle agents)")
+      ->check(CLI::Range(6, 29))
+      ->capture_default_str();
+  c->add_option("--partition-at", t->partition_at_s, "cut the team link this many seconds after the start (negative: never)")
+      ->capture_default_str();
+  c->add_option("--heal-at", t->heal_at_s, "heal it this many seconds after the start")->capture_default_str();
+  c->add_option("--crash", t->crash, "ROBOT@S: SIGKILL of all of that robot's processes S seconds after the start, "
+                                     "restarted from their stores 2 s later (\"\": no crash)")
+      ->capture_default_str();
+  c->add_option("--limit", t->limit_s, "give up after this many seconds")->check(CLI::Range(10.0, 3600.0))->capture_default_str();
+  c->add_option("--out", t->out, "keep the logs, stores and final graph here (default: a new /tmp/quiver-team-*)");
+  c->callback([t] {
+    if (!t->crash.empty()) {
+      const auto at = t->crash.find('@');
+      const std::string robot = t->crash.substr(0, at);
+      if (at == std::string::npos || robot.size() != 1 || robot[0] < 'A' || robot[0] >= 'A' + t->robots) {
+        agents::named_logger("quiver scenario team")
+            ->error("--crash {}: expected ROBOT@SECONDS with a robot from A to {}", t->crash,
+                    std::string(1, static_cast<char>('A' + t->robots - 1)));
+        set_exit_code(2);
+        return;
+      }
+    }
+    set_exit_code(agm::run_team_over_dds(*t));
+  });
+}
+
 void add_agm_commands(CLI::App& app) {
+  add_team_scenario(app.get_subcommand("scenario"));
   auto sf = std::make_shared<AgmScenarioFlags>();
   sf->dds.domain = 48;
   agm::AgmDdsRun& r = sf->run;

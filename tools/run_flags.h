@@ -22,6 +22,10 @@ struct RunFlags {
   bool measure_humans = false;
   bool quiet_when_done = false;
   std::string mission;
+  /// AGM in a team (docs/teams.md): the robot this agent works for, the team's size, and the
+  /// directory of the hands' custody shared by the robots' processes.
+  std::string team_robot, custody;
+  int robots = 2;
 };
 
 /// Roles that `run` accepts beside the Barthel test's; empty: none.

@@ -159,21 +159,6 @@ class GraspAction final : public Action {
 
 }  // namespace
 
-bool SharedCustody::take(const std::string& object, const std::string& robot) {
-  auto [it, fresh] = held_.emplace(object, robot);
-  return fresh || it->second == robot;
-}
-
-void SharedCustody::put(const std::string& object, const std::string& robot) {
-  auto it = held_.find(object);
-  if (it != held_.end() && it->second == robot) it->second.clear();
-}
-
-std::string SharedCustody::holder(const std::string& object) const {
-  auto it = held_.find(object);
-  return it == held_.end() ? std::string() : it->second;
-}
-
 Grasping::Grasping(GraspingOptions o, std::string name)
     : Agent(std::move(name)), opt_(std::move(o)) {
   set_grammar_text(std::string(role_grammar("grasping")), "grasping.aggl");

@@ -23,6 +23,12 @@ void Navigation::setup(AgentContext& ctx) {
   // itself may have outlived the agent, as in the simulator).
   graph::Graph& g = ctx.graph();
   const NodeId robot = node_id(g, opt_.names.robot);
+  if (!platform_->started() && opt_.resume_from_graph && !robot.is_null())
+    if (auto X_WR = g.rt_edge(robot)) {
+      const auto& q = X_WR->pose.rotation;  // w, x, y, z: a yaw about z
+      platform_->relocate({X_WR->pose.translation[0], X_WR->pose.translation[1],
+                           2 * std::atan2(q[3], q[0])});
+    }
   if (!platform_->started()) {
     const Value* t0 = robot.is_null() ? nullptr : g.attr(robot, attr::kRouteT0);
     platform_->start(t0 && t0->get_if<std::int64_t>() ? *t0->get_if<std::int64_t>() : ctx.now());
@@ -115,6 +121,8 @@ void Navigation::steer(const graph::Graph& g, std::int64_t now) {
   if (std::hypot(at.x - x, at.y - y) < 0.01) return;
   platform_->go_to(now, x, y, speed);
   ++goals_;
+  if (opt_.on_drive)
+    if (auto drives = platform_->drives(); !drives.empty()) opt_.on_drive(drives.back().first, drives.back().second);
 }
 
 void Navigation::status(nlohmann::json& out) const {

@@ -21,11 +21,11 @@
 /// others by a partition finds the object gone, as a real gripper would).
 #include <cstdint>
 #include <functional>
-#include <map>
 #include <memory>
 #include <string>
 
 #include "quiver/agents/apps/agm/agm_schema.h"
+#include "quiver/agents/apps/agm/custody.h"
 #include "quiver/agents/apps/agm/latency_probe.h"
 #include "quiver/agents/runtime/api/agent.h"
 
@@ -52,32 +52,6 @@ struct GraspEvent {
   double distance = 0;        ///< kReach, kNoReach: the FCL distance gripper-object
   std::int64_t stamp_ns = 0;  ///< kReach, kNoReach: the robot pose's stamp it came from
   const char* name() const;
-};
-
-/// The physical side of grasping, shared by every robot that can reach the objects (a simulated
-/// device, as the Platform is): an object stands where the world put it (on the table) until a
-/// hand takes it, is in one hand at most, and once put down elsewhere it is no longer there to
-/// take.
-class Custody {
- public:
-  virtual ~Custody() = default;
-  /// Closes `robot`'s hand on `object` where it stood. @returns false (and changes nothing) when
-  /// another robot holds it or it was put down elsewhere; true when `robot` holds it now.
-  virtual bool take(const std::string& object, const std::string& robot) = 0;
-  /// `robot` lets go of `object` (nothing if it did not hold it).
-  virtual void put(const std::string& object, const std::string& robot) = 0;
-};
-
-/// Custody within one process (the simulator's robots).
-class SharedCustody final : public Custody {
- public:
-  bool take(const std::string& object, const std::string& robot) override;
-  void put(const std::string& object, const std::string& robot) override;
-  /// Who holds `object` ("" if nobody).
-  std::string holder(const std::string& object) const;
-
- private:
-  std::map<std::string, std::string> held_;  // object -> robot; "" once put down
 };
 
 struct GraspingOptions {

@@ -8,6 +8,7 @@
 /// `moved_window_ns`, and cleared after. When the platform waits for the grasp and the graph says
 /// the robot carries an object, it releases the platform. Grammar: grammars/navigation.aggl.
 #include <cstdint>
+#include <functional>
 #include <memory>
 
 #include "quiver/agents/apps/agm/agm_schema.h"
@@ -32,6 +33,11 @@ struct NavigationOptions {
   /// object `o`, `approach_offset_m` short of it along x, at `approach_speed`). Done (for
   /// quiet_when_done) once the plan is achieved.
   bool follow_plan = false;
+  /// A team's process (docs/teams.md): a platform not yet started begins where the graph puts the
+  /// robot (a restart mid-task), and each drive the plan asks for is reported (begin, end: the
+  /// agents' clock) for the scenario's checks.
+  bool resume_from_graph = false;
+  std::function<void(std::int64_t begin_ns, std::int64_t end_ns)> on_drive;
   double speed = 1.0, approach_speed = 0.25, approach_offset_m = 0.45;
 };
 

@@ -37,6 +37,11 @@ class Platform {
  public:
   Platform(std::vector<Leg> route, Pose2 start);
 
+  /// Before start(): the robot stands at `p` instead (a navigation process restarted mid-task
+  /// starts where its localization, the graph, puts the robot). Ignored once started.
+  void relocate(Pose2 p) {
+    if (!t0_) start_ = p;
+  }
   /// Starts the route at `t0` (once; later calls are ignored).
   void start(std::int64_t t0);
   bool started() const { return t0_.has_value(); }
