@@ -129,15 +129,26 @@ void add_team_scenario(CLI::App* scenario) {
                 "robot A, then idle agents)")
       ->check(CLI::Range(6, 29))
       ->capture_default_str();
-  c->add_option("--partition-at", t->partition_at_s, "cut the team link this many seconds after the start (negative: never)")
+  c->add_option("--partition-at", t->partition_at_s, "cut the team link this many seconds after the start")
+      ->check(CLI::Range(0.0, 3600.0))
       ->capture_default_str();
-  c->add_option("--heal-at", t->heal_at_s, "heal it this many seconds after the start")->capture_default_str();
+  c->add_option("--heal-at", t->heal_at_s, "heal it this many seconds after the start")
+      ->check(CLI::Range(0.0, 3600.0))
+      ->capture_default_str();
+  auto no_cut = std::make_shared<bool>(false);
+  c->add_flag("--no-partition", *no_cut, "never cut the team link");
   c->add_option("--crash", t->crash, "ROBOT@S: SIGKILL of all of that robot's processes S seconds after the start, "
                                      "restarted from their stores 2 s later (\"\": no crash)")
       ->capture_default_str();
   c->add_option("--limit", t->limit_s, "give up after this many seconds")->check(CLI::Range(10.0, 3600.0))->capture_default_str();
   c->add_option("--out", t->out, "keep the logs, stores and final graph here (default: a new /tmp/quiver-team-*)");
-  c->callback([t] {
+  c->callback([t, no_cut] {
+    if (*no_cut) t->partition_at_s = -1;
+    if (t->partition_at_s >= 0 && t->heal_at_s <= t->partition_at_s) {
+      agents::named_logger("quiver scenario team")->error("--heal-at {} must come after --partition-at {}", t->heal_at_s, t->partition_at_s);
+      set_exit_code(2);
+      return;
+    }
     if (!t->crash.empty()) {
       const auto at = t->crash.find('@');
       const std::string robot = t->crash.substr(0, at);

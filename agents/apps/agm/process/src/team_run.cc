@@ -28,7 +28,7 @@ namespace quiver::agents::inline apps::agm {
 namespace {
 
 namespace fs = std::filesystem;
-using nlohmann::json;
+using Json = nlohmann::basic_json<>;  // nlohmann::json
 
 std::string num(double v) {
   char buf[32];
@@ -56,8 +56,8 @@ int run_script(const fs::path& dir, const std::vector<std::string>& args) {
 // What one process wrote: its JSON lines, in order.
 struct ProcessLog {
   std::string name, robot, role;
-  std::vector<json> lines;
-  const json* last_status() const {
+  std::vector<Json> lines;
+  const Json* last_status() const {
     for (auto it = lines.rbegin(); it != lines.rend(); ++it)
       if (it->contains("digest")) return &*it;
     return nullptr;
@@ -76,7 +76,7 @@ std::vector<ProcessLog> read_logs(const fs::path& out) {
     std::ifstream in(e.path());
     for (std::string line; std::getline(in, line);) {
       if (line.empty() || line[0] != '{') continue;
-      json j = json::parse(line, nullptr, false);
+      Json j = Json::parse(line, nullptr, false);
       if (!j.is_discarded()) p.lines.push_back(std::move(j));
     }
     logs.push_back(std::move(p));
@@ -150,17 +150,17 @@ int run_team_over_dds(const TeamDdsRun& r) {
   std::map<std::string, std::vector<std::int64_t>> starts;  // robot -> grasp starts
   std::map<std::string, std::string> fetched_by;
   int misses = 0;
-  json joints = json::object();
+  Json joints = Json::object();
   for (const ProcessLog& p : logs) {
     std::string plan_state;
-    for (const json& j : p.lines) {
+    for (const Json& j : p.lines) {
       if (j.contains("drive")) {
         const auto b = j["drive"].value("begin_ns", std::int64_t{0}), e = j["drive"].value("end_ns", std::int64_t{0});
         drives[p.robot].emplace_back(b, e);
         transcript.emplace_back(b, "robot " + p.robot + " drives (" + num(static_cast<double>(e - b) / 1e9) + " s)");
       }
       if (j.contains("grasp_event")) {
-        const json& g = j["grasp_event"];
+        const Json& g = j["grasp_event"];
         const std::string kind = g.value("kind", ""), object = g.value("object", "");
         const std::int64_t t = g.value("t_ns", std::int64_t{0});
         if (kind == "reach" || kind == "noReach") continue;
@@ -209,7 +209,7 @@ int run_team_over_dds(const TeamDdsRun& r) {
         if (t > b && t < e) fail("robot " + robot + " started a grasp at " + num(static_cast<double>(t - t0) / 1e9) + " s while it drove");
       }
   // The final graph: every mug in the kitchen, on nothing, carried by no one; every plan achieved.
-  auto world = graph::world_seed_file((out / "final.json").string());
+  auto world = graph::world_seed_file((out / "final.Json").string());
   if (!world.ok()) {
     fail("no final graph: " + world.error().to_string());
   } else {
@@ -236,7 +236,7 @@ int run_team_over_dds(const TeamDdsRun& r) {
   int processes = 0;
   for (const ProcessLog& p : logs) {
     if (p.role == "humans") continue;
-    const json* s = p.last_status();
+    const Json* s = p.last_status();
     if (!s) {
       fail(p.name + " wrote no status line");
       continue;
@@ -261,7 +261,7 @@ int run_team_over_dds(const TeamDdsRun& r) {
     std::map<std::string, std::int64_t> even_at;
     for (const ProcessLog& p : logs) {
       if (p.role != "gateway") continue;
-      for (const json& j : p.lines)
+      for (const Json& j : p.lines)
         if (j.value("t_ms", std::int64_t{0}) * 1'000'000 > f.t_ns && j.value("team_peers", 0) == r.robots - 1 &&
             j.value("even", false)) {
           even_at[p.name] = j.value("t_ms", std::int64_t{0}) * 1'000'000;
@@ -276,7 +276,7 @@ int run_team_over_dds(const TeamDdsRun& r) {
   }
   std::uint64_t team_bytes = 0;
   std::ifstream(out / "team_bytes") >> team_bytes;
-  json result = {{"scenario", "team"}, {"robots", r.robots}, {"agents_per_robot", r.agents_per_robot},
+  Json result = {{"scenario", "team"}, {"robots", r.robots}, {"agents_per_robot", r.agents_per_robot},
                  {"processes", processes}, {"passed", failures.empty()}, {"failures", failures},
                  {"fetched_by", fetched_by}, {"misses", misses}, {"heal_to_even_ms", heal_ms},
                  {"team_bytes", team_bytes}, {"joints_at_other_robots", joints}, {"out", out.string()}};

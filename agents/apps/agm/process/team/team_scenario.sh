@@ -80,6 +80,7 @@ start_robot() {  # ROBOT: its gateway and agents, each with its store (a restart
 }
 crash_robot() {  # ROBOT: SIGKILL of all its processes at once
   local p; for p in ${PIDS[$1]}; do kill -9 "$p" 2>/dev/null; done
+  for p in ${PIDS[$1]}; do wait "$p" 2>/dev/null; done  # reaped quietly
 }
 gateways_meet() {
   local r; for r in "${names[@]}"; do [ "$(field "$r-gateway" team_peers)" = $((ROBOTS - 1)) ] || return 1; done

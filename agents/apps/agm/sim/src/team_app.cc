@@ -20,8 +20,8 @@ namespace team_sim {
 
 using graph::NodeId;
 using nlohmann::json;
-constexpr std::int64_t kMs = 1'000'000;
-constexpr std::int64_t kSec = 1'000'000'000;
+constexpr std::int64_t kMilli = 1'000'000;
+constexpr std::int64_t kSecond = 1'000'000'000;
 // What a robot's agents are, in order after its gateway; robot A's fifth tracks the people.
 const char* const kWorkers[] = {"navigation", "rooms", "grasping", "planner"};
 constexpr int kMaxIdle = 24;
@@ -39,7 +39,7 @@ struct TeamSettings {
   bool guards = true;
 };
 
-TeamSettings settings_of(const json& j) {
+TeamSettings team_settings(const json& j) {
   TeamSettings s;
   s.robots = j.value("robots", s.robots);
   s.agents_per_robot = j.value("agents_per_robot", s.agents_per_robot);
@@ -138,7 +138,7 @@ void sample_carriers(sim::ScenarioRun& run) {
       if (m.is_null()) continue;
       const auto carriers = g->edges_to(m, edge::kCarrying);
       if (carriers.size() > 1)
-        st.fail("t=" + std::to_string(run.host().now() / kMs) + " ms: " + mug + " carried by " +
+        st.fail("t=" + std::to_string(run.host().now() / kMilli) + " ms: " + mug + " carried by " +
                 g->name_of(carriers[0].from) + " and " + g->name_of(carriers[1].from) + " on the replica of " +
                 g->replica().to_string());
     }
@@ -179,26 +179,26 @@ void watch_heal(sim::ScenarioRun& run, std::int64_t until) {
       team_run(run).heal_converge_ms.push_back(static_cast<double>(run.host().now() - t0) / 1e6);
       return;
     }
-    if (run.host().now() < until) run.host().at(run.host().now() + kMs, *poll);
+    if (run.host().now() < until) run.host().at(run.host().now() + kMilli, *poll);
   };
   run.host().at(t0, *poll);
 }
 
 Status start(sim::ScenarioRun& run) {
   auto st = std::make_shared<TeamRun>();
-  st->settings = settings_of(run.scenario().settings);
+  st->settings = team_settings(run.scenario().settings);
   st->team = team_robots(st->settings.robots);
   for (const TeamRobot& r : st->team) st->platforms.push_back(std::make_shared<Platform>(std::vector<Leg>{}, r.start));
   run.state() = st;
   sim::AgentHost& host = run.host();
   host.set_team_loss(st->settings.team_loss);
-  host.every(10 * kMs, [&run] { sample_carriers(run); });
-  host.every(100 * kMs, [&run] { sample_joints(run); });
+  host.every(10 * kMilli, [&run] { sample_carriers(run); });
+  host.every(100 * kMilli, [&run] { sample_joints(run); });
   const auto& faults = run.scenario().faults;
   for (const sim::FaultEvent& f : faults) {
     if (f.kind != sim::FaultEvent::Kind::kHeal) continue;
     const auto at = static_cast<std::int64_t>(f.at_s * 1e9);
-    std::int64_t until = at + 30 * kSec;
+    std::int64_t until = at + 30 * kSecond;
     for (const sim::FaultEvent& g : faults)
       if (g.at_s > f.at_s && g.kind != sim::FaultEvent::Kind::kLoss) until = std::min(until, static_cast<std::int64_t>(g.at_s * 1e9));
     host.at(at + 1, [&run, until] { watch_heal(run, until); });
@@ -211,27 +211,27 @@ bool done(sim::ScenarioRun& run) {
   TeamRun& st = team_run(run);
   const std::int64_t now = run.host().now();
   bool idle = true;
-  for (const auto& p : st.platforms) idle = idle && p->finished(now) && now > p->end_time().value_or(0) + 2 * kSec;
+  for (const auto& p : st.platforms) idle = idle && p->finished(now) && now > p->end_time().value_or(0) + 2 * kSecond;
   if (!all_achieved(run) || !idle) {
     st.achieved_at = -1;
     return false;
   }
   if (st.achieved_at < 0) st.achieved_at = now;
-  return now > st.achieved_at + 2 * kSec;
+  return now > st.achieved_at + 2 * kSecond;
 }
 
-void settle(sim::ScenarioRun& run) {
+void settle_team(sim::ScenarioRun& run) {
   TeamRun& st = team_run(run);
   sim::AgentHost& host = run.host();
   host.heal();
   host.set_loss(0);
   for (const TeamRobot& r : st.team) (void)host.restart(r.tag);  // whatever of it is down
-  host.run_until(host.now() + 2 * kSec);
+  host.run_until(host.now() + 2 * kSecond);
   for (int i = 0; i < host.size(); ++i) {
     const std::string& name = host.name(i);
     if (auto* h = dynamic_cast<Humans*>(host.agent(i))) h->stop_tracking();
   }
-  host.run_until(host.now() + 5 * kSec);
+  host.run_until(host.now() + 5 * kSecond);
   const std::vector<graph::Graph*> all = replicas(host);
   const std::size_t expected = static_cast<std::size_t>(host.size() + 2 * host.robots());
   st.converged = all.size() == expected;
@@ -270,15 +270,15 @@ void check_end(sim::ScenarioRun& run, std::vector<std::string>& f) {
     if (const std::string s = plan_status(*g, r); s != "achieved")
       f.push_back("robot " + r.tag + "'s plan is '" + s + "', not achieved");
   // No grasp started while its robot moved; none completed unless it stood still through it.
-  const std::int64_t allowance = 500 * kMs;
+  const std::int64_t allowance = 500 * kMilli;
   for (const TeamRun::Grasp& gr : st.grasps) {
     const Platform& p = *st.platforms[static_cast<std::size_t>(gr.robot)];
     const std::string who = "robot " + st.team[static_cast<std::size_t>(gr.robot)].tag;
     if (gr.e.kind == GraspEvent::Kind::kStarted && p.moving(gr.e.t_ns))
-      f.push_back(who + " started grasping " + gr.e.object + " at " + std::to_string(gr.e.t_ns / kMs) + " ms while it moved");
+      f.push_back(who + " started grasping " + gr.e.object + " at " + std::to_string(gr.e.t_ns / kMilli) + " ms while it moved");
     if (gr.e.kind == GraspEvent::Kind::kGrasped &&
-        p.moved_between(gr.e.t_ns - 1'500 * kMs + allowance, gr.e.t_ns))
-      f.push_back(who + " grasped " + gr.e.object + " at " + std::to_string(gr.e.t_ns / kMs) + " ms though it moved during the grasp");
+        p.moved_between(gr.e.t_ns - 1'500 * kMilli + allowance, gr.e.t_ns))
+      f.push_back(who + " grasped " + gr.e.object + " at " + std::to_string(gr.e.t_ns / kMilli) + " ms though it moved during the grasp");
   }
   for (const TeamRobot& r : st.team)
     if (r.tag != "A" && st.joints_seen[r.tag] == 0) f.push_back("the joints tracked on robot A never reached robot " + r.tag);
@@ -353,16 +353,16 @@ std::unique_ptr<Agent> make_agent(sim::ScenarioRun& run, const std::string& role
 
 sim::ScenarioApp make_app() {
   sim::ScenarioApp app("agm-team");
-  app.default_agents([](const json& settings) { return names_of(settings_of(settings)); });
+  app.default_agents([](const json& settings) { return names_of(team_settings(settings)); });
   app.default_world([](const json& settings) {
-    auto w = team_world_json(settings_of(settings).robots);
+    auto w = team_world_json(team_settings(settings).robots);
     return w.ok() ? *w : std::string();
   });
   app.team([](const json& settings) {
     sim::AgentHostOptions::Team t;
-    for (const TeamRobot& r : team_robots(settings_of(settings).robots)) t.robots.push_back(r.tag);
-    t.links.delay_min_ns = 2 * kMs;  // a wireless link between robots
-    t.links.delay_max_ns = 10 * kMs;
+    for (const TeamRobot& r : team_robots(team_settings(settings).robots)) t.robots.push_back(r.tag);
+    t.links.delay_min_ns = 2 * kMilli;  // a wireless link between robots
+    t.links.delay_max_ns = 10 * kMilli;
     return t;
   });
   for (const TeamRobot& r : team_robots(kMaxTeamRobots)) {
@@ -377,7 +377,7 @@ sim::ScenarioApp make_app() {
       if (it.key() != "robots" && it.key() != "agents_per_robot" && it.key() != "humans_hz" && it.key() != "team_loss" &&
           it.key() != "guards")
         return Error{ErrorCode::kInvalidArgument, source + ": unknown key '" + it.key() + "'"};
-    const TeamSettings s = settings_of(keys);
+    const TeamSettings s = team_settings(keys);
     if (s.robots < 2 || s.robots > kMaxTeamRobots)
       return Error{ErrorCode::kInvalidArgument, source + ": /robots must be 2 to " + std::to_string(kMaxTeamRobots)};
     if (s.agents_per_robot < 6 || s.agents_per_robot > 5 + kMaxIdle)
@@ -387,7 +387,7 @@ sim::ScenarioApp make_app() {
   app.stores(true);  // --durability always: a crashed robot comes back with what it knew
   app.on_start(start);
   app.done_when(done);
-  app.settle(settle);
+  app.settle(settle_team);
   app.report(report);
   app.check("team", sim::switch_check(check_end));
   return app;

@@ -23,7 +23,7 @@ struct TeamDdsRun {
   int robots = 2;
   int agents_per_robot = 6;  ///< gateway included (see TeamScenario)
   /// The team link is cut at partition_at_s and healed at heal_at_s (seconds from the start; a
-  /// negative partition_at_s: never).
+  /// negative partition_at_s: never, `--no-partition`).
   double partition_at_s = 12, heal_at_s = 22;
   /// "B@16": robot B crashes 16 s after the start and comes back 2 s later ("": none).
   std::string crash = "B@16";
