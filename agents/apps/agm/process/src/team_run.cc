@@ -209,7 +209,7 @@ int run_team_over_dds(const TeamDdsRun& r) {
         if (t > b && t < e) fail("robot " + robot + " started a grasp at " + num(static_cast<double>(t - t0) / 1e9) + " s while it drove");
       }
   // The final graph: every mug in the kitchen, on nothing, carried by no one; every plan achieved.
-  auto world = graph::world_seed_file((out / "final.Json").string());
+  auto world = graph::world_seed_file((out / "final.json").string());
   if (!world.ok()) {
     fail("no final graph: " + world.error().to_string());
   } else {
