@@ -123,7 +123,8 @@ void add_sim_command(CLI::App& app) {
                 "split the agents into two halves from a fifth of the workload to its end (settle_ms: converging after the heal)");
   cmd->add_option("--team", cfg->team.robots,
                   "robots: split the agents over this many robots, each its own network with a gateway, joined by a "
-                  "slower, lossier team network (docs/teams.md); with --schedules N, N random team fault schedules")
+                  "slower, lossier team network (docs/teams.md); with --schedules N, N random team fault schedules; "
+                  "with --agm, the team scenario (robots fetching the mugs together)")
       ->check(CLI::Range(2, 16));
   cmd->add_option("--team-loss", cfg->team.loss, "the team network's loss while faults run")
       ->check(CLI::Range(0.0, 0.95))

@@ -2,14 +2,8 @@
 // robots' processes wrote.
 #include "quiver/agents/apps/agm/process/team_run.h"
 
-#include <spawn.h>
-#include <sys/wait.h>
-#include <unistd.h>
-
 #include <algorithm>
-#include <cerrno>
 #include <cstdio>
-#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <map>
@@ -20,9 +14,10 @@
 
 #include "quiver/agents/apps/agm/agm_schema.h"
 #include "quiver/agents/apps/agm/team_world.h"
+#include "quiver/agents/runtime/process/embedded_script.h"
+#include "quiver/agents/runtime/process/subprocess.h"
 #include "quiver/graph/world_file.h"
 
-extern char** environ;
 
 namespace quiver::agents::inline apps::agm {
 namespace {
@@ -34,23 +29,6 @@ std::string num(double v) {
   char buf[32];
   std::snprintf(buf, sizeof buf, "%g", v);
   return buf;
-}
-
-int run_script(const fs::path& dir, const std::vector<std::string>& args) {
-  std::vector<std::string> a = {"bash", (dir / "team_scenario.sh").string()};
-  a.insert(a.end(), args.begin(), args.end());
-  std::vector<char*> argv;
-  for (auto& s : a) argv.push_back(s.data());
-  argv.push_back(nullptr);
-  pid_t pid = 0;
-  int status = 0;
-  if (const int err = ::posix_spawnp(&pid, "bash", nullptr, nullptr, argv.data(), environ); err != 0) {
-    std::fprintf(stderr, "quiver scenario team: cannot run bash: %s\n", std::strerror(err));
-    return 2;
-  }
-  while (::waitpid(pid, &status, 0) < 0 && errno == EINTR) {
-  }
-  return WIFEXITED(status) ? WEXITSTATUS(status) : 2;
 }
 
 // What one process wrote: its JSON lines, in order.
@@ -104,30 +82,15 @@ std::vector<Fault> read_faults(const fs::path& file) {
 }  // namespace
 
 int run_team_over_dds(const TeamDdsRun& r) {
-  std::error_code ec;
-  const fs::path exe = fs::read_symlink("/proc/self/exe", ec);
-  if (ec) {
-    std::fprintf(stderr, "quiver scenario team: cannot find this executable: %s\n", ec.message().c_str());
-    return 2;
-  }
-  std::string tmpl = (fs::temp_directory_path() / "quiver-team-XXXXXX").string();
-  if (::mkdtemp(tmpl.data()) == nullptr) {
-    std::perror("quiver scenario team: mkdtemp");
-    return 2;
-  }
-  const fs::path scripts = tmpl;
-  const fs::path out = r.out.empty() ? scripts / "run" : fs::path(r.out);
-  for (const char* name : {"team_scenario.sh", "netns.sh"}) {
-    std::ofstream f(scripts / name, std::ios::binary);
-    const std::string_view text = team_files::embedded_file(name);
-    f.write(text.data(), static_cast<std::streamsize>(text.size()));
-  }
-  std::vector<std::string> args = {exe.string(), "--out", out.string(), "--robots", std::to_string(r.robots),
+  const fs::path out = agents::out_dir(r.out, "quiver-team");
+  std::vector<std::string> args = {"--out", out.string(), "--robots", std::to_string(r.robots),
                                    "--agents-per-robot", std::to_string(r.agents_per_robot), "--limit", num(r.limit_s)};
   if (r.partition_at_s >= 0) args.insert(args.end(), {"--partition-at", num(r.partition_at_s), "--heal-at", num(r.heal_at_s)});
   if (!r.crash.empty()) args.insert(args.end(), {"--crash", r.crash});
-  const int rc = run_script(scripts, args);
-  for (const char* name : {"team_scenario.sh", "netns.sh"}) fs::remove(scripts / name, ec);
+  const int rc = run_embedded_script(
+      "quiver scenario team",
+      {{"team_scenario.sh", team_files::embedded_file("team_scenario.sh")}, {"netns.sh", team_files::embedded_file("netns.sh")}},
+      "team_scenario.sh", args);
   if (rc != 0) return rc;
 
   const std::vector<ProcessLog> logs = read_logs(out);
