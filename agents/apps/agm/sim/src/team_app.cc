@@ -433,8 +433,8 @@ TeamScenario TeamScenario::random_faults(std::uint64_t seed, int robots, int age
   return s;
 }
 
-json TeamResult::to_json() const {
-  json j = metrics;
+nlohmann::json TeamResult::to_json() const {
+  nlohmann::json j = metrics;
   j["name"] = name;
   j["seed"] = seed;
   j["passed"] = passed;

@@ -6,6 +6,7 @@
 /// take. In a team (docs/teams.md) two robots cut off from each other may reach for one mug at
 /// once: only one hand closes on it, as only one would in the real world.
 #include <map>
+#include <memory>
 #include <string>
 
 #include "quiver/base/result.h"
