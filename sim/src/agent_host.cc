@@ -102,25 +102,28 @@ agents::Replicator* AgentHost::gateway_replicator(int r, int side) {
   return g.up ? g.replicator[side].get() : nullptr;
 }
 
+// Where robot r's gateway lives: its two network nodes, its name and replica ids.
+static SimGateway::Place gateway_place(const AgentHost& host, int r, int node0) {
+  SimGateway::Place at;
+  at.node[0] = node0;
+  at.node[1] = node0 + 1;
+  at.name = host.robot_name(r) + "-gateway";
+  at.robot = host.robot_name(r);
+  at.replica_base = fnv1a64(at.name) & ~std::uint64_t{1};
+  return at;
+}
+
 void AgentHost::kill_gateway(int r) {
   SimGateway& g = *gateways_[static_cast<std::size_t>(r)];
   if (!g.up) return;
-  SimGateway::Place at;
-  at.node[0] = gateway_node(r, 0);
-  at.node[1] = gateway_node(r, 1);
-  rejected_ += g.crash(net_, at);
+  rejected_ += g.crash(net_, gateway_place(*this, r, gateway_node(r, 0)));
   note(robot_name(r) + "-gateway killed (kill -9: both its replicas are gone)");
 }
 
 void AgentHost::restart_gateway(int r) {
   SimGateway& g = *gateways_[static_cast<std::size_t>(r)];
   kill_gateway(r);
-  SimGateway::Place at;
-  at.node[0] = gateway_node(r, 0);
-  at.node[1] = gateway_node(r, 1);
-  at.name = robot_name(r) + "-gateway";
-  at.robot = robot_name(r);
-  at.replica_base = fnv1a64(at.name) & ~std::uint64_t{1};
+  const SimGateway::Place at = gateway_place(*this, r, gateway_node(r, 0));
   g.boot(net_, at, opt_.replicator, [this](const std::string& side, const Error& e) {
     ++rejected_;
     note(side + " rejected: " + e.to_string());

@@ -90,24 +90,18 @@ TeamRun& team_run(sim::ScenarioRun& run) { return *run.state_as<std::shared_ptr<
 
 int robot_index(const std::string& role) { return role.empty() ? -1 : role[0] - 'A'; }
 
-// Every replica up: each agent's, and both sides of each gateway.
-std::vector<graph::Graph*> replicas(sim::AgentHost& host) {
-  std::vector<graph::Graph*> out;
+// Every replica up (each agent's, and both sides of each gateway), with its replicator.
+struct Up {
+  graph::Graph* graph;
+  agents::Replicator* replicator;
+};
+std::vector<Up> replicas(sim::AgentHost& host) {
+  std::vector<Up> out;
   for (int i = 0; i < host.size(); ++i)
-    if (host.up(i) && host.graph(i)) out.push_back(host.graph(i));
+    if (host.up(i) && host.graph(i)) out.push_back({host.graph(i), host.replicator(i)});
   for (int r = 0; r < host.robots(); ++r)
     for (int side = 0; side < 2; ++side)
-      if (graph::Graph* g = host.gateway_graph(r, side)) out.push_back(g);
-  return out;
-}
-
-std::vector<agents::Replicator*> replicators(sim::AgentHost& host) {
-  std::vector<agents::Replicator*> out;
-  for (int i = 0; i < host.size(); ++i)
-    if (host.up(i) && host.replicator(i)) out.push_back(host.replicator(i));
-  for (int r = 0; r < host.robots(); ++r)
-    for (int side = 0; side < 2; ++side)
-      if (agents::Replicator* rep = host.gateway_replicator(r, side)) out.push_back(rep);
+      if (graph::Graph* g = host.gateway_graph(r, side)) out.push_back({g, host.gateway_replicator(r, side)});
   return out;
 }
 
@@ -132,15 +126,16 @@ bool all_achieved(sim::ScenarioRun& run) {
 // No mug carried by two robots, on any replica.
 void sample_carriers(sim::ScenarioRun& run) {
   TeamRun& st = team_run(run);
-  for (graph::Graph* g : replicas(run.host()))
+  for (const Up& u : replicas(run.host()))
     for (const char* mug : kMugs) {
-      const NodeId m = node_id(*g, mug);
+      const graph::Graph& g = *u.graph;
+      const NodeId m = node_id(g, mug);
       if (m.is_null()) continue;
-      const auto carriers = g->edges_to(m, edge::kCarrying);
+      const auto carriers = g.edges_to(m, edge::kCarrying);
       if (carriers.size() > 1)
         st.fail("t=" + std::to_string(run.host().now() / kMilli) + " ms: " + mug + " carried by " +
-                g->name_of(carriers[0].from) + " and " + g->name_of(carriers[1].from) + " on the replica of " +
-                g->replica().to_string());
+                g.name_of(carriers[0].from) + " and " + g.name_of(carriers[1].from) + " on the replica of " +
+                g.replica().to_string());
     }
 }
 
@@ -169,12 +164,12 @@ void sample_joints(sim::ScenarioRun& run) {
 // counted when the next fault comes first, at `until`).
 void watch_heal(sim::ScenarioRun& run, std::int64_t until) {
   auto target = std::make_shared<crdt::CausalContext>();
-  for (agents::Replicator* rep : replicators(run.host())) target->join(rep->applied());
+  for (const Up& u : replicas(run.host())) target->join(u.replicator->applied());
   const std::int64_t t0 = run.host().now();
   auto poll = std::make_shared<std::function<void()>>();
   *poll = [&run, target, t0, until, poll] {
     bool all = true;
-    for (agents::Replicator* rep : replicators(run.host())) all = all && rep->applied().includes(*target);
+    for (const Up& u : replicas(run.host())) all = all && u.replicator->applied().includes(*target);
     if (all) {
       team_run(run).heal_converge_ms.push_back(static_cast<double>(run.host().now() - t0) / 1e6);
       return;
@@ -232,10 +227,10 @@ void settle_team(sim::ScenarioRun& run) {
     if (auto* h = dynamic_cast<Humans*>(host.agent(i))) h->stop_tracking();
   }
   host.run_until(host.now() + 5 * kSecond);
-  const std::vector<graph::Graph*> all = replicas(host);
+  const std::vector<Up> all = replicas(host);
   const std::size_t expected = static_cast<std::size_t>(host.size() + 2 * host.robots());
   st.converged = all.size() == expected;
-  for (graph::Graph* g : all) st.converged = st.converged && g->digest() == all.front()->digest();
+  for (const Up& u : all) st.converged = st.converged && u.graph->digest() == all.front().graph->digest();
 }
 
 const graph::Graph* final_replica(sim::ScenarioRun& run) {
@@ -433,15 +428,6 @@ TeamScenario TeamScenario::random_faults(std::uint64_t seed, int robots, int age
   return s;
 }
 
-nlohmann::json TeamResult::to_json() const {
-  nlohmann::json j = metrics;
-  j["name"] = name;
-  j["seed"] = seed;
-  j["passed"] = passed;
-  j["failures"] = failures;
-  return j;
-}
-
 TeamResult run_team_scenario(const TeamScenario& s, std::uint64_t seed,
                              std::function<void(std::int64_t, const std::string&)> log) {
   sim::Scenario g;
@@ -453,14 +439,7 @@ TeamResult run_team_scenario(const TeamScenario& s, std::uint64_t seed,
   g.checks = {{"team", true}};
   g.limit_s = s.limit_s;
   for (const std::string& n : s.agent_names()) g.agents.push_back({n, n});
-  const sim::ScenarioOutcome o = sim::run_scenario(g, team_app(), seed, std::move(log));
-  TeamResult r;
-  r.name = o.name;
-  r.seed = seed;
-  r.passed = o.passed;
-  r.failures = o.failures;
-  r.metrics = o.metrics;
-  return r;
+  return sim::run_scenario(g, team_app(), seed, std::move(log));
 }
 
 }  // namespace quiver::agents::inline apps::agm

@@ -23,6 +23,7 @@
 
 #include "quiver/sim/fault_model.h"
 #include "quiver/sim/scenario_app.h"
+#include "quiver/sim/scenario_run.h"
 
 namespace quiver::agents::inline apps::agm {
 
@@ -56,14 +57,9 @@ struct TeamScenario {
   std::vector<std::string> agent_names() const;
 };
 
-struct TeamResult {
-  std::string name;
-  std::uint64_t seed = 0;
-  bool passed = false;
-  std::vector<std::string> failures;
-  nlohmann::json metrics;  ///< converged, fetched_by, grasps, misses, replans, team_bytes, ...
-  nlohmann::json to_json() const;
-};
+/// A run's outcome: whether every check held, what failed, and its figures (converged,
+/// fetched_by, grasps, misses, replans, team_bytes, heal_converge_ms, joints_seen, ...).
+using TeamResult = sim::ScenarioOutcome;
 
 TeamResult run_team_scenario(const TeamScenario& s, std::uint64_t seed,
                              std::function<void(std::int64_t t_ns, const std::string&)> log = {});
