@@ -20,7 +20,9 @@ struct AgentHost::Slot {
   std::unique_ptr<agents::Agent> agent;
   std::unique_ptr<agents::Engine> engine;  // from boot on; runs the agent once it is set up
   bool agent_running = false;
-  // Its store (AgentHostOptions::durable): what the replica had joined when it was killed.
+  // Its store (AgentHostOptions::durable): what the replica had joined when it was killed, under
+  // the replica incarnation the store keeps (a process restarted from its store keeps it too).
+  std::uint64_t replica_incarnation = 0;
   std::unique_ptr<graph::GraphDelta> stored;
   crdt::CausalContext stored_applied;
 };
@@ -116,19 +118,21 @@ static SimGateway::Place gateway_place(const AgentHost& host, int r, int node0) 
 void AgentHost::kill_gateway(int r) {
   SimGateway& g = *gateways_[static_cast<std::size_t>(r)];
   if (!g.up) return;
-  rejected_ += g.crash(net_, gateway_place(*this, r, gateway_node(r, 0)));
-  note(robot_name(r) + "-gateway killed (kill -9: both its replicas are gone)");
+  rejected_ += g.crash(net_, gateway_place(*this, r, gateway_node(r, 0)), opt_.durable);
+  note(robot_name(r) + (opt_.durable ? "-gateway killed (kill -9: its store keeps both its replicas)"
+                                     : "-gateway killed (kill -9: both its replicas are gone)"));
 }
 
 void AgentHost::restart_gateway(int r) {
   SimGateway& g = *gateways_[static_cast<std::size_t>(r)];
   kill_gateway(r);
   const SimGateway::Place at = gateway_place(*this, r, gateway_node(r, 0));
-  g.boot(net_, at, opt_.replicator, [this](const std::string& side, const Error& e) {
+  const bool from_store = g.boot(net_, at, opt_.replicator, [this](const std::string& side, const Error& e) {
     ++rejected_;
     note(side + " rejected: " + e.to_string());
   });
-  note(at.name + (g.incarnation > 1 ? " restarts (incarnation " + std::to_string(g.incarnation) + ", empty replicas)" : " starts"));
+  if (from_store) note(at.name + " restarts (incarnation " + std::to_string(g.incarnation) + " kept, its replicas loaded from its store)");
+  else note(at.name + (g.incarnation > 1 ? " restarts (incarnation " + std::to_string(g.incarnation) + ", empty replicas)" : " starts"));
 }
 
 void AgentHost::tick_gateway(int r) {
@@ -182,8 +186,9 @@ void AgentHost::boot(int i) {
   ++s.incarnation;
   s.up = true;
   const int inc = s.incarnation;
-  s.graph = std::make_unique<graph::Graph>(graph::ReplicaId{fnv1a64(s.spec.name), static_cast<std::uint64_t>(inc)});
   const bool from_store = s.stored != nullptr;
+  if (!from_store) s.replica_incarnation = static_cast<std::uint64_t>(inc);
+  s.graph = std::make_unique<graph::Graph>(graph::ReplicaId{fnv1a64(s.spec.name), s.replica_incarnation});
   if (from_store) s.graph->merge(*s.stored);
   net_.set_up(i, true);
   net_.set_address(i, s.graph->replica());
@@ -226,7 +231,9 @@ void AgentHost::boot(int i) {
   if (world_) (void)s.replicator->seed(*world_);
   note(name(i) + (inc == 1 ? " starts"
                   : " restarts (incarnation " + std::to_string(inc) +
-                        (from_store ? ", its replica loaded from its store)" : ", empty replica)")));
+                        (from_store ? ", its replica loaded from its store under incarnation " +
+                                          std::to_string(s.replica_incarnation) + ")"
+                                    : ", empty replica)")));
   net_.at(net_.now() + static_cast<std::int64_t>(rng_.below(static_cast<std::uint64_t>(opt_.tick_ns))),
           [this, i, inc] { tick(i, inc); });
   net_.at(net_.now() + opt_.join_wait_ns, [this, i, inc] { try_setup(i, inc, net_.now() + 4 * opt_.join_wait_ns); });

@@ -5,19 +5,23 @@
 
 namespace quiver::sim {
 
-void SimGateway::boot(VirtualNetwork& net, const Place& at, const agents::ReplicatorOptions& base,
+bool SimGateway::boot(VirtualNetwork& net, const Place& at, const agents::ReplicatorOptions& base,
                       std::function<void(const std::string&, const Error&)> on_error) {
-  ++incarnation;
+  const bool from_store = incarnation > 0 && stored[0].state && stored[1].state;
+  if (!from_store) ++incarnation;
   for (int side = 0; side < 2; ++side) {
     const std::string name = at.name + (side == 0 ? "" : ".team");
     graph[side] = std::make_unique<graph::Graph>(
         graph::ReplicaId{at.replica_base + static_cast<std::uint64_t>(side), incarnation});
+    if (from_store) graph[side]->merge(*stored[side].state);
     agents::ReplicatorOptions opt = base;
     opt.name = name;
     opt.gateway = true;
     opt.robot = at.robot;
     replicator[side] = std::make_unique<agents::Replicator>(*graph[side], net.endpoint(at.node[side]), opt);
     replicator[side]->on_error([on_error, name](const Error& e) { on_error(name, e); });
+    if (from_store) replicator[side]->restore(stored[side].applied);
+    stored[side] = Stored{};
     net.set_up(at.node[side], true);
     net.set_address(at.node[side], graph[side]->replica());
   }
@@ -37,9 +41,10 @@ void SimGateway::boot(VirtualNetwork& net, const Place& at, const agents::Replic
       bridge->pump(now);
     });
   }
+  return from_store;
 }
 
-std::uint64_t SimGateway::crash(VirtualNetwork& net, const Place& at) {
+std::uint64_t SimGateway::crash(VirtualNetwork& net, const Place& at, bool keep) {
   std::uint64_t rejected = 0;
   if (!up) return rejected;
   up = false;
@@ -47,6 +52,7 @@ std::uint64_t SimGateway::crash(VirtualNetwork& net, const Place& at) {
   for (int side = 0; side < 2; ++side) {
     net.set_up(at.node[side], false);
     rejected += replicator[side]->stats().rejected;
+    if (keep) stored[side] = Stored{std::make_unique<graph::GraphDelta>(graph[side]->state()), replicator[side]->applied()};
     replicator[side].reset();
     graph[side].reset();
   }

@@ -59,6 +59,22 @@ struct Net {
     ref.rep->start(now);
     return i;
   }
+  // Node `i` restarts as a process restarted from its store does: the same replica id
+  // (incarnation kept), its graph and (origin, seq) set as they were, everything else new.
+  void restart(int i, ReplicatorOptions opt) {
+    Node& n = nodes[i];
+    auto g = std::make_unique<Graph>(n.g->replica());
+    g->merge(n.g->state());
+    const crdt::CausalContext applied = n.rep->applied();
+    n.rep.reset();
+    n.g = std::move(g);
+    if (opt.name.empty()) opt.name = "agent" + std::to_string(n.g->replica().agent);
+    n.rep = std::make_unique<Replicator>(*n.g, *n.port, opt);
+    n.rep->restore(applied);
+    n.rep->on_membership([this, i](Membership m, const PeerInfo& p) { nodes[i].membership.emplace_back(m, p); });
+    n.rep->on_error([this, i](const Error& e) { nodes[i].errors.push_back(e); });
+    n.rep->start(now);
+  }
   int index_of(const PeerId& id) {
     for (std::size_t i = 0; i < nodes.size(); ++i)
       if (nodes[i].g && nodes[i].g->replica() == id) return static_cast<int>(i);

@@ -45,6 +45,12 @@ bool Replicator::member_alive(const PeerId& peer) const {
   return it != remote_.end() && peer_alive(it->second.via);
 }
 
+bool Replicator::newer_from_gateway(bool ahead, std::int64_t taken_ns) const {
+  // A beat overtakes another by far less than a probe period; a gateway's list comes again every
+  // period, and its generation with each of its beats.
+  return ahead || taken_ns < 0 || now_ - taken_ns >= opt_.probe_ns;
+}
+
 std::uint64_t Replicator::peers_hold_upto(const PeerId& origin, std::uint64_t wanted) {
   std::uint64_t least = std::numeric_limits<std::uint64_t>::max();
   for (auto& [id, p] : peers_) {
@@ -105,8 +111,10 @@ void Replicator::handle_team_beat(const PeerId& from, Peer& p, const SummaryMsg&
     case Beat::kBehind: {
       // The first rumor names the gateway itself with the version of its list: a list older than
       // one already taken (reordered) changes nothing.
-      if (m.rumors.empty() || !(m.rumors[0].peer == from) || m.rumors[0].life < p.behind_version) break;
+      if (m.rumors.empty() || !(m.rumors[0].peer == from)) break;
+      if (m.rumors[0].life < p.behind_version && !newer_from_gateway(false, p.behind_version_ns)) break;
       p.behind_version = m.rumors[0].life;
+      p.behind_version_ns = now_;
       const auto entries = std::span<const Rumor>(m.rumors).subspan(1);
       if (m.subject == from)  // the whole list, in one beat: whom it no longer names has gone
         std::erase_if(remote_, [&](const auto& e) {

@@ -220,9 +220,18 @@ void Replicator::handle_gossip(const PeerId& from, Peer& p, const SummaryMsg& m)
   // generation: replicas that came behind it since have acknowledged nothing (docs/teams.md).
   // (A beat that overtook a newer one does not take the generation back: modulo 64, a newer one is
   // 1 to 31 ahead.)
+  // A gateway that restarted from its store (same incarnation) counts from 0 again: its
+  // generation is taken when it comes back, or a while after the last one taken.
+  // Its answers given under the generation it left count no more (held()); one that came back
+  // is asked again from scratch.
   const unsigned ahead = static_cast<unsigned>(m.generation - p.behind_generation) & 63u;
-  if (m.gateway && (!p.info.gateway || (ahead != 0 && ahead < 32))) {
+  if (m.gateway && p.info.gateway && ahead == 0) {
+    p.generation_ns = now_;
+  } else if (m.gateway && (!p.info.gateway || was_new || newer_from_gateway(ahead < 32, p.generation_ns))) {
+    if (was_new || ahead >= 32) p.holds.clear();
+    if (was_new) p.behind_version_ns = -1;  // and its list of the replicas behind it, whatever its version
     p.behind_generation = m.generation;
+    p.generation_ns = now_;
     ask_again();
   }
   p.info.gateway = m.gateway;

@@ -44,9 +44,10 @@ struct AgentHostOptions {
   /// A robot team (docs/teams.md): each agent on its robot's own network (SimAgentSpec::robot),
   /// one gateway per robot (`NAME-gateway`: two replicas and a bridge, as `quiver gateway` runs
   /// them) joining it to the team network, whose links have their own faults.
-  /// Agents with stores (`--durability always`): kill -9 keeps everything the agent's replica had
-  /// joined, and a restart loads it into a new incarnation (its peers then send only what it
-  /// lacks). Without: a restart is empty.
+  /// Agents and gateways with stores (`--durability always`, `quiver gateway --store`): kill -9
+  /// keeps everything the replicas had joined, and a restart loads it under the incarnation the
+  /// store kept, as a restarted process does (its peers then send only what it lacks). Without:
+  /// a restart is empty, under a new incarnation.
   bool durable = false;
   struct Team {
     std::vector<std::string> robots;  ///< the robots' names; fewer than two: one network
@@ -87,7 +88,8 @@ class AgentHost final : public FaultTarget {
   /// kill -9: the agent, its devices and its replica vanish at once (no teardown, no goodbye);
   /// with `durable`, its store keeps what the replica had joined.
   void kill(int i);
-  /// A fresh incarnation: with an empty replica, or loaded from its store (`durable`).
+  /// Boots it again: a fresh incarnation with an empty replica, or loaded from its store under
+  /// the incarnation the store kept (`durable`). incarnation() counts the boots.
   void restart(int i);
   /// Agents hear each other only within a group; agents not named form one more group. In a
   /// team, groups naming robots cut the team network between them (the robots' own networks stay

@@ -20,13 +20,13 @@ struct Robots {
   std::unique_ptr<LockManager> locks[2][2];
   std::vector<LockEvent> events[2][2];
   NodeId arm{};
+  ReplicatorOptions ro, gw;
 
   Robots() {
-    ReplicatorOptions ro;
     ro.heartbeat_ns = 20'000'000;
     ro.lease_ns = 200'000'000;
     ro.probe_ns = 100'000'000;
-    ReplicatorOptions gw = ro;
+    gw = ro;
     gw.gateway = true;
     for (int r = 0; r < 2; ++r) {
       for (int a = 0; a < 2; ++a) agent[r][a] = robot[r].add(100 * (r + 1) + a, ro);
@@ -140,6 +140,41 @@ TEST(LocksAcrossRobotsTest, AHolderThatCrashesOnOneRobotExpiresOnTheOther) {
   ASSERT_TRUE(w.locks[1][0]->acquire(w.arm, 1).ok());
   for (int i = 0; i < 100 && !w.locks[1][0]->holds(w.arm); ++i) w.step(5'000'000);
   EXPECT_TRUE(w.locks[1][0]->holds(w.arm)) << "the lock is free for robot B";
+}
+
+// A gateway restarted from its store keeps its incarnation, but counts its generation (raised
+// whenever replicas come behind it) from 0 again. The other robot had taken a higher one: the
+// restarted gateway's answers, given under a generation that looked older, never counted, and a
+// claim waited for them until the restarted gateway's generation caught up (98 s in a team
+// scenario with processes, docs/teams.md).
+TEST(LocksAcrossRobotsTest, AClaimIsHeldAfterTheOtherRobotsGatewayRestartedFromItsStore) {
+  Robots w;
+  // Agents came to robot B and went, one at a time: its gateway's generation climbed with each.
+  for (int k = 0; k < 12; ++k) {
+    const int visitor = w.robot[1].add(190 + k, w.ro);
+    w.step(300'000'000);
+    w.robot[1].nodes[visitor].rep.reset();
+    w.step(300'000'000);
+  }
+  const Replicator& team_a = *w.team.nodes[w.team_side[0]].rep;
+  const PeerId team_b = w.team.nodes[w.team_side[1]].g->replica();
+  const int before = team_a.generation_heard(team_b);
+  // Robot B's gateway process is killed and restarted at once: both its replicas, same ids.
+  w.bridge[1].reset();
+  w.robot[1].restart(w.side[1], w.gw);
+  w.team.restart(w.team_side[1], w.gw);
+  w.bridge[1] = std::make_unique<ReplicaBridge>(*w.robot[1].nodes[w.side[1]].rep, *w.team.nodes[w.team_side[1]].rep);
+  w.step(1'000'000'000);
+  const int after = static_cast<int>(w.team.nodes[w.team_side[1]].rep->behind_generation() & 63);
+  // The case this test is about: the restarted gateway's generation looks older than the one taken.
+  ASSERT_GE((after - before) & 63, 32) << "generation before the restart " << before << ", after " << after;
+  ASSERT_TRUE(w.locks[0][0]->acquire(w.arm, 1).ok());
+  int rounds = 0;
+  for (; rounds < 400 && !w.locks[0][0]->holds(w.arm); ++rounds) w.step(5'000'000);
+  EXPECT_TRUE(w.locks[0][0]->holds(w.arm)) << "the claim still waited after " << rounds * 5 << " ms";
+  EXPECT_EQ(team_a.generation_heard(team_b), after);
+  w.step(100'000'000);
+  EXPECT_TRUE(w.locks[1][0]->locked_by_other(w.arm));
 }
 
 }  // namespace

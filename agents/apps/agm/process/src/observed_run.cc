@@ -6,19 +6,13 @@
 #include "quiver/agents/apps/agm/agm_schema.h"
 #include "quiver/agents/runtime/process/logging.h"
 #include "quiver/agents/runtime/process/observer_replica.h"
-#include "quiver/graph/world_file.h"
 
 namespace quiver::agents::inline apps::agm {
 namespace internal {
 
 std::unique_ptr<ObservedRun> ObservedRun::open(const AgmDdsRun& r, const char* prefix, std::string_view world) {
-  auto replica = open_observer_replica(r.observer, "agm-observer", "quiver scenario");
+  auto replica = open_observer_replica(r.observer, "agm-observer", "quiver scenario", world);
   if (!replica) return nullptr;
-  auto seed = graph::world_seed(world, "embedded world");
-  if (!seed.ok() || !replica->replicator().seed(seed->delta).ok()) {
-    named_logger("quiver scenario")->error("cannot seed the observer with the world");
-    return nullptr;
-  }
   auto run = std::make_unique<ObservedRun>();
   run->replica_ = std::move(replica);
   run->options_ = r.processes;

@@ -7,6 +7,7 @@
 #include <fstream>
 
 #include "quiver/agents/apps/barthel/checks.h"
+#include "quiver/agents/apps/barthel/grammars.h"
 #include "quiver/agents/apps/barthel/barthel_roles.h"
 #include "quiver/agents/apps/barthel/process/barthel_runs.h"
 #include "quiver/agents/apps/barthel/transcript.h"
@@ -82,7 +83,7 @@ int run_barthel_over_dds(const BarthelDdsRun& r) {
   BarthelProcesses procs(po);  // makes `out`
   std::ofstream(po.script_path) << script.to_json().dump(1) << "\n";
 
-  auto observer = open_observer_replica(r.observer, "transcript", "quiver scenario");
+  auto observer = open_observer_replica(r.observer, "transcript", "quiver scenario", world_json());
   if (!observer) return 2;
   DdsReplica& obs = *observer;
   const auto t0 = std::chrono::steady_clock::now();

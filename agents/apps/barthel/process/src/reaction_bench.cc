@@ -16,6 +16,7 @@
 
 #include "quiver/agents/apps/barthel/barthel_roles.h"
 #include "quiver/agents/apps/barthel/barthel_schema.h"
+#include "quiver/agents/apps/barthel/grammars.h"
 #include "quiver/agents/apps/barthel/process/barthel_runs.h"
 #include "quiver/agents/runtime/process/logging.h"
 #include "quiver/agents/runtime/process/observer_replica.h"
@@ -57,7 +58,7 @@ std::vector<double> one_run(const ReactionBench& f, int run, std::string& dir) {
   const std::string script_path = dir + "/patient.json";
   std::ofstream(script_path) << restless_patient(f).to_json().dump(1) << "\n";
 
-  auto obs = open_observer_replica(f.observer, "reaction-observer", "quiver bench reaction");
+  auto obs = open_observer_replica(f.observer, "reaction-observer", "quiver bench reaction", world_json());
   if (!obs) return {};
   BarthelProcessOptions po = f.processes;
   po.out = dir;

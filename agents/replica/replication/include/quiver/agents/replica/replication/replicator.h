@@ -368,6 +368,11 @@ class Replicator {
     std::vector<Held> holds;          // bounded (kMaxHolds), the oldest asked dropped first
     std::uint8_t behind_generation = 0;  // a gateway's latest (SummaryMsg::generation)
     std::uint64_t behind_version = 0;    // a gateway's: the version of its list of replicas behind it last taken
+    // When each of those two was last taken (-1: never). A value that looks older is a beat
+    // reordered only shortly after; later, it is a gateway that restarted (its counters start
+    // again from 0 under the incarnation its store kept) and it is taken: newer_from_gateway().
+    std::int64_t generation_ns = -1;
+    std::int64_t behind_version_ns = -1;
   };
   // The state transfer answering our outstanding pull (one at a time).
   struct Reassembly {
@@ -401,6 +406,9 @@ class Replicator {
   void equivocate(const PeerId& from, const DeltaMsg& m, std::uint64_t digest, const std::string& what);
   void skip_own_numbers_to(std::uint64_t hi);
   bool counts(const Peer& p) const;
+  // A gateway's generation or list version `ahead` of the one taken at `taken_ns`: taken if newer
+  // (ahead in the window), or, whatever it is, once a reordered beat can no longer explain it.
+  bool newer_from_gateway(bool ahead, std::int64_t taken_ns) const;
   void handle(const PeerId& from, const SummaryMsg& m);
   void handle(const PeerId& from, const DeltaMsg& m);
   void handle(const PeerId& from, const PullMsg& m);
