@@ -1,5 +1,5 @@
 // Replicator: construction, local deltas coalesced and published under this replica's sequence
-// numbers, and incoming samples validated and dispatched.
+// numbers, incoming samples validated and dispatched, and the memory its protocol state takes.
 
 #include "quiver/agents/replica/replication/replicator.h"
 
@@ -190,6 +190,25 @@ void Replicator::on_sample(const Sample& s, std::int64_t now_ns) {
   for (const PeerId& o : ack_to_) send_beat(Beat::kAck, o);
   ack_to_.clear();
   send_queued();
+}
+
+std::size_t Replicator::protocol_bytes() const {
+  // Estimates: a std::map node costs its value plus about 48 bytes; a string its capacity
+  // beyond the small-string buffer.
+  constexpr std::size_t kNode = 48;
+  std::size_t n = sizeof(*this);
+  for (const auto& [id, p] : peers_) {
+    n += kNode + sizeof(id) + sizeof(p) + (p.info.name.capacity() > 15 ? p.info.name.capacity() : 0);
+    n += p.applied.memory_bytes();
+  }
+  n += names_.size() * (kNode + 8 + 32);
+  n += rumors_.capacity() * sizeof(Spreading) + mismatched_.size() * (kNode + 24);
+  n += applied_.memory_bytes();
+  // Teams (replicator_behind.cc): what gateway peers vouched for, who waits, who is behind them.
+  for (const auto& [id, p] : peers_) n += p.holds.capacity() * sizeof(Peer::Held);
+  n += askers_.capacity() * sizeof(Asker) + remote_.size() * (kNode + sizeof(PeerId) + sizeof(Behind));
+  n += behind_out_.capacity() * sizeof(PeerId);
+  return n;
 }
 
 }  // namespace quiver::agents

@@ -581,23 +581,4 @@ void Replicator::want_acks(std::uint64_t seq) {
   next_ack_request_ns_ = now_ + opt_.gap_grace_ns;  // the claim's own delivery usually brings them
 }
 
-std::size_t Replicator::protocol_bytes() const {
-  // Estimates: a std::map node costs its value plus about 48 bytes; a string its capacity
-  // beyond the small-string buffer.
-  constexpr std::size_t kNode = 48;
-  std::size_t n = sizeof(*this);
-  for (const auto& [id, p] : peers_) {
-    n += kNode + sizeof(id) + sizeof(p) + (p.info.name.capacity() > 15 ? p.info.name.capacity() : 0);
-    n += p.applied.memory_bytes();
-  }
-  n += names_.size() * (kNode + 8 + 32);
-  n += rumors_.capacity() * sizeof(Spreading) + mismatched_.size() * (kNode + 24);
-  n += applied_.memory_bytes();
-  // Teams (replicator_behind.cc): what gateway peers vouched for, who waits, who is behind them.
-  for (const auto& [id, p] : peers_) n += p.holds.capacity() * sizeof(Peer::Held);
-  n += askers_.capacity() * sizeof(Asker) + remote_.size() * (kNode + sizeof(PeerId) + sizeof(Behind));
-  n += behind_out_.capacity() * sizeof(PeerId);
-  return n;
-}
-
 }  // namespace quiver::agents
