@@ -70,9 +70,12 @@ void Replicator::on_local_delta(const graph::GraphDelta& d) {
   ++state_version_;
   if (opt_.coalesce) {
     const std::size_t bytes = approx_bytes(d);
-    // An interval covers at most max_interval commits and stays within a delta's size limit.
+    // An interval covers at most max_interval commits and stays within a delta's size limit. A
+    // commit that claims a rule (docs/grammar.md) travels alone: a joined interval carries no
+    // claim (GraphDelta::append()), and its receivers could not verify it.
     if (pending_lo_ != 0 && (seq_ + 1 - pending_lo_ >= opt_.limits.max_interval ||
-                             pending_bytes_ + bytes > graph::limits::kMaxDeltaBytes))
+                             pending_bytes_ + bytes > graph::limits::kMaxDeltaBytes || !d.rule.empty() ||
+                             !pending_.rule.empty()))
       flush();
     ++seq_;
     applied_.add(crdt::Dot{self_, seq_});

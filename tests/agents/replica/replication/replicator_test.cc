@@ -476,5 +476,30 @@ TEST(ReplicatorTest, CoalescedIntervalsCarrySeveralCommits) {
   EXPECT_EQ(net.nodes[b].rep->applied().contiguous(net.nodes[a].g->replica()), 10u);
 }
 
+// A commit that claims a grammar rule is never joined with others: the joined interval would carry
+// no claim, and every receiver that verifies the sender's grammar would report "a structural
+// change ... claims no rule" (a grasp joined with the free move of its object did, in the team
+// scenario).
+TEST(ReplicatorTest, ACommitThatClaimsARuleIsNotCoalescedWithOthers) {
+  ReplicatorOptions opt;
+  opt.coalesce = true;
+  Net net;
+  int a = net.add(1, opt), b = net.add(2);
+  net.pump();
+  std::vector<std::string> got;  // the claim of each delta b merges
+  net.nodes[b].g->add_merge_observer([&](const Graph&, const graph::GraphDelta& d) { got.push_back(d.rule); });
+  Graph& g = *net.nodes[a].g;
+  add_node(g, "before");
+  ASSERT_TRUE(g.annotate_commit("makeMug", {}).ok());
+  add_node(g, "claimed");
+  add_node(g, "after1");
+  add_node(g, "after2");
+  net.nodes[a].rep->flush();
+  net.pump();
+  EXPECT_EQ(net.nodes[b].g->node_count(), 4u);
+  EXPECT_EQ(net.nodes[a].rep->stats().deltas_published, 3u) << "before | claimed | after1 + after2";
+  EXPECT_EQ(got, (std::vector<std::string>{"", "makeMug", ""})) << "the claim reached the receiver with its commit";
+}
+
 }  // namespace
 }  // namespace quiver::agents

@@ -88,6 +88,22 @@ gateways_meet() {
 achieved() {  # every robot's planner says its plan is achieved
   local r; for r in "${names[@]}"; do last_of "$r-planner" | grep -q '"planner":"achieved"' || return 1; done
 }
+even_digest() {  # the one digest every gateway holds on both sides (latest status lines), or fail
+  local r d first=""
+  for r in "${names[@]}"; do
+    [ "$(field "$r-gateway" even)" = true ] || return 1
+    d=$(field "$r-gateway" digest)
+    [ -n "$d" ] && [ "${first:-$d}" = "$d" ] || return 1
+    first=$d
+  done
+  echo "$first"
+}
+settled() {  # the team holds one state, and it has not changed for two status periods
+  local a b
+  a=$(even_digest) || return 1
+  sleep 0.6
+  b=$(even_digest) && [ "$a" = "$b" ]
+}
 tx_total() { local r s=0; for r in "${names[@]}"; do s=$((s + $(netns_tx_bytes "$r"))); done; echo $s; }
 
 b0=$(tx_total)
@@ -128,7 +144,13 @@ b1=$(tx_total)
 echo $((b1 - b0)) >"$WORK/team_bytes"
 # Quiet: the tracker stops; the replicas settle; the final graph as robot A's domain holds it.
 kill -TERM $(pgrep -f -- "--name A-humans" | head -1) 2>/dev/null
-sleep 3
+# A robot may still be driving when the plans are achieved (its mission done by another robot
+# while it went for the mug): the checks are made once nothing changes any more, or after 30 s.
+sleep 1
+settle_by=$((SECONDS + 30)) calm=0
+while (( SECONDS < settle_by )); do settled && { calm=1; break; }; sleep 0.1; done
+if [ $calm = 1 ]; then mark "settled: every gateway even, one state across the team"
+else mark "not settled after 30 s: the replicas are compared as they are"; fi
 ip netns exec "$NS_TAG-A" "$QUIVER" dump --domain 0 --json --timeout 20 >"$WORK/final.json" 2>"$WORK/dump.log" ||
   say "could not dump the final graph (dump.log)"
 for r in "${names[@]}"; do for p in ${PIDS[$r]}; do kill -TERM "$p" 2>/dev/null; done; done
