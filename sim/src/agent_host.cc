@@ -6,6 +6,7 @@
 #include "quiver/graph/world_file.h"
 #include "quiver/base/hash.h"
 #include "quiver/sim/simulator.h"
+#include "kept_replica.h"
 #include "sim_gateway.h"
 
 namespace quiver::sim {
@@ -23,8 +24,7 @@ struct AgentHost::Slot {
   // Its store (AgentHostOptions::durable): what the replica had joined when it was killed, under
   // the replica incarnation the store keeps (a process restarted from its store keeps it too).
   std::uint64_t replica_incarnation = 0;
-  std::unique_ptr<graph::GraphDelta> stored;
-  crdt::CausalContext stored_applied;
+  KeptReplica stored;
 };
 
 AgentHost::AgentHost(std::vector<SimAgentSpec> agents, AgentHostOptions o)
@@ -186,10 +186,10 @@ void AgentHost::boot(int i) {
   ++s.incarnation;
   s.up = true;
   const int inc = s.incarnation;
-  const bool from_store = s.stored != nullptr;
+  const bool from_store = static_cast<bool>(s.stored);
   if (!from_store) s.replica_incarnation = static_cast<std::uint64_t>(inc);
   s.graph = std::make_unique<graph::Graph>(graph::ReplicaId{fnv1a64(s.spec.name), s.replica_incarnation});
-  if (from_store) s.graph->merge(*s.stored);
+  if (from_store) s.graph->merge(*s.stored.state);
   net_.set_up(i, true);
   net_.set_address(i, s.graph->replica());
   agents::ReplicatorOptions ro = opt_.replicator;
@@ -224,8 +224,8 @@ void AgentHost::boot(int i) {
     note(name(i) + " rejected: " + e.to_string());
   });
   if (from_store) {
-    s.replicator->restore(s.stored_applied);
-    s.stored.reset();
+    s.replicator->restore(s.stored.applied);
+    s.stored = KeptReplica{};
   }
   s.replicator->start(net_.now());
   if (world_) (void)s.replicator->seed(*world_);
@@ -281,8 +281,7 @@ void AgentHost::kill(int i) {
   s.up = false;
   net_.set_up(i, false);
   if (opt_.durable && s.graph && s.replicator) {
-    s.stored = std::make_unique<graph::GraphDelta>(s.graph->state());
-    s.stored_applied = s.replicator->applied();
+    s.stored = KeptReplica::of(*s.graph, *s.replicator);
   }
   s.engine.reset();
   s.agent_running = false;

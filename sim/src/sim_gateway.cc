@@ -7,7 +7,7 @@ namespace quiver::sim {
 
 bool SimGateway::boot(VirtualNetwork& net, const Place& at, const agents::ReplicatorOptions& base,
                       std::function<void(const std::string&, const Error&)> on_error) {
-  const bool from_store = incarnation > 0 && stored[0].state && stored[1].state;
+  const bool from_store = incarnation > 0 && stored[0] && stored[1];
   if (!from_store) ++incarnation;
   for (int side = 0; side < 2; ++side) {
     const std::string name = at.name + (side == 0 ? "" : ".team");
@@ -21,7 +21,7 @@ bool SimGateway::boot(VirtualNetwork& net, const Place& at, const agents::Replic
     replicator[side] = std::make_unique<agents::Replicator>(*graph[side], net.endpoint(at.node[side]), opt);
     replicator[side]->on_error([on_error, name](const Error& e) { on_error(name, e); });
     if (from_store) replicator[side]->restore(stored[side].applied);
-    stored[side] = Stored{};
+    stored[side] = KeptReplica{};
     net.set_up(at.node[side], true);
     net.set_address(at.node[side], graph[side]->replica());
   }
@@ -52,7 +52,7 @@ std::uint64_t SimGateway::crash(VirtualNetwork& net, const Place& at, bool keep)
   for (int side = 0; side < 2; ++side) {
     net.set_up(at.node[side], false);
     rejected += replicator[side]->stats().rejected;
-    if (keep) stored[side] = Stored{std::make_unique<graph::GraphDelta>(graph[side]->state()), replicator[side]->applied()};
+    if (keep) stored[side] = KeptReplica::of(*graph[side], *replicator[side]);
     replicator[side].reset();
     graph[side].reset();
   }

@@ -13,9 +13,9 @@
 
 #include "quiver/agents/replica/replication/bridge.h"
 #include "quiver/agents/replica/replication/replicator.h"
-#include "quiver/crdt/causal_context.h"
 #include "quiver/graph/graph.h"
 #include "quiver/sim/network.h"
+#include "kept_replica.h"
 
 namespace quiver::sim {
 
@@ -25,11 +25,7 @@ struct SimGateway {
   std::unique_ptr<graph::Graph> graph[2];
   std::unique_ptr<agents::Replicator> replicator[2];
   std::unique_ptr<agents::ReplicaBridge> bridge;  // last: destroyed first
-  // Its store (crash(..., keep = true)): each side's state and (origin, seq) set when killed.
-  struct Stored {
-    std::unique_ptr<graph::GraphDelta> state;
-    crdt::CausalContext applied;
-  } stored[2];
+  KeptReplica stored[2];  // its store (crash(..., keep = true)), one per side
 
   /// Where it lives: network nodes `node[0]` (robot side) and `node[1]` (team side), its replica
   /// ids `replica_base` + side, its name (the team side's with ".team") and its robot's name.

@@ -218,12 +218,10 @@ void Replicator::handle_gossip(const PeerId& from, Peer& p, const SummaryMsg& m)
   p.info.observer = m.observer;
   // A gateway's acknowledgements count only from its hold answers, and only under its latest
   // generation: replicas that came behind it since have acknowledged nothing (docs/teams.md).
-  // (A beat that overtook a newer one does not take the generation back: modulo 64, a newer one is
-  // 1 to 31 ahead.)
-  // A gateway that restarted from its store (same incarnation) counts from 0 again: its
-  // generation is taken when it comes back, or a while after the last one taken.
-  // Its answers given under the generation it left count no more (held()); one that came back
-  // is asked again from scratch.
+  // A generation that looks older (modulo 64, a newer one is 1 to 31 ahead) is a beat that
+  // overtook a newer one, unless the gateway came back or a probe period passed since the last
+  // one: then it restarted from its store (same incarnation) and counts from 0 again. Its answers
+  // under the generation it left count no more (held()); one that came back is asked afresh.
   const unsigned ahead = static_cast<unsigned>(m.generation - p.behind_generation) & 63u;
   if (m.gateway && p.info.gateway && ahead == 0) {
     p.generation_ns = now_;
