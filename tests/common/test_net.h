@@ -42,6 +42,9 @@ struct Net {
   std::deque<Packet> inflight;
   std::int64_t now = 0;
   std::function<bool(const Packet&)> drop;  // return true to lose a packet
+  // When set, what the receiving transport authenticated of the node that sent a packet
+  // (Sample::sender), as DDS Security's participant GUIDs do.
+  std::function<std::array<std::uint8_t, 16>(int from)> sender;
 
   int add(std::uint64_t agent, ReplicatorOptions opt = {}) {
     Node n;
@@ -86,7 +89,18 @@ struct Net {
       Packet f = std::move(inflight.front());
       inflight.pop_front();
       if (drop && drop(f)) continue;
-      if (nodes[f.to].rep) deliver_cdr_sample(*nodes[f.to].rep, f.sample.topic, f.sample.bytes, now);
+      if (!nodes[f.to].rep) continue;
+      if (!sender) {
+        deliver_cdr_sample(*nodes[f.to].rep, f.sample.topic, f.sample.bytes, now);
+        continue;
+      }
+      auto s = decode_cdr_sample(f.sample.topic, f.sample.bytes);
+      if (!s.ok()) {
+        nodes[f.to].rep->on_undecodable(s.error());
+        continue;
+      }
+      s->sender = sender(f.from);
+      nodes[f.to].rep->on_sample(*s, now);
     }
   }
   void advance(std::int64_t ns, int ticks = 10) {

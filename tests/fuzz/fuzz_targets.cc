@@ -206,7 +206,7 @@ bool schema_file(const std::uint8_t* data, std::size_t size) {
   for (const GraphDelta& d : made) {
     std::vector<std::uint8_t> bytes;
     encode(d, bytes, 1, 1);
-    if (adm.admit_delta(d, bytes, {}).ok()) g.merge(d);
+    if (adm.admit_delta(d, bytes, {}, {}).ok()) g.merge(d);
   }
   check(g, "schema_file");
   return true;

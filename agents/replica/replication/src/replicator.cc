@@ -184,7 +184,9 @@ void Replicator::on_sample(const Sample& s, std::int64_t now_ns) {
   ++stats_.samples_received;
   if (heard_from(s.from) == nullptr) return;
   addressed_ = !s.to.is_null();
+  sender_ = s.sender;
   std::visit([&](const auto& msg) { handle(s.from, msg); }, s.message);
+  sender_ = {};
   if (announce_soon_) {
     announce_soon_ = false;
     if (!opt_.gossip) send_summary();

@@ -98,7 +98,9 @@ Status Replicator::admission_verdict(const PeerId& from, const DeltaMsg& m) {
   if (admission_ == nullptr) return {};
   const std::span<const std::uint8_t> sig =
       m.signature ? std::span<const std::uint8_t>(*m.signature) : std::span<const std::uint8_t>();
-  Status s = admission_->admit_delta(scratch_, *m.payload, sig);
+  const bool authenticated = std::any_of(sender_.begin(), sender_.end(), [](std::uint8_t b) { return b != 0; });
+  Status s = admission_->admit_delta(scratch_, *m.payload, sig,
+                                     authenticated ? std::span<const std::uint8_t>(sender_) : std::span<const std::uint8_t>());
   if (s.ok()) return s;
   ++stats_.deltas_refused;
   return make_error(ErrorCode::kPermissionDenied, "delta " + delta_of(m.origin, m.lo, m.hi) + " relayed by " +

@@ -4,7 +4,10 @@
 
 #include <openssl/ec.h>
 #include <openssl/evp.h>
+#include <openssl/sha.h>
+#include <openssl/x509.h>
 
+#include <algorithm>
 #include <cstdio>
 #include <ctime>
 #include <filesystem>
@@ -40,7 +43,30 @@ bool is_p256(EVP_PKEY* key) {
          std::string(group, len) == "prime256v1";
 }
 
+// The participant GUID prefix DDS Security derives from a certificate (see participant_prefix()).
+std::array<std::uint8_t, 6> prefix_of(X509* cert) {
+  std::array<std::uint8_t, 6> out{};
+  unsigned char* der = nullptr;
+  const int len = i2d_X509_NAME(X509_get_subject_name(cert), &der);
+  if (len <= 0) return out;  // all zero: matches no participant (the flag bit is always set)
+  unsigned char hash[SHA256_DIGEST_LENGTH];
+  SHA256(der, static_cast<std::size_t>(len), hash);
+  OPENSSL_free(der);
+  std::uint8_t carry = 0x80;  // the flag bit that marks a prefix derived from a certificate
+  for (std::size_t i = 0; i < out.size(); ++i) {
+    out[i] = static_cast<std::uint8_t>(carry | (hash[i] >> 1));
+    carry = static_cast<std::uint8_t>(hash[i] << 7);
+  }
+  return out;
+}
+
 }  // namespace
+
+Result<std::array<std::uint8_t, 6>> participant_prefix(const std::string& cert_path) {
+  auto cert = load_cert(cert_path);
+  if (!cert.ok()) return cert.error();
+  return prefix_of(cert->get());
+}
 
 // ------------------------------------------------------------------ Signer
 
@@ -143,6 +169,7 @@ Status IdentityBook::reload() {
     }
     entry.not_after = epoch_seconds(X509_get0_notAfter(cert->get()));
     entry.not_after_text = time_text(X509_get0_notAfter(cert->get()));
+    entry.participant_prefix = prefix_of(cert->get());
     known.emplace(id, std::move(entry));
   }
   if (ec && ec != std::errc::no_such_file_or_directory)
@@ -180,6 +207,14 @@ Status IdentityBook::verify(std::uint64_t agent, std::span<const std::uint8_t> d
                                                " bytes over " + std::to_string(data.size()) +
                                                " bytes)");
   return {};
+}
+
+bool IdentityBook::authenticates(std::uint64_t agent, std::span<const std::uint8_t> participant) const {
+  auto it = known_.find(agent);
+  if (participant.size() != 16 || it == known_.end() ||
+      static_cast<std::int64_t>(std::time(nullptr)) > it->second.not_after)
+    return false;
+  return std::equal(it->second.participant_prefix.begin(), it->second.participant_prefix.end(), participant.begin());
 }
 
 std::optional<std::string> IdentityBook::name_of(std::uint64_t agent) const {

@@ -173,8 +173,10 @@ std::string domains_xml(const char* indent) {
 }
 
 // The OMG DDS Security 1.1 governance document: authenticated participants only, discovery and
-// liveliness encrypted, every RTPS message signed, every topic's data and metadata encrypted and
-// its readers and writers checked against the permissions.
+// liveliness encrypted, every RTPS message signed, every topic's data and metadata encrypted, its
+// metadata with origin authentication (a MAC per receiver, so that no member can send samples
+// under another's writers: the admission's fast path relies on it), and its readers and writers
+// checked against the permissions.
 std::string governance_xml() {
   return "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n"
          "<dds xmlns:xsi=\"http://www.w3.org/2001/XMLSchema-instance\"\n"
@@ -195,7 +197,7 @@ std::string governance_xml() {
          "          <enable_liveliness_protection>true</enable_liveliness_protection>\n"
          "          <enable_read_access_control>true</enable_read_access_control>\n"
          "          <enable_write_access_control>true</enable_write_access_control>\n"
-         "          <metadata_protection_kind>ENCRYPT</metadata_protection_kind>\n"
+         "          <metadata_protection_kind>ENCRYPT_WITH_ORIGIN_AUTHENTICATION</metadata_protection_kind>\n"
          "          <data_protection_kind>ENCRYPT</data_protection_kind>\n"
          "        </topic_rule>\n"
          "      </topic_access_rules>\n"
@@ -436,6 +438,9 @@ Result<DdsSecurityFiles> agent_files(const std::string& dir, const std::string& 
   if (Status s = check_cert(name, cert->get(), ca->cert.get(), crl.get(), std::time(nullptr));
       !s.ok())
     return s.error();
+  auto origins = governance_authenticates_origins(f.governance, f.identity_ca);
+  if (!origins.ok()) return origins.error();
+  f.origin_authentication = *origins;
   return f;
 }
 

@@ -14,9 +14,9 @@ std::vector<std::uint8_t> SchemaAdmission::sign(std::span<const std::uint8_t> pa
 }
 
 Status SchemaAdmission::admit_delta(const graph::GraphDelta& d, std::span<const std::uint8_t> payload,
-                                    std::span<const std::uint8_t> signature) {
+                                    std::span<const std::uint8_t> signature, std::span<const std::uint8_t> sender) {
   if (inner_ != nullptr)
-    if (Status s = inner_->admit_delta(d, payload, signature); !s.ok()) return s;
+    if (Status s = inner_->admit_delta(d, payload, signature, sender); !s.ok()) return s;
   return check_delta(*schema_, d);
 }
 

@@ -43,8 +43,13 @@ Status enable_security(DdsReplicaOptions& o, const std::string& dir) {
     if (!identities->reload().ok()) return s;
     return identities->verify(agent, data, sig);
   };
+  // The fast path: a delta its origin's own participant sent is admitted on that (the transport
+  // reports senders only under a governance that authenticates origins; docs/security.md).
+  auto sent_by = [identities](std::uint64_t agent, std::span<const std::uint8_t> sender) {
+    return identities->authenticates(agent, sender);
+  };
   o.dds.security = *files;
-  o.permissions = std::make_shared<permissions::PolicyAdmission>(std::move(*policy), sign, verify);
+  o.permissions = std::make_shared<permissions::PolicyAdmission>(std::move(*policy), sign, verify, sent_by);
   return {};
 }
 

@@ -5,6 +5,7 @@
 #include <dds/dds.h>
 
 #include <algorithm>
+#include <array>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
@@ -12,6 +13,7 @@
 #include <mutex>
 #include <set>
 #include <type_traits>
+#include <unordered_map>
 #include <vector>
 
 #include "dds_log.h"
@@ -215,6 +217,10 @@ struct DdsTransport::Impl {
   bool shared_domain = false;
   bool secured_private = false;  // domain_id is in g_secured_private
   bool secured = false;          // the participant runs DDS Security
+  // Its governance authenticates origins: received deltas name their sending participant
+  // (Sample::sender), looked up once per matched writer.
+  bool report_senders = false;
+  std::unordered_map<dds_instance_handle_t, std::array<std::uint8_t, 16>> senders;
   Entity private_domain;
   Entity participant;
   // One topic, writer and reader per message kind, indexed by Kind.
@@ -231,6 +237,21 @@ struct DdsTransport::Impl {
   std::vector<dds_attach_t> triggered;
   bool all_triggered = true;  // before the first wait (or after a timeout): take from all
   wire::SampleBuilder builder;
+
+  // The GUID of the participant of writer `writer`, which `reader` matched (all zero when Cyclone
+  // no longer knows it). Publication handles are never reused, so they are looked up once.
+  std::array<std::uint8_t, 16> sender_of(dds_entity_t reader, dds_instance_handle_t writer) {
+    if (auto it = senders.find(writer); it != senders.end()) return it->second;
+    std::array<std::uint8_t, 16> key{};
+    if (dds_builtintopic_endpoint_t* ep = dds_get_matched_publication_data(reader, writer)) {
+      static_assert(sizeof ep->participant_key.v == 16);
+      std::memcpy(key.data(), ep->participant_key.v, key.size());
+      dds_builtintopic_free_endpoint(ep);
+      if (senders.size() >= 4096) senders.clear();  // writers come and go: bounded
+      senders.emplace(writer, key);
+    }
+    return key;
+  }
 
   ~Impl() {
     // Children first, then the participant; a shared domain is released when its last user goes.
@@ -260,6 +281,7 @@ Result<std::unique_ptr<DdsTransport>> DdsTransport::create(const PeerId& self, c
   Impl& d = *t->impl_;
   d.self = self;
   d.secured = cfg.security.has_value();
+  d.report_senders = d.secured && cfg.security->origin_authentication;
 
   std::string xml;
   switch (cfg.source) {
@@ -564,7 +586,10 @@ void DdsTransport::drain(const std::function<void(const Sample&)>& on_sample,
     take_all(d.readers[kind], [&](void* p, const dds_sample_info_t& info) {
       if (!info.valid_data) return;
       Sample e = wire::sample_of(static_cast<DdsTopic>(kind), p);
-      if (kind == Impl::kDelta) stage_marks::mark(stage_marks::Stage::kTaken);
+      if (kind == Impl::kDelta) {
+        stage_marks::mark(stage_marks::Stage::kTaken);
+        if (d.report_senders) e.sender = d.sender_of(d.readers[kind].get(), info.publication_handle);
+      }
       if (for_us(e.to)) on_sample(e);
     });
   };

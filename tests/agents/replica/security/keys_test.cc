@@ -108,6 +108,41 @@ TEST_F(KeysTest, InitAndAddAgentMakeFilesThatOpensslAccepts) {
   EXPECT_NE(rc, 0) << out;
 }
 
+// The fast path of the admission needs a governance that authenticates origins: a new one does, a
+// document of the older form (metadata ENCRYPT) signed by the same CA does not, and one the CA did
+// not sign is an error, not a "no".
+TEST_F(KeysTest, TheGovernanceSaysWhetherItAuthenticatesOrigins) {
+  ASSERT_TRUE(init_keys(dir_, {}).ok());
+  ASSERT_TRUE(add_agent(dir_, "planner", {}).ok());
+  auto now = governance_authenticates_origins(path("governance.p7s"), path("ca.pem"));
+  ASSERT_TRUE(now.ok()) << now.error().to_string();
+  EXPECT_TRUE(*now);
+  auto files = agent_files(dir_, "planner");
+  ASSERT_TRUE(files.ok()) << files.error().to_string();
+  EXPECT_TRUE(files->origin_authentication);
+
+  std::string older = read(path("governance.xml"));
+  const std::string kind = "ENCRYPT_WITH_ORIGIN_AUTHENTICATION</metadata_protection_kind>";
+  const auto at = older.find(kind);
+  ASSERT_NE(at, std::string::npos) << older;
+  older.replace(at, kind.size(), "ENCRYPT</metadata_protection_kind>");
+  std::ofstream(path("older.xml")) << older;
+  auto [rc, out] = run("openssl smime -sign -text -in " + path("older.xml") + " -signer " + path("ca.pem") +
+                       " -inkey " + path("ca.key.pem") + " -out " + path("older.p7s"));
+  ASSERT_EQ(rc, 0) << out;
+  auto before = governance_authenticates_origins(path("older.p7s"), path("ca.pem"));
+  ASSERT_TRUE(before.ok()) << before.error().to_string();
+  EXPECT_FALSE(*before);
+
+  // Signed by another CA: refused, naming the file.
+  const std::string other = path("other");
+  ASSERT_TRUE(init_keys(other, {}).ok());
+  auto foreign = governance_authenticates_origins(path("governance.p7s"), other + "/ca.pem");
+  ASSERT_FALSE(foreign.ok());
+  EXPECT_EQ(foreign.error().code, ErrorCode::kRefused);
+  EXPECT_NE(foreign.error().message.find("governance.p7s"), std::string::npos) << foreign.error().message;
+}
+
 TEST_F(KeysTest, SerialsDiffer) {
   ASSERT_TRUE(init_keys(dir_, {}).ok());
   ASSERT_TRUE(add_agent(dir_, "a", {}).ok());

@@ -3,6 +3,10 @@
 // is applied nowhere and the replicas stay equal.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <array>
+#include <cstring>
+
 #include "quiver/agents/rules/permissions/actions.h"
 #include "quiver/agents/rules/permissions/policy_admission.h"
 #include "quiver/agents/replica/replication/replicator.h"
@@ -186,6 +190,70 @@ TEST(PermissionsTest, EveryReplicaRefusesADeltaItsOriginMayNotMakeAndTheyStayEqu
   t.net.advance(500'000'000);
   EXPECT_EQ(*t.g(t.panel).get<bool>(robot, "speaking"), true);
   EXPECT_EQ(t.g(t.speech).digest(), t.g(t.panel).digest());
+}
+
+// The fast path (docs/security.md): a delta that arrives straight from its origin's own
+// (authenticated) sender is admitted without verifying its signature, one relayed by another is
+// verified. A member that signs its own deltas badly on purpose is then admitted where it sent them
+// and refused where they were relayed; the (origin, seq) sets are equal, the digests differ, and
+// the digest repair brings the state over (the policy lets that member write it): they converge.
+TEST(PermissionsTest, ABadlySignedDeltaStraightFromItsOriginIsAdmittedThereAndTheDigestRepairEvensTheRest) {
+  Net net;
+  const int speech = net.add(fnv1a64("speech")), panel = net.add(fnv1a64("panel")),
+            other = net.add(fnv1a64("intruder"));
+  // Stand-ins for the keys: a signature is the agent's id and the payload's length; speech's
+  // signer is broken. A sender key is the sending node's agent id.
+  auto key_of = [&](int i) {
+    std::array<std::uint8_t, 16> k{};
+    const std::uint64_t agent = net.nodes[i].g->replica().agent;
+    std::memcpy(k.data(), &agent, sizeof agent);
+    return k;
+  };
+  net.sender = key_of;
+  auto signature = [](std::uint64_t agent, std::size_t n) {
+    std::vector<std::uint8_t> s(16);
+    std::memcpy(s.data(), &agent, 8);
+    std::memcpy(s.data() + 8, &n, 8);
+    return s;
+  };
+  std::vector<std::unique_ptr<PolicyAdmission>> adm;
+  for (int i : {speech, panel, other}) {
+    const std::uint64_t self = net.nodes[i].g->replica().agent;
+    auto sign = [=](std::span<const std::uint8_t> p) {
+      return i == speech ? std::vector<std::uint8_t>{0xde, 0xad} : signature(self, p.size());
+    };
+    auto verify = [=](std::uint64_t agent, std::span<const std::uint8_t> data, std::span<const std::uint8_t> sig) {
+      const auto want = signature(agent, data.size());
+      return std::equal(sig.begin(), sig.end(), want.begin(), want.end()) ? Status{}
+                                                                          : make_error(ErrorCode::kRefused, "bad signature");
+    };
+    auto sent_by = [](std::uint64_t agent, std::span<const std::uint8_t> sender) {
+      std::uint64_t who = 0;
+      std::memcpy(&who, sender.data(), 8);
+      return sender.size() == 16 && who == agent;
+    };
+    adm.push_back(std::make_unique<PolicyAdmission>(policy(), sign, verify, sent_by));
+    net.nodes[i].rep->set_admission(adm.back().get());
+  }
+  // Speech's own sends to `other` are lost: other gets speech's delta only from panel.
+  net.drop = [&](const Packet& p) { return p.from == speech && p.to == other && p.sample.topic == DdsTopic::kDelta; };
+  net.pump();
+  auto tx = net.nodes[speech].g->begin();
+  const NodeId thing = *tx.create_node("thing", "badly_signed");
+  ASSERT_TRUE(tx.commit().ok());
+  net.advance(300'000'000);
+  EXPECT_TRUE(net.nodes[panel].g->has_node(thing)) << "admitted on its sender, straight from speech";
+  EXPECT_GE(adm[1]->admitted_on_sender(), 1u);
+  EXPECT_FALSE(net.nodes[other].g->has_node(thing)) << "relayed: verified, and refused";
+  EXPECT_GE(net.nodes[other].rep->stats().deltas_refused, 1u);
+  EXPECT_GE(adm[2]->signatures_verified(), 1u);
+  // The digest repair (a digest to one peer per second, in turn; a whole state after two
+  // differing in a row) brings it over as state, which the policy lets speech have written.
+  net.advance(8'000'000'000);
+  EXPECT_TRUE(net.nodes[other].g->has_node(thing));
+  EXPECT_GE(net.nodes[other].rep->stats().states_applied, 1u);
+  EXPECT_EQ(net.nodes[speech].g->digest(), net.nodes[other].g->digest());
+  EXPECT_EQ(net.nodes[panel].g->digest(), net.nodes[other].g->digest());
 }
 
 TEST(PermissionsTest, ANewcomerRefusesAStateWithAnEntryItsWriterMayNotHaveWritten) {

@@ -12,9 +12,12 @@
 #include <mutex>
 #include <optional>
 
+#include "forged_delta.h"
 #include "quiver/agents/runtime/process/dds_replica.h"
 #include "quiver/agents/runtime/process/security_setup.h"
+#include "quiver/agents/replica/security/identity.h"
 #include "quiver/agents/replica/security/keys.h"
+#include "quiver/base/hash.h"
 
 namespace quiver::agents {
 namespace {
@@ -327,6 +330,86 @@ TEST_F(DdsSecurityTest, AnAuthenticatedAgentWritingOutsideItsPermissionsIsRefuse
   auto c = tx.commit();
   ASSERT_FALSE(c.ok());
   EXPECT_EQ(c.error().code, ErrorCode::kPermissionDenied);
+}
+
+
+// The fast path (docs/security.md): a delta that its origin's own participant sent is admitted on
+// that participant's authenticated identity, without verifying the signature. A member that sends
+// a delta under another member's name (signed with its own key, as a member can) comes from its
+// own participant: the signature is verified, and every replica refuses the forgery.
+TEST_F(DdsSecurityTest, ADeltaFromItsOriginIsAdmittedOnItsSenderAndAMembersForgeryIsVerifiedAndRefused) {
+  for (const char* n : {"a", "b", "forger"}) ASSERT_TRUE(security::add_agent(dir_, n).ok());
+  constexpr std::uint32_t kDomain = 188;
+  auto make = [&](const std::string& name) {
+    DdsReplicaOptions o;
+    o.name = name;
+    o.dds.domain = kDomain;
+    o.dds.own_domain_instance = true;
+    o.replicator.heartbeat_ns = 50 * kMs;
+    Status s = enable_security(o, dir_);
+    EXPECT_TRUE(s.ok()) << s.error().to_string();
+    return o;
+  };
+  DdsReplicaOptions ao = make("a"), bo = make("b");
+  ASSERT_TRUE(ao.dds.security && ao.dds.security->origin_authentication) << "a new governance authenticates origins";
+  auto a = must(DdsReplica::create(ao));
+  auto b = must(DdsReplica::create(bo));
+  // The forger: a member with credentials of its own, writing samples by hand.
+  DdsConfig fc;
+  fc.domain = kDomain;
+  fc.own_domain_instance = true;
+  fc.name = "forger";
+  fc.security = files("forger");
+  auto forger = DdsTransport::create(PeerId{fnv1a64("forger"), 1}, fc);
+  ASSERT_TRUE(forger.ok()) << forger.error().to_string();
+  ASSERT_TRUE(a && b);
+  std::vector<std::string> errors;
+  b->replicator().on_error([&](const Error& e) { errors.push_back(e.message); });
+  std::vector<DdsReplica*> ab{a.get(), b.get()};
+  auto spin = [&](auto done, std::int64_t ms) {
+    return spin_until(ab, [&] {
+      (*forger)->drain([](const Sample&) {}, [](const PeerId&, bool) {});
+      return done();
+    }, ms);
+  };
+
+  // The control: a's own deltas reach b straight from a's participant, and b admits them on it
+  // (once they know each other: before, b would get a's change in the state it joins with).
+  ASSERT_TRUE(spin([&] { return a->replicator().live_peer_count() >= 1 && b->replicator().live_peer_count() >= 1; },
+                   15000));
+  spin([] { return false; }, 300);
+  commit_node(*a, "from_a");
+  ASSERT_TRUE(spin([&] { return has(*b, "from_a"); }, 15000));
+  EXPECT_GE(bo.permissions->admitted_on_sender(), 1u);
+  EXPECT_EQ(bo.permissions->signatures_verified(), 0u) << "nothing reached b but from its origin";
+
+  // The forgery: a node under a's name and numbers far beyond a's, signed with the forger's key.
+  const PeerId victim = a->id();
+  auto signer = security::Signer::load(dir_, "forger");
+  ASSERT_TRUE(signer.ok());
+  auto payload = testing::bytes_of(
+      testing::forged_node_delta(victim, 1000, 1000, graph::Dot{victim, 9'000'000}, "thing", "forged"));
+  auto sig = std::make_shared<const std::vector<std::uint8_t>>(signer->sign(*payload));
+  const Sample forged{victim, PeerId{}, DeltaMsg{victim, 1000, 1000, payload, sig}};
+  const std::uint64_t verified_before = bo.permissions->signatures_verified();
+  // Sent until b has judged it (the forger's writer may match b's reader after the first one).
+  ASSERT_TRUE(spin([&] {
+    (*forger)->send(forged);
+    return b->replicator().stats().deltas_refused >= 1 && a->replicator().stats().deltas_refused >= 1;
+  }, 15000)) << "refused at b: " << b->replicator().stats().deltas_refused
+             << ", at a: " << a->replicator().stats().deltas_refused;
+  EXPECT_GT(bo.permissions->signatures_verified(), verified_before) << "the forgery was verified, not taken on its sender";
+  EXPECT_FALSE(has(*b, "forged"));
+  EXPECT_FALSE(has(*a, "forged"));
+  bool named = false;
+  for (const std::string& e : errors) named = named || e.find("its signature does not hold") != std::string::npos;
+  EXPECT_TRUE(named);
+  // And a's next change is still admitted on its sender at b.
+  const std::uint64_t on_sender = bo.permissions->admitted_on_sender();
+  commit_node(*a, "after");
+  ASSERT_TRUE(spin([&] { return has(*b, "after"); }, 10000));
+  EXPECT_GT(bo.permissions->admitted_on_sender(), on_sender);
+  EXPECT_EQ(a->graph().digest(), b->graph().digest());
 }
 
 

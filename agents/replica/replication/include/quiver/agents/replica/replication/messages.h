@@ -10,6 +10,7 @@
 /// is used. Sets of (replica, counter) pairs travel as range lists for that reason: a
 /// CausalContext would normalise away what was wrong with them.
 
+#include <array>
 #include <cstdint>
 #include <memory>
 #include <string>
@@ -140,6 +141,12 @@ struct Sample {
   PeerId from;
   PeerId to;
   Message message;
+  /// The participant that sent it, as the receiving transport authenticated it: a DDS Security
+  /// participant's GUID, which IdentityBook::authenticates() binds to an agent's certificate
+  /// (docs/security.md, "The fast path"). All zero when the transport authenticates nobody
+  /// (plain DDS, the simulator, a gateway's bridge) or its governance does not authenticate
+  /// origins. Not on the wire: the `from` above is only what the sample claims.
+  std::array<std::uint8_t, 16> sender{};
 };
 
 /// "summary", "delta", "pull", "state", "bye".

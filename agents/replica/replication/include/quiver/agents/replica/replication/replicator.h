@@ -563,6 +563,7 @@ class Replicator {
   int hellos_ = 0;  // hellos sent for new matches: each waits twice as long as the one before
   bool offering_ = false;
   bool addressed_ = false;  // the sample being handled was addressed to this replica
+  std::array<std::uint8_t, 16> sender_{};  // the sample being handled: Sample::sender
   bool introduced_ = false;  // the transport introduced a peer (hello_answers())
   std::int64_t next_offer_ns_ = 0;
   bool digest_due_ = false;

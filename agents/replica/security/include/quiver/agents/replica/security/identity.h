@@ -11,6 +11,7 @@
 /// keep no shared mutable state (a fresh OpenSSL context per call), so concurrent calls are safe
 /// too. reload() must not run concurrently with anything else on the same IdentityBook.
 
+#include <array>
 #include <cstdint>
 #include <map>
 #include <memory>
@@ -55,6 +56,13 @@ class Signer {
   internal::KeyPtr key_;
 };
 
+/// The first 6 bytes of the GUID of every DDS Security participant authenticated by the
+/// certificate in PEM file `cert_path`: a flag bit, then the first 47 bits of the SHA-256 of the
+/// certificate's DER-encoded subject (OMG DDS Security 1.1, 9.3.3; Cyclone's authentication
+/// plugin computes the same when it creates a participant and checks it at every handshake).
+/// @returns kNotFound / kMalformed when the file cannot be read.
+Result<std::array<std::uint8_t, 6>> participant_prefix(const std::string& cert_path);
+
 /// Every agent certificate in DIR/agents/*/cert.pem that verifies against DIR/ca.pem and
 /// DIR/crl.pem and is valid now, by agent id (fnv1a64 of its CN).
 class IdentityBook {
@@ -70,6 +78,12 @@ class IdentityBook {
                 std::span<const std::uint8_t> sig) const;
   /// The agent's name (its certificate's CN), if known and valid.
   std::optional<std::string> name_of(std::uint64_t agent) const;
+  /// Whether `participant` (a DDS Security participant's GUID, 16 bytes) is one that agent
+  /// `agent`'s certificate authenticated: DDS Security derives a participant GUID's first 48 bits
+  /// from the SHA-256 of its certificate's subject (participant_prefix()), and Cyclone refuses at
+  /// the handshake a peer whose GUID does not match its certificate. False for an unknown, revoked
+  /// or expired agent and for anything but 16 bytes.
+  bool authenticates(std::uint64_t agent, std::span<const std::uint8_t> participant) const;
   /// Re-reads the directory (e.g. an agent added or revoked since load); rate limiting is the
   /// caller's job. On error the book is unchanged.
   Status reload();
@@ -89,6 +103,7 @@ class IdentityBook {
     internal::KeyPtr key;
     std::int64_t not_after = 0;  // seconds since the epoch
     std::string not_after_text;
+    std::array<std::uint8_t, 6> participant_prefix{};
   };
   std::string dir_;
   std::map<std::uint64_t, Entry> known_;

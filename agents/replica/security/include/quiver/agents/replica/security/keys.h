@@ -65,7 +65,17 @@ struct DdsSecurityFiles {
   std::string governance;            ///< DIR/governance.p7s
   std::string permissions;           ///< DIR/agents/NAME/permissions.p7s
   std::string crl;                   ///< DIR/crl.pem
+  /// The governance gives every topic's metadata origin authentication
+  /// (`*_WITH_ORIGIN_AUTHENTICATION`): another member cannot send samples under this agent's
+  /// participant, so a transport may report who sent a sample (Sample::sender) for the fast path.
+  bool origin_authentication = false;
 };
+
+/// Whether the governance in `governance_p7s` (S/MIME, checked against the CA in `ca_pem`) gives
+/// every topic rule's metadata origin authentication.
+/// @returns false when some rule does not; kNotFound / kMalformed / kRefused when the file cannot
+/// be read, does not parse, or was not signed by that CA.
+Result<bool> governance_authenticates_origins(const std::string& governance_p7s, const std::string& ca_pem);
 
 /// The credentials of agent `name` in `dir`, checked now: every file exists, the certificate was
 /// signed by the CA, is not revoked by DIR/crl.pem and is within its validity.

@@ -25,7 +25,7 @@ class SchemaAdmission final : public Admission {
 
   std::vector<std::uint8_t> sign(std::span<const std::uint8_t> payload) override;
   Status admit_delta(const graph::GraphDelta& d, std::span<const std::uint8_t> payload,
-                     std::span<const std::uint8_t> signature) override;
+                     std::span<const std::uint8_t> signature, std::span<const std::uint8_t> sender) override;
   Status admit_state(const PeerId& from, const graph::GraphDelta& state) override;
 
   /// The check for Graph::set_permission_check of the replica whose agent id is `self`, after
