@@ -128,8 +128,10 @@ void Replicator::publish(std::shared_ptr<std::vector<std::uint8_t>> bytes, std::
   remember(self_, lo, hi, digest_of(*shared), shared, signature, true);
   ++stats_.deltas_published;
   stats_.bytes_published += shared->size();
+  const bool signed_delta = signature != nullptr;
   queue(PeerId{}, DeltaMsg{self_, lo, hi, std::move(shared), std::move(signature)});
   send_queued();
+  if (signed_delta) admission_->prepare();  // the next signature's costly part, now it is sent
 }
 
 Result<bool> Replicator::seed(const graph::GraphDelta& d) {

@@ -16,6 +16,7 @@
 
 #include "openssl_util.h"
 #include "quiver/agents/replica/security/keys.h"
+#include "sign_ahead.h"
 #include "quiver/base/hash.h"
 
 namespace quiver::agents::inline replica::security {
@@ -71,6 +72,8 @@ Result<std::array<std::uint8_t, 6>> participant_prefix(const std::string& cert_p
 // ------------------------------------------------------------------ Signer
 
 Signer::~Signer() = default;
+Signer::Signer(Signer&&) noexcept = default;
+Signer& Signer::operator=(Signer&&) noexcept = default;
 
 Result<Signer> Signer::load(const std::string& dir, const std::string& name) {
   if (!is_valid_agent_name(name))
@@ -89,20 +92,18 @@ Result<Signer> Signer::load(const std::string& dir, const std::string& name) {
   Signer s;
   s.name_ = name;
   s.key_.reset(key->release());
+  try {
+    s.ahead_ = std::make_unique<SignAhead>(s.key_.get());
+    s.ahead_->prepare();
+  } catch (const std::runtime_error& e) {
+    return make_error(ErrorCode::kMalformed, "Signer::load(): '" + path + "': " + e.what());
+  }
   return s;
 }
 
-std::vector<std::uint8_t> Signer::sign(std::span<const std::uint8_t> data) const {
-  MdCtx ctx(EVP_MD_CTX_new());
-  std::vector<std::uint8_t> sig(80);
-  std::size_t len = sig.size();
-  if (!ctx || EVP_DigestSignInit(ctx.get(), nullptr, EVP_sha256(), nullptr, key_.get()) != 1 ||
-      EVP_DigestSign(ctx.get(), sig.data(), &len, data.data(), data.size()) != 1)
-    throw std::runtime_error(
-        ssl_error(ErrorCode::kInternal, "Signer::sign(" + name_ + ")").message);
-  sig.resize(len);
-  return sig;
-}
+std::vector<std::uint8_t> Signer::sign(std::span<const std::uint8_t> data) const { return ahead_->sign(data); }
+
+void Signer::prepare() const { ahead_->prepare(); }
 
 // ------------------------------------------------------------------ IdentityBook
 

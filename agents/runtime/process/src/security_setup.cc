@@ -50,6 +50,7 @@ Status enable_security(DdsReplicaOptions& o, const std::string& dir) {
   };
   o.dds.security = *files;
   o.permissions = std::make_shared<permissions::PolicyAdmission>(std::move(*policy), sign, verify, sent_by);
+  o.permissions->set_prepare([key] { key->prepare(); });
   return {};
 }
 

@@ -36,6 +36,9 @@ class Admission {
   /// @returns at most SampleLimits::max_signature_bytes bytes (longer ones make every receiver
   ///          refuse the sample).
   virtual std::vector<std::uint8_t> sign(std::span<const std::uint8_t> payload) = 0;
+  /// Called after the replica sent a delta that sign() signed: time to prepare what the next
+  /// signature needs (Signer::prepare()), off the path of the one just sent. Owner thread.
+  virtual void prepare() {}
   /// Ok, or why the delta `d` (decoded from `payload`; its origin is d.origin) must not be
   /// applied. `signature` is what came with it (empty: none). `sender` is the participant that
   /// sent the sample as the transport authenticated it (Sample::sender; empty when it

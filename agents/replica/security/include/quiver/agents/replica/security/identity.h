@@ -7,9 +7,9 @@
 /// ECDSA P-256 over SHA-256; signatures are DER, at most 72 bytes (docs/security.md gives the
 /// measured cost of sign and verify).
 ///
-/// Threading: both classes are meant for one owner thread; sign() and verify() are const and
-/// keep no shared mutable state (a fresh OpenSSL context per call), so concurrent calls are safe
-/// too. reload() must not run concurrently with anything else on the same IdentityBook.
+/// Threading: both classes are meant for one owner thread; sign(), prepare() and verify() are
+/// const, and concurrent calls are safe too (the one prepared nonce is taken under a lock; verify()
+/// uses a fresh OpenSSL context per call). reload() must not run concurrently with anything else on the same IdentityBook.
 
 #include <array>
 #include <cstdint>
@@ -27,6 +27,7 @@ struct evp_pkey_st;  // OpenSSL's EVP_PKEY
 namespace quiver::agents::inline replica::security {
 
 namespace internal {
+class SignAhead;
 struct KeyDeleter {
   void operator()(evp_pkey_st* key) const;
 };
@@ -39,13 +40,18 @@ class Signer {
   /// @returns kNotFound when DIR/agents/NAME/key.pem is missing, kMalformed when it holds no
   /// P-256 key, kInvalidArgument for a bad name.
   static Result<Signer> load(const std::string& dir, const std::string& name);
-  /// An ECDSA P-256 / SHA-256 signature of `data`, DER (at most 72 bytes).
+  /// An ECDSA P-256 / SHA-256 signature of `data`, DER (at most 72 bytes). With a nonce that
+  /// prepare() computed ahead, about 0.5 µs; else the nonce is computed now (about 20 µs).
   /// @throws std::runtime_error when OpenSSL fails (it does not for a loaded key).
   std::vector<std::uint8_t> sign(std::span<const std::uint8_t> data) const;
+  /// Computes the next signature's nonce (k, its inverse and r = x(k·G): the costly part) unless
+  /// one is ready; each is used once. load() prepares the first. Call it off the path a signature
+  /// delays, e.g. after the signed delta was sent (Admission::prepare()).
+  void prepare() const;
   const std::string& name() const { return name_; }
 
-  Signer(Signer&&) noexcept = default;
-  Signer& operator=(Signer&&) noexcept = default;
+  Signer(Signer&&) noexcept;
+  Signer& operator=(Signer&&) noexcept;
   Signer(const Signer&) = delete;
   Signer& operator=(const Signer&) = delete;
   ~Signer();
@@ -54,6 +60,7 @@ class Signer {
   Signer() = default;
   std::string name_;
   internal::KeyPtr key_;
+  std::unique_ptr<internal::SignAhead> ahead_;
 };
 
 /// The first 6 bytes of the GUID of every DDS Security participant authenticated by the

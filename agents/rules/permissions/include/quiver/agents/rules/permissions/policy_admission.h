@@ -32,6 +32,11 @@ class PolicyAdmission final : public Admission {
   PolicyAdmission(Policy policy, SignFn sign, VerifyFn verify, SenderFn sent_by = {});
 
   std::vector<std::uint8_t> sign(std::span<const std::uint8_t> payload) override;
+  void prepare() override {
+    if (prepare_) prepare_();
+  }
+  /// What prepare() does (e.g. Signer::prepare()); none by default.
+  void set_prepare(std::function<void()> f) { prepare_ = std::move(f); }
   Status admit_delta(const graph::GraphDelta& d, std::span<const std::uint8_t> payload,
                      std::span<const std::uint8_t> signature, std::span<const std::uint8_t> sender) override;
   Status admit_state(const PeerId& from, const graph::GraphDelta& state) override;
@@ -49,6 +54,7 @@ class PolicyAdmission final : public Admission {
   SignFn sign_;
   VerifyFn verify_;
   SenderFn sent_by_;
+  std::function<void()> prepare_;
   std::uint64_t verified_ = 0, on_sender_ = 0;
 };
 

@@ -24,6 +24,9 @@ class SchemaAdmission final : public Admission {
   SchemaAdmission(std::shared_ptr<const Schema> schema, Admission* inner);
 
   std::vector<std::uint8_t> sign(std::span<const std::uint8_t> payload) override;
+  void prepare() override {
+    if (inner_ != nullptr) inner_->prepare();
+  }
   Status admit_delta(const graph::GraphDelta& d, std::span<const std::uint8_t> payload,
                      std::span<const std::uint8_t> signature, std::span<const std::uint8_t> sender) override;
   Status admit_state(const PeerId& from, const graph::GraphDelta& state) override;
