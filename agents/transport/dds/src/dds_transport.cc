@@ -217,10 +217,8 @@ struct DdsTransport::Impl {
   bool shared_domain = false;
   bool secured_private = false;  // domain_id is in g_secured_private
   bool secured = false;          // the participant runs DDS Security
-  // Its governance authenticates origins: received deltas name their sending participant
-  // (Sample::sender), looked up once per matched writer.
-  bool report_senders = false;
-  std::unordered_map<dds_instance_handle_t, std::array<std::uint8_t, 16>> senders;
+  bool report_senders = false;  // the governance authenticates origins: deltas get Sample::sender
+  std::unordered_map<dds_instance_handle_t, std::array<std::uint8_t, 16>> senders;  // by writer
   Entity private_domain;
   Entity participant;
   // One topic, writer and reader per message kind, indexed by Kind.
@@ -586,10 +584,9 @@ void DdsTransport::drain(const std::function<void(const Sample&)>& on_sample,
     take_all(d.readers[kind], [&](void* p, const dds_sample_info_t& info) {
       if (!info.valid_data) return;
       Sample e = wire::sample_of(static_cast<DdsTopic>(kind), p);
-      if (kind == Impl::kDelta) {
-        stage_marks::mark(stage_marks::Stage::kTaken);
-        if (d.report_senders) e.sender = d.sender_of(d.readers[kind].get(), info.publication_handle);
-      }
+      if (kind == Impl::kDelta) stage_marks::mark(stage_marks::Stage::kTaken);
+      if (kind == Impl::kDelta && d.report_senders)
+        e.sender = d.sender_of(d.readers[kind].get(), info.publication_handle);
       if (for_us(e.to)) on_sample(e);
     });
   };
