@@ -66,6 +66,18 @@ class DdsSecurityTest : public ::testing::Test {
     o.replicator.heartbeat_ns = 50 * kMs;
     return DdsReplica::create(o);
   }
+  /// The options of agent `name` on `domain`, made secure by enable_security() from dir_ (DDS
+  /// Security, signed deltas, dir_/policy.json when there is one).
+  DdsReplicaOptions secured(const std::string& name, std::uint32_t domain) {
+    DdsReplicaOptions o;
+    o.name = name;
+    o.dds.domain = domain;
+    o.dds.own_domain_instance = true;
+    o.replicator.heartbeat_ns = 50 * kMs;
+    Status s = enable_security(o, dir_);
+    EXPECT_TRUE(s.ok()) << s.error().to_string();
+    return o;
+  }
   static std::unique_ptr<DdsReplica> must(Result<std::unique_ptr<DdsReplica>> r) {
     EXPECT_TRUE(r.ok()) << r.error().to_string();
     return r.ok() ? std::move(*r) : nullptr;
@@ -249,17 +261,7 @@ TEST_F(DdsSecurityTest, AnAuthenticatedAgentWritingOutsideItsPermissionsIsRefuse
     std::fputs(R"({"default": "allow", "rules": [{"action": "write", "target": "speaking", "agents": ["speech"]}]})", f);
     std::fclose(f);
   }
-  const std::uint32_t domain = 193;
-  auto make = [&](const std::string& name) {
-    DdsReplicaOptions o;
-    o.name = name;
-    o.dds.domain = domain;
-    o.dds.own_domain_instance = true;
-    o.replicator.heartbeat_ns = 50 * kMs;
-    Status s = enable_security(o, dir_);
-    EXPECT_TRUE(s.ok()) << s.error().to_string();
-    return o;
-  };
+  auto make = [&](const std::string& name) { return secured(name, 193); };
   auto speech = must(DdsReplica::create(make("speech")));
   auto panel = must(DdsReplica::create(make("panel")));
   auto intruder = must(DdsReplica::create(make("intruder")));
@@ -340,17 +342,7 @@ TEST_F(DdsSecurityTest, AnAuthenticatedAgentWritingOutsideItsPermissionsIsRefuse
 TEST_F(DdsSecurityTest, ADeltaFromItsOriginIsAdmittedOnItsSenderAndAMembersForgeryIsVerifiedAndRefused) {
   for (const char* n : {"a", "b", "forger"}) ASSERT_TRUE(security::add_agent(dir_, n).ok());
   constexpr std::uint32_t kDomain = 188;
-  auto make = [&](const std::string& name) {
-    DdsReplicaOptions o;
-    o.name = name;
-    o.dds.domain = kDomain;
-    o.dds.own_domain_instance = true;
-    o.replicator.heartbeat_ns = 50 * kMs;
-    Status s = enable_security(o, dir_);
-    EXPECT_TRUE(s.ok()) << s.error().to_string();
-    return o;
-  };
-  DdsReplicaOptions ao = make("a"), bo = make("b");
+  DdsReplicaOptions ao = secured("a", kDomain), bo = secured("b", kDomain);
   ASSERT_TRUE(ao.dds.security && ao.dds.security->origin_authentication) << "a new governance authenticates origins";
   auto a = must(DdsReplica::create(ao));
   auto b = must(DdsReplica::create(bo));
