@@ -50,8 +50,7 @@ Result<bool> governance_authenticates_origins(const std::string& governance_p7s,
   bool any = false;
   for (const pugi::xpath_node& rule : doc.select_nodes("//topic_rule")) {
     const std::string_view kind = rule.node().child("metadata_protection_kind").text().as_string();
-    constexpr std::string_view kOrigin = "_WITH_ORIGIN_AUTHENTICATION";
-    if (kind.size() < kOrigin.size() || kind.substr(kind.size() - kOrigin.size()) != kOrigin) return false;
+    if (!kind.ends_with("_WITH_ORIGIN_AUTHENTICATION")) return false;
     any = true;
   }
   return any;

@@ -44,7 +44,10 @@ bool is_p256(EVP_PKEY* key) {
          std::string(group, len) == "prime256v1";
 }
 
-// The participant GUID prefix DDS Security derives from a certificate (see participant_prefix()).
+// The first 6 bytes of the GUID of every DDS Security participant `cert` authenticates: a flag bit,
+// then the first 47 bits of the SHA-256 of its DER-encoded subject (OMG DDS Security 1.1, 9.3.3;
+// Cyclone's authentication plugin computes the same when it creates a participant and checks it at
+// every handshake).
 std::array<std::uint8_t, 6> prefix_of(X509* cert) {
   std::array<std::uint8_t, 6> out{};
   unsigned char* der = nullptr;
@@ -62,12 +65,6 @@ std::array<std::uint8_t, 6> prefix_of(X509* cert) {
 }
 
 }  // namespace
-
-Result<std::array<std::uint8_t, 6>> participant_prefix(const std::string& cert_path) {
-  auto cert = load_cert(cert_path);
-  if (!cert.ok()) return cert.error();
-  return prefix_of(cert->get());
-}
 
 // ------------------------------------------------------------------ Signer
 

@@ -41,7 +41,7 @@ class Signer {
   /// P-256 key, kInvalidArgument for a bad name.
   static Result<Signer> load(const std::string& dir, const std::string& name);
   /// An ECDSA P-256 / SHA-256 signature of `data`, DER (at most 72 bytes). With a nonce that
-  /// prepare() computed ahead, about 0.5 µs; else the nonce is computed now (about 20 µs).
+  /// prepare() computed ahead, about 2 µs; else the nonce is computed now (about 20 µs).
   /// @throws std::runtime_error when OpenSSL fails (it does not for a loaded key).
   std::vector<std::uint8_t> sign(std::span<const std::uint8_t> data) const;
   /// Computes the next signature's nonce (k, its inverse and r = x(k·G): the costly part) unless
@@ -63,13 +63,6 @@ class Signer {
   std::unique_ptr<internal::SignAhead> ahead_;
 };
 
-/// The first 6 bytes of the GUID of every DDS Security participant authenticated by the
-/// certificate in PEM file `cert_path`: a flag bit, then the first 47 bits of the SHA-256 of the
-/// certificate's DER-encoded subject (OMG DDS Security 1.1, 9.3.3; Cyclone's authentication
-/// plugin computes the same when it creates a participant and checks it at every handshake).
-/// @returns kNotFound / kMalformed when the file cannot be read.
-Result<std::array<std::uint8_t, 6>> participant_prefix(const std::string& cert_path);
-
 /// Every agent certificate in DIR/agents/*/cert.pem that verifies against DIR/ca.pem and
 /// DIR/crl.pem and is valid now, by agent id (fnv1a64 of its CN).
 class IdentityBook {
@@ -87,7 +80,7 @@ class IdentityBook {
   std::optional<std::string> name_of(std::uint64_t agent) const;
   /// Whether `participant` (a DDS Security participant's GUID, 16 bytes) is one that agent
   /// `agent`'s certificate authenticated: DDS Security derives a participant GUID's first 48 bits
-  /// from the SHA-256 of its certificate's subject (participant_prefix()), and Cyclone refuses at
+  /// from the SHA-256 of its certificate's subject, and Cyclone refuses at
   /// the handshake a peer whose GUID does not match its certificate. False for an unknown, revoked
   /// or expired agent and for anything but 16 bytes.
   bool authenticates(std::uint64_t agent, std::span<const std::uint8_t> participant) const;
