@@ -201,6 +201,15 @@ std::size_t CausalContext::memory_bytes() const {
   return replicas_.capacity() * sizeof(replicas_[0]) + cloud_.capacity() * sizeof(CloudRange);
 }
 
+void CausalContext::shrink_to(std::size_t entries) {
+  entries = std::max(entries, replicas_.size());
+  if (replicas_.capacity() <= entries) return;
+  std::vector<std::pair<ReplicaId, std::uint64_t>> kept;
+  kept.reserve(entries);
+  kept.assign(replicas_.begin(), replicas_.end());
+  replicas_.swap(kept);
+}
+
 std::uint64_t CausalContext::dot_count() const {
   std::uint64_t n = 0;
   for_each_range([&](const ReplicaId&, std::uint64_t lo, std::uint64_t hi) { n += hi - lo + 1; });

@@ -28,6 +28,7 @@ std::size_t approx_bytes(const graph::GraphDelta& d) {
 
 Replicator::Replicator(graph::Graph& g, Transport& t, ReplicatorOptions options)
     : g_(g), t_(t), opt_(std::move(options)), self_(g.replica()) {
+  opt_.max_peers = std::min(opt_.max_peers, PeerTable::kMaxPeers);
   g_.set_delta_sink([this](const graph::GraphDelta& d) { on_local_delta(d); });
   g_.set_origin_namer([this](const PeerId& id, std::string& name) { write_name(id, name); });
 }
@@ -46,8 +47,8 @@ std::string Replicator::name_of(const PeerId& id) const {
 void Replicator::write_name(const PeerId& id, std::string& out) const {
   if (id == self_ && !opt_.name.empty()) return (void)out.assign(opt_.name);
   if (id == self_) return id.write_to(out);
-  if (auto p = peers_.find(id); p != peers_.end() && !p->second.info.name.empty())
-    return (void)out.assign(p->second.info.name);
+  if (auto p = peers_.find(id); p != peers_.end() && !seen(p->second).name.empty())
+    return (void)out.assign(seen(p->second).name);
   if (auto n = names_.find(id.agent); n != names_.end()) return (void)out.assign(n->second);
   // A world seed's changes (graph::world_seed(): incarnation 0, never an agent's) have no agent.
   if (id.incarnation == 0) return (void)out.assign("world seed " + id.to_string().substr(0, 16));
@@ -197,25 +198,39 @@ void Replicator::on_sample(const Sample& s, std::int64_t now_ns) {
   for (const PeerId& o : ack_to_) send_beat(Beat::kAck, o);
   ack_to_.clear();
   send_queued();
+  // A claim's acknowledgements come from every peer at once: their reports go here, where no
+  // detail is in use, not at the next sweep (peer_table.h).
+  if (opt_.gossip && peers_.details().size() > kMaxDetails + kMaxDetails / 4) trim_details();
 }
 
 std::size_t Replicator::protocol_bytes() const {
   // Estimates: a std::map node costs its value plus about 48 bytes; a string its capacity
   // beyond the small-string buffer.
   constexpr std::size_t kNode = 48;
-  std::size_t n = sizeof(*this);
-  for (const auto& [id, p] : peers_) {
-    n += kNode + sizeof(id) + sizeof(p) + (p.info.name.capacity() > 15 ? p.info.name.capacity() : 0);
-    n += p.applied.memory_bytes();
-  }
-  n += names_.size() * (kNode + 8 + 32);
+  std::size_t n = sizeof(*this) + peers_.memory_bytes();
+  for (const auto& [agent, name] : names_) n += kNode + sizeof(agent) + sizeof(name) + (name.capacity() > 15 ? name.capacity() : 0);
   n += rumors_.capacity() * sizeof(Spreading) + mismatched_.size() * (kNode + 24);
   n += applied_.memory_bytes();
-  // Teams (replicator_behind.cc): what gateway peers vouched for, who waits, who is behind them.
-  for (const auto& [id, p] : peers_) n += p.holds.capacity() * sizeof(Peer::Held);
+  // Teams (replicator_behind.cc): who waits, who is behind gateway peers, who is behind us.
   n += askers_.capacity() * sizeof(Asker) + remote_.size() * (kNode + sizeof(PeerId) + sizeof(Behind));
-  n += behind_out_.capacity() * sizeof(PeerId);
+  n += behind_out_.capacity() * sizeof(Member);
   return n;
+}
+
+PeerInfo Replicator::info_of(const Peer& p) const {
+  const PeerDetail& pd = seen(p);
+  PeerInfo info;
+  info.id = p.id;
+  if (pd.name.empty()) {
+    if (auto n = names_.find(p.id.agent); n != names_.end()) info.name = n->second;
+  } else {
+    info.name = pd.name;
+  }
+  info.observer = p.observer;
+  info.gateway = pd.gateway;
+  info.alive = p.alive;
+  info.last_heard_ns = pd.heard_ns;
+  return info;
 }
 
 }  // namespace quiver::agents

@@ -12,31 +12,32 @@
 
 namespace quiver::agents::inline replica {
 
-Replicator::Peer::Held& Replicator::held_entry(Peer& p, const PeerId& origin) {
-  for (auto& h : p.holds)
+PeerDetail::Held& Replicator::held_entry(Peer& p, const PeerId& origin) {
+  std::vector<PeerDetail::Held>& holds = d(p).holds;
+  for (auto& h : holds)
     if (h.origin == origin) return h;
-  if (p.holds.size() >= kMaxHolds) {
+  if (holds.size() >= kMaxHolds) {
     // The entry asked about longest ago goes: its claim is long settled or given up.
-    auto oldest = std::min_element(p.holds.begin(), p.holds.end(),
-                                   [](const Peer::Held& a, const Peer::Held& b) { return a.asked_ns < b.asked_ns; });
-    p.holds.erase(oldest);
+    auto oldest = std::min_element(holds.begin(), holds.end(),
+                                   [](const PeerDetail::Held& a, const PeerDetail::Held& b) { return a.asked_ns < b.asked_ns; });
+    holds.erase(oldest);
   }
-  p.holds.push_back(Peer::Held{origin, 0, -1, 0});
-  return p.holds.back();
+  holds.push_back(PeerDetail::Held{origin, 0, -1, 0});
+  return holds.back();
 }
 
 std::uint64_t Replicator::held(const Peer& p, const PeerId& origin) const {
   std::uint64_t n = 0;
-  for (const auto& h : p.holds)
-    if (h.origin == origin && (!p.info.gateway || h.generation == p.behind_generation)) n = h.n;
+  for (const auto& h : seen(p).holds)
+    if (h.origin == origin && (!seen(p).gateway || h.generation == seen(p).behind_generation)) n = h.n;
   // A replica that is no gateway acknowledges our own numbers exactly in every addressed beat.
-  if (origin == self_ && !p.info.gateway) n = std::max(n, p.your_seq);
+  if (origin == self_ && !seen(p).gateway) n = std::max(n, p.your_seq);
   return n;
 }
 
 int Replicator::generation_heard(const PeerId& peer) const {
   auto it = peers_.find(peer);
-  return it != peers_.end() && it->second.info.gateway ? it->second.behind_generation : -1;
+  return it != peers_.end() && seen(it->second).gateway ? seen(it->second).behind_generation : -1;
 }
 
 bool Replicator::member_alive(const PeerId& peer) const {
@@ -53,14 +54,14 @@ bool Replicator::newer_from_gateway(bool ahead, std::int64_t taken_ns) const {
 
 std::uint64_t Replicator::peers_hold_upto(const PeerId& origin, std::uint64_t wanted) {
   std::uint64_t least = std::numeric_limits<std::uint64_t>::max();
-  for (auto& [id, p] : peers_) {
-    if (!p.info.alive || p.info.observer || id == origin) continue;
+  for (auto&& [id, p] : peers_) {
+    if (!p.alive || p.observer || id == origin) continue;
     // A gateway's answer counts once we hold what it holds: claims made behind it reach our side
     // before our vouch does (as a peer's own deltas reach a claimant before its ack: repair_own()).
-    const std::uint64_t n = p.info.gateway && behind(p) ? 0 : held(p, origin);
+    const std::uint64_t n = seen(p).gateway && behind(p) ? 0 : held(p, origin);
     least = std::min(least, n);
     if (n >= wanted) continue;
-    Peer::Held& h = held_entry(p, origin);
+    PeerDetail::Held& h = held_entry(p, origin);
     if (h.asked_ns >= 0 && now_ - h.asked_ns < opt_.gap_grace_ns) continue;
     h.asked_ns = now_;
     send_hold(Beat::kHoldQuery, id, origin, wanted);
@@ -100,7 +101,7 @@ void Replicator::handle_team_beat(const PeerId& from, Peer& p, const SummaryMsg&
       break;
     }
     case Beat::kHolds: {
-      Peer::Held& h = held_entry(p, m.subject);
+      PeerDetail::Held& h = held_entry(p, m.subject);
       // An answer under another generation of the gateway replaces what it said before.
       if (m.generation == h.generation && m.subject_seq <= h.n) break;
       h.generation = m.generation;
@@ -112,9 +113,9 @@ void Replicator::handle_team_beat(const PeerId& from, Peer& p, const SummaryMsg&
       // The first rumor names the gateway itself with the version of its list: a list older than
       // one already taken (reordered) changes nothing.
       if (m.rumors.empty() || !(m.rumors[0].peer == from)) break;
-      if (m.rumors[0].life < p.behind_version && !newer_from_gateway(false, p.behind_version_ns)) break;
-      p.behind_version = m.rumors[0].life;
-      p.behind_version_ns = now_;
+      if (m.rumors[0].life < seen(p).behind_version && !newer_from_gateway(false, seen(p).behind_version_ns)) break;
+      d(p).behind_version = m.rumors[0].life;
+      d(p).behind_version_ns = now_;
       const auto entries = std::span<const Rumor>(m.rumors).subspan(1);
       if (m.subject == from)  // the whole list, in one beat: whom it no longer names has gone
         std::erase_if(remote_, [&](const auto& e) {
@@ -204,7 +205,7 @@ std::vector<Member> Replicator::members_here() const {
   std::vector<Member> out;
   const std::string here = robot_here();
   for (const auto& [id, p] : peers_)
-    if (p.info.alive && !p.info.observer && !p.info.gateway) out.push_back(Member{id, p.info.name, here, PeerId{}});
+    if (p.alive && !p.observer && !seen(p).gateway) out.push_back(Member{id, seen(p).name, here, PeerId{}});
   for (const auto& [id, b] : remote_)
     if (peer_alive(b.via)) out.push_back(Member{id, b.name, b.robot, PeerId{}});
   return out;

@@ -47,7 +47,7 @@ void Replicator::apply_delta(const PeerId& from, const DeltaMsg& m, std::uint64_
   if (journal_ != nullptr) journal_->remote(m.origin, m.lo, m.hi, *m.payload);
   ++stats_.deltas_applied;
   remember(m.origin, m.lo, m.hi, digest, m.payload, m.signature);
-  if (auto it = peers_.find(from); it != peers_.end() && pulling_ && pull_target_ == from) it->second.pull_failures = 0;
+  if (auto it = peers_.find(from); it != peers_.end() && pulling_ && pull_target_ == from) d(it->second).pull_failures = 0;
   if (applied_.contiguous(m.origin) + 1 < m.lo && !gap_pending_) {
     gap_pending_ = true;
     gap_since_ns_ = now_;

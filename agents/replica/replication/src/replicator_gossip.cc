@@ -40,7 +40,7 @@ SummaryMsg Replicator::beat(Beat b, const PeerId& to, bool rumors) {
   const auto known = to.is_null() ? peers_.end() : peers_.find(to);
   // (A kBehind beat's name field lists the replicas behind a gateway instead.)
   if (b != Beat::kBehind && (b == Beat::kHello || to.is_null() || known == peers_.end() || !known->second.told_name ||
-                             known->second.info.name.empty())) {
+                             !known->second.named)) {
     m.name = opt_.name;
     if (known != peers_.end()) known->second.told_name = true;
   }
@@ -53,8 +53,8 @@ SummaryMsg Replicator::beat(Beat b, const PeerId& to, bool rumors) {
   m.count = set_count();
   if (!to.is_null()) {
     m.your_seq = applied_.contiguous(to);
-    if (auto it = peers_.find(to); it != peers_.end() && it->second.full && applied_.includes(it->second.applied))
-      m.covered = it->second.full_hash;
+    if (auto it = peers_.find(to); it != peers_.end() && seen(it->second).full && applied_.includes(seen(it->second).applied))
+      m.covered = seen(it->second).full_hash;
   }
   // The state digest goes to the peers in turn (next_digest_target()), one a period: the first
   // beat after it fell due to whoever came first would reach the same peer every period when
@@ -103,29 +103,31 @@ void Replicator::spread(const Rumor& r) {
 }
 
 void Replicator::suspect(Peer& p) {
-  if (!p.info.alive || p.status != Liveness::kAlive) return;
+  if (!p.alive || p.status != Liveness::kAlive) return;
   p.status = Liveness::kSuspect;
   p.my_suspicion = true;
-  p.suspect_since = now_;
+  d(p).suspect_since = now_;
   ++stats_.suspicions;
-  spread(Rumor{p.info.id, p.life, Liveness::kSuspect});
+  spread(Rumor{p.id, p.life, Liveness::kSuspect});
 }
 
 void Replicator::declare_dead(Peer& p) {
   p.status = Liveness::kDead;
   p.my_suspicion = false;
-  mismatched_.erase(p.info.id);
-  if (p.info.alive) ++stats_.declared_gone;
+  mismatched_.erase(p.id);
+  if (p.alive) ++stats_.declared_gone;
   mark_left(p);
-  spread(Rumor{p.info.id, p.life, Liveness::kDead});
+  spread(Rumor{p.id, p.life, Liveness::kDead});
 }
 
 // SWIM's rules, with the life as incarnation: news about a higher life wins; for the same life,
 // dead beats suspect beats alive. A replica suspected or declared gone refutes with a higher life.
-void Replicator::hear_rumor(const Rumor& r) {
+void Replicator::hear_rumor(const Rumor& heard) {
+  Rumor r = heard;
+  r.life = PeerRecord::clamp_life(r.life);  // lives are kept in 32 bits (peer_table.h)
   if (r.peer == self_) {
     if (r.status != Liveness::kAlive && r.life >= life_) {
-      life_ = r.life + 1;
+      life_ = std::min(r.life + 1, PeerRecord::kMaxLife);
       ++stats_.refutations;
       spread(Rumor{self_, life_, Liveness::kAlive});
     }
@@ -137,7 +139,7 @@ void Replicator::hear_rumor(const Rumor& r) {
     if (r.status != Liveness::kAlive) return;
     Peer* p = add_peer(r.peer);
     if (p == nullptr) return;  // the table is full
-    p->life = r.life;
+    p->life = static_cast<std::uint32_t>(r.life);
     spread(r);
     return;
   }
@@ -146,15 +148,15 @@ void Replicator::hear_rumor(const Rumor& r) {
   const auto rank = [](Liveness s) { return static_cast<int>(s); };
   const bool news = r.life > p.life || (r.life == p.life && rank(r.status) > rank(p.status));
   if (!news) return;
-  p.life = r.life;
+  p.life = static_cast<std::uint32_t>(r.life);
   switch (r.status) {
     case Liveness::kAlive:
       p.status = Liveness::kAlive;
       p.my_suspicion = false;
-      if (!p.info.alive) {
-        p.info.alive = true;
-        p.info.last_heard_ns = now_;
-        if (membership_cb_ && p.announced) membership_cb_(Membership::kJoined, p.info);
+      if (!p.alive) {
+        p.alive = true;
+        d(p).heard_ns = now_;
+        if (membership_cb_ && p.announced) membership_cb_(Membership::kJoined, info_of(p));
       }
       break;
     case Liveness::kSuspect:
@@ -165,7 +167,7 @@ void Replicator::hear_rumor(const Rumor& r) {
     case Liveness::kDead:
       p.status = Liveness::kDead;
       p.my_suspicion = false;
-      mismatched_.erase(p.info.id);
+      mismatched_.erase(p.id);
       mark_left(p);
       break;
   }
@@ -173,85 +175,89 @@ void Replicator::hear_rumor(const Rumor& r) {
 }
 
 bool Replicator::behind(const Peer& p) const {
-  if (!opt_.gossip) return !applied_.includes(p.applied);  // its last summary holds more
-  if (p.full && !applied_.includes(p.applied)) return true;
-  if (p.report_ns < 0 || p.hash == set_hash()) return false;
+  if (!opt_.gossip) return !applied_.includes(seen(p).applied);  // its last summary holds more
+  if (seen(p).full && !applied_.includes(seen(p).applied)) return true;
+  if (seen(p).report_ns < 0 || seen(p).hash == set_hash()) return false;
   // It holds more changes of origins other than this replica than this replica does: at least
   // one of them is missing here. Unlike the counts, this holds while this replica keeps changing
   // (its own changes in flight to the peer make the peer's count lag).
-  if (p.others > set_count() - std::min(set_count(), applied_.contiguous(self_))) return true;
+  if (seen(p).others > set_count() - std::min(set_count(), applied_.contiguous(self_))) return true;
   // Its set differs: it may hold what we lack if it holds more, or as many but others, and
   // nothing changed here since it said so (a delta in flight makes sets differ for a moment).
-  return p.count > set_count() || (p.count == set_count() && p.report_ns >= applied_changed_ns_);
+  return seen(p).count > set_count() || (seen(p).count == set_count() && seen(p).report_ns >= applied_changed_ns_);
 }
 
 void Replicator::handle_gossip(const PeerId& from, Peer& p, const SummaryMsg& m) {
   const bool was_new = !p.announced || p.status == Liveness::kDead;
   if (m.beat == Beat::kFull) {
     if (!take_peer_set(from, p, to_context(m.applied))) return;
-    p.full = true;
-    p.full_hash = m.set_hash;
+    d(p).full = true;
+    d(p).full_hash = m.set_hash;
   }
   // Its life: a higher one is news (it refuted a suspicion); a gone peer that talks with the life
   // it was declared gone under is told so, and comes back when it refutes.
-  if (m.life > p.life || (m.life == p.life && p.status != Liveness::kDead)) {
-    const bool back = m.life > p.life && p.status != Liveness::kAlive;
-    p.life = m.life;
+  const std::uint32_t life = PeerRecord::clamp_life(m.life);
+  if (life > p.life || (life == p.life && p.status != Liveness::kDead)) {
+    const bool back = life > p.life && p.status != Liveness::kAlive;
+    p.life = life;
     if (back || p.status == Liveness::kSuspect) {
       p.status = Liveness::kAlive;
       p.my_suspicion = false;
       if (back) spread(Rumor{from, p.life, Liveness::kAlive});
     }
-    if (!p.info.alive) {
-      p.info.alive = true;
-      if (membership_cb_ && p.announced) membership_cb_(Membership::kJoined, p.info);
+    if (!p.alive) {
+      p.alive = true;
+      if (membership_cb_ && p.announced) membership_cb_(Membership::kJoined, info_of(p));
     }
-  } else if (p.status == Liveness::kDead && (p.told_dead_ns < 0 || now_ - p.told_dead_ns >= opt_.probe_ns)) {
-    p.told_dead_ns = now_;
+  } else if (p.status == Liveness::kDead && (seen(p).told_dead_ns < 0 || now_ - seen(p).told_dead_ns >= opt_.probe_ns)) {
+    d(p).told_dead_ns = now_;
     send_beat(Beat::kAck, from);  // carries the rumor of its death first
   }
   // A beat without a name (the sender knows we know it) leaves the name we have.
   // A kBehind beat's name field names the replicas behind the gateway, not the gateway.
   const std::string& own_name = m.beat == Beat::kBehind ? kNoName : m.name;
   const bool first = !p.announced && (!own_name.empty() || m.beat == Beat::kHello);
-  if (!own_name.empty()) p.info.name = own_name;
-  p.info.observer = m.observer;
+  if (!own_name.empty()) {
+    d(p).name = own_name;
+    p.named = true;
+  }
+  p.observer = m.observer;
   // A gateway's acknowledgements count only from its hold answers, and only under its latest
   // generation: replicas that came behind it since have acknowledged nothing (docs/teams.md).
   // A generation that looks older (modulo 64, a newer one is 1 to 31 ahead) is a beat that
   // overtook a newer one, unless the gateway came back or a probe period passed since the last
   // one: then it restarted from its store (same incarnation) and counts from 0 again. Its answers
   // under the generation it left count no more (held()); one that came back is asked afresh.
-  const unsigned ahead = static_cast<unsigned>(m.generation - p.behind_generation) & 63u;
-  if (m.gateway && p.info.gateway && ahead == 0) {
-    p.generation_ns = now_;
-  } else if (m.gateway && (!p.info.gateway || was_new || newer_from_gateway(ahead < 32, p.generation_ns))) {
-    if (was_new || ahead >= 32) p.holds.clear();
-    if (was_new) p.behind_version_ns = -1;  // and its list of the replicas behind it, whatever its version
-    p.behind_generation = m.generation;
-    p.generation_ns = now_;
+  const unsigned ahead = static_cast<unsigned>(m.generation - seen(p).behind_generation) & 63u;
+  if (m.gateway && seen(p).gateway && ahead == 0) {
+    d(p).generation_ns = now_;
+  } else if (m.gateway && (!seen(p).gateway || was_new || newer_from_gateway(ahead < 32, seen(p).generation_ns))) {
+    if (was_new || ahead >= 32) d(p).holds.clear();
+    if (was_new) d(p).behind_version_ns = -1;  // and its list of the replicas behind it, whatever its version
+    d(p).behind_generation = m.generation;
+    d(p).generation_ns = now_;
     ask_again();
   }
-  p.info.gateway = m.gateway;
+  d(p).gateway = m.gateway;
   remember_name(from, own_name);
   if (first) {
     p.announced = true;
-    if (membership_cb_ && p.info.alive) membership_cb_(Membership::kJoined, p.info);
+    if (membership_cb_ && p.alive) membership_cb_(Membership::kJoined, info_of(p));
   }
   // A gateway tells a peer new or back at once who is behind it, not at the next refresh.
   if (opt_.gateway && was_new && !opt_.observer) tell_behind(from);
   if (m.set_hash != 0) {
-    p.differing = m.set_hash == set_hash() ? 0 : static_cast<std::uint8_t>(std::min(p.differing + 1, 255));
-    p.hash = m.set_hash;
-    p.count = m.count;
-    p.report_ns = now_;
+    d(p).differing = m.set_hash == set_hash() ? 0 : static_cast<std::uint8_t>(std::min(seen(p).differing + 1, 255));
+    d(p).hash = m.set_hash;
+    d(p).count = m.count;
+    d(p).report_ns = now_;
     // An addressed beat says how many of our own changes it holds (your_seq): the rest of its
     // count are other origins' (0: unknown).
-    p.others = addressed_ ? m.count - std::min(m.count, m.your_seq) : 0;
+    d(p).others = addressed_ ? m.count - std::min(m.count, m.your_seq) : 0;
   }
   p.your_seq = std::max(p.your_seq, m.your_seq);
-  if (addressed_ && counts(p) && !p.info.observer) repair_own(from, p, m.your_seq);
-  if (m.covered != 0) p.covered = m.covered;
+  if (addressed_ && counts(p) && !p.observer) repair_own(from, p, m.your_seq);
+  if (m.covered != 0) d(p).covered = m.covered;
   const std::uint64_t life_before = life_;
   // A gateway's list of the replicas behind it is no membership news of this group.
   if (m.beat != Beat::kBehind)
@@ -294,7 +300,7 @@ void Replicator::handle_gossip(const PeerId& from, Peer& p, const SummaryMsg& m)
   }
 
   if (!behind(p)) {
-    p.pull_failures = 0;
+    d(p).pull_failures = 0;
     mismatched_.erase(from);
     if (pulling_ && pull_target_ == from) {
       pulling_ = false;
@@ -304,15 +310,15 @@ void Replicator::handle_gossip(const PeerId& from, Peer& p, const SummaryMsg& m)
     // A full set that holds more is pulled at once; a hash that differs after a grace (deltas
     // in flight make sets differ for a moment).
     // An empty replica (a newcomer) has nothing in flight to wait for.
-    if (!pulling_ && ((p.full && !applied_.includes(p.applied)) || set_count() == 0)) pull_from(from);
+    if (!pulling_ && ((seen(p).full && !applied_.includes(seen(p).applied)) || set_count() == 0)) pull_from(from);
     else mismatched_.try_emplace(from, now_);
   }
-  if (counts(p) && m.digest != 0 && p.hash == set_hash() && !p.state_refused && !pulling_ && !state_.active &&
+  if (counts(p) && m.digest != 0 && seen(p).hash == set_hash() && !seen(p).state_refused && !pulling_ && !state_.active &&
       pending_lo_ == 0) {
     if (m.digest == state_digest()) {
-      p.digest_mismatches = 0;
-    } else if (++p.digest_mismatches >= 2) {
-      p.digest_mismatches = 0;
+      d(p).digest_mismatches = 0;
+    } else if (++d(p).digest_mismatches >= 2) {
+      d(p).digest_mismatches = 0;
       ++stats_.divergences;
       equivocation("replica " + who(from) +
                    " holds the same deltas as this one but another state: pulling its whole state");
@@ -328,7 +334,7 @@ void Replicator::handle_gossip(const PeerId& from, Peer& p, const SummaryMsg& m)
 // keep changing: each new change makes the sets differ again for a moment.
 void Replicator::repair_own(const PeerId& to, Peer& p, std::uint64_t your_seq) {
   const std::uint64_t published = pending_lo_ != 0 ? pending_lo_ - 1 : seq_;
-  if (your_seq >= published || (p.repaired_ns >= 0 && now_ - p.repaired_ns < opt_.pull_first_timeout_ns)) return;
+  if (your_seq >= published || (seen(p).repaired_ns >= 0 && now_ - seen(p).repaired_ns < opt_.pull_first_timeout_ns)) return;
   std::vector<const Buffered*> entries;
   bool covered = false;
   if (auto idx = buffer_index_.find(self_); idx != buffer_index_.end()) {
@@ -345,7 +351,7 @@ void Replicator::repair_own(const PeerId& to, Peer& p, std::uint64_t your_seq) {
     }
   }
   if (covered && entries.empty()) return;  // the first missing delta was sent just now
-  p.repaired_ns = now_;
+  d(p).repaired_ns = now_;
   if (!covered) return send_full(to);
   for (const Buffered* e : entries) {
     queue(to, DeltaMsg{e->origin, e->lo, e->hi, e->bytes, e->signature});
@@ -360,14 +366,14 @@ const PeerId* Replicator::next_probe_target() {
   const bool dead_turn = (++probes_ % 4) == 0;
   // A live turn while the digest is due probes the peer whose turn it is to get it.
   if (!dead_turn && digest_due_)
-    if (auto it = peers_.find(digest_to_); it != peers_.end() && it->second.info.alive) return &it->first;
+    if (auto it = peers_.find(digest_to_); it != peers_.end() && it->second.alive) return &it->first;
   for (const bool want_dead : {dead_turn, false}) {
     auto it = peers_.upper_bound(probe_cursor_);
     for (std::size_t i = 0; i < peers_.size(); ++i, ++it) {
       if (it == peers_.end()) it = peers_.begin();
       const Peer& p = it->second;
       if (p.said_bye) continue;
-      if (want_dead ? p.status == Liveness::kDead : p.info.alive) {
+      if (want_dead ? p.status == Liveness::kDead : p.alive) {
         probe_cursor_ = it->first;
         return &it->first;
       }
@@ -383,7 +389,7 @@ const PeerId* Replicator::next_digest_target() {
   for (std::size_t i = 0; i < peers_.size(); ++i, ++it) {
     if (it == peers_.end()) it = peers_.begin();
     const Peer& p = it->second;
-    if (p.info.alive && !p.said_bye && p.status == Liveness::kAlive) {
+    if (p.alive && !p.said_bye && p.status == Liveness::kAlive) {
       digest_to_ = it->first;
       return &it->first;
     }
@@ -395,7 +401,7 @@ void Replicator::probe_tick() {
   if (probe_sent_ns_ >= 0) {
     auto it = peers_.find(probe_target_);
     const std::int64_t waited = now_ - probe_sent_ns_;
-    if (it == peers_.end() || !it->second.info.alive) {
+    if (it == peers_.end() || !it->second.alive) {
       probe_sent_ns_ = -1;
     } else if (waited >= opt_.probe_ns) {
       probe_sent_ns_ = -1;
@@ -405,7 +411,7 @@ void Replicator::probe_tick() {
       probe_indirect_ = true;
       std::vector<PeerId> helpers;
       for (const auto& [id, q] : peers_)
-        if (q.info.alive && !(id == probe_target_) && q.status == Liveness::kAlive) helpers.push_back(id);
+        if (q.alive && !(id == probe_target_) && q.status == Liveness::kAlive) helpers.push_back(id);
       for (int k = 0; k < opt_.indirect_probes && !helpers.empty(); ++k) {
         const std::size_t i = rng_.below(helpers.size());
         ++stats_.probes_indirect;
@@ -420,7 +426,7 @@ void Replicator::probe_tick() {
   if (probe_sent_ns_ >= 0) return;
   const PeerId* target = next_probe_target();
   if (target == nullptr) return;
-  const Peer& p = peers_.at(*target);
+  const Peer& p = peers_.find(*target)->second;
   ++stats_.probes;
   if (p.status == Liveness::kDead) {  // a gone peer: a ping tells it so; no suspicion follows
     send_beat(Beat::kPing, *target);
@@ -445,13 +451,13 @@ void Replicator::gossip_tick() {
   // Suspicions this replica raised and nobody refuted: gone. Until then the suspect is pinged
   // every period with the rumor, so that it can refute even when the gossip is slow to reach it.
   const std::int64_t timeout = suspect_timeout();
-  for (auto& [id, p] : peers_) {
+  for (auto&& [id, p] : peers_) {
     if (!sweep) break;
     if (!p.my_suspicion || p.status != Liveness::kSuspect) continue;
-    if (now_ - p.suspect_since >= timeout) {
+    if (now_ - seen(p).suspect_since >= timeout) {
       declare_dead(p);
-    } else if (p.told_dead_ns < 0 || now_ - p.told_dead_ns >= opt_.probe_ns) {
-      p.told_dead_ns = now_;
+    } else if (seen(p).told_dead_ns < 0 || now_ - seen(p).told_dead_ns >= opt_.probe_ns) {
+      d(p).told_dead_ns = now_;
       send_beat(Beat::kPing, id);
     }
   }
@@ -488,23 +494,23 @@ void Replicator::gossip_tick() {
   if (want_acks_seq_ > 0 && now_ >= next_ack_request_ns_) {
     bool all = true;
     for (const auto& [id, p] : peers_) {
-      if (!p.info.alive || held(p, self_) >= want_acks_seq_) continue;
+      if (!p.alive || held(p, self_) >= want_acks_seq_) continue;
       all = false;
       // A gateway vouches for the replicas behind it only when asked (replicator_behind.cc).
-      if (p.info.gateway) send_hold(Beat::kHoldQuery, id, self_, want_acks_seq_);
+      if (seen(p).gateway) send_hold(Beat::kHoldQuery, id, self_, want_acks_seq_);
       else send_beat(Beat::kPing, id);
     }
     if (all) want_acks_seq_ = 0;
     next_ack_request_ns_ = now_ + opt_.pull_first_timeout_ns;
   }
   // Offered sets this replica now holds all of: say so, once, and forget them.
-  for (auto& [id, p] : peers_) {
+  for (auto&& [id, p] : peers_) {
     if (!sweep) break;
-    if (!p.full || !applied_.includes(p.applied)) continue;
-    if (p.info.alive) send_beat(Beat::kAck, id);
-    peer_ranges_ -= p.applied.range_count();
-    p.applied = crdt::CausalContext{};
-    p.full = false;
+    if (!seen(p).full || !applied_.includes(seen(p).applied)) continue;
+    if (p.alive) send_beat(Beat::kAck, id);
+    peer_ranges_ -= seen(p).applied.range_count();
+    d(p).applied = crdt::CausalContext{};
+    d(p).full = false;
   }
   behind_tick(sweep);
   if (offering_ && now_ >= next_offer_ns_) {
@@ -523,21 +529,50 @@ void Replicator::gossip_tick() {
     next_digest_ = now_ + opt_.digest_every_ns;
     digest_due_ = next_digest_target() != nullptr;
   }
-  // Peers gone for long are forgotten (bounded memory).
-  for (auto it = peers_.begin(); sweep && it != peers_.end();) {
-    Peer& p = it->second;
-    if (!p.info.alive && now_ - p.info.last_heard_ns > 60 * opt_.lease_ns) {
-      peer_ranges_ -= p.applied.range_count();
-      mismatched_.erase(it->first);
-      it = peers_.erase(it);
-    } else {
-      ++it;
+  // Peers gone for long are forgotten (bounded memory): one not alive at two forgetting sweeps in a
+  // row, 60 leases apart (so 60 to 120 leases after it went). A record keeps no time (peer_table.h).
+  if (sweep && now_ >= next_forget_ns_) {
+    next_forget_ns_ = now_ + 60 * opt_.lease_ns;
+    for (auto it = peers_.begin(); it != peers_.end();) {
+      Peer& p = it->second;
+      if (!p.alive && p.gone_at_sweep) {
+        peer_ranges_ -= seen(p).applied.range_count();
+        mismatched_.erase(it->first);
+        it = peers_.erase(it);
+      } else {
+        p.gone_at_sweep = !p.alive;
+        ++it;
+      }
     }
   }
+  if (sweep) trim_details();
   if (sweep) {
     trim_buffer_gossip();
     next_heartbeat_ = now_ + opt_.heartbeat_ns;
   }
+}
+
+// What a replica records of the peers it deals with is kept for the kMaxDetails used most recently,
+// and for every peer some rule waits on: the details that hold an offered set, a refused state,
+// a gateway's holds and generations, pull or digest doubts, this replica's suspicion, or that name
+// the peer being pulled from, probed, sent the digest or whose set differs. What goes is a report
+// (hash, count, times) the peer's next beat gives again (docs/protocol.md).
+void Replicator::trim_details() {
+  // A replica handing over before it stops (offer_all()) keeps every report until it has left:
+  // peers_hold_all() reads them all.
+  if (offering_) return;
+  peers_.trim_details(kMaxDetails, [this](const PeerId& id, const PeerDetail& pd) {
+    if (pd.full || !pd.applied.empty() || pd.state_refused || pd.gateway || !pd.holds.empty() || pd.pull_failures > 0 ||
+        pd.digest_mismatches > 0 || pd.suspect_until > now_)
+      return true;
+    if (((pulling_ || state_.active) && id == pull_target_) || (probe_sent_ns_ >= 0 && id == probe_target_) ||
+        id == digest_to_ || (gap_pending_ && id == gap_peer_) || mismatched_.count(id) != 0)
+      return true;
+    auto it = peers_.find(id);
+    return it != peers_.end() && it->second.my_suspicion;
+  });
+  // The (origin, seq) set's arrays keep at most an eighth more than they hold.
+  applied_.shrink_to(applied_.replica_count() + applied_.replica_count() / 8);
 }
 
 void Replicator::trim_buffer_gossip() {
@@ -551,7 +586,7 @@ void Replicator::trim_buffer_gossip() {
     if (it->origin == self_) {
       drop = true;
       for (const auto& [id, p] : peers_)
-        if (p.info.alive && p.your_seq < it->hi) {
+        if (p.alive && p.your_seq < it->hi) {
           drop = false;
           break;
         }

@@ -13,8 +13,8 @@ Replicator::Peer* Replicator::heard_from(const PeerId& from) {
     if (peers_.size() >= opt_.max_peers) {
       // Make room from peers that are gone; a table full of live ones refuses the newcomer.
       for (auto g = peers_.begin(); g != peers_.end() && peers_.size() >= opt_.max_peers;) {
-        if (!g->second.info.alive) {
-          peer_ranges_ -= g->second.applied.range_count();
+        if (!g->second.alive) {
+          peer_ranges_ -= seen(g->second).applied.range_count();
           g = peers_.erase(g);
         } else {
           ++g;
@@ -28,26 +28,26 @@ Replicator::Peer* Replicator::heard_from(const PeerId& from) {
       }
     }
     it = peers_.try_emplace(from).first;
-    it->second.info.id = from;
+    it->second.id = from;
   }
   Peer& p = it->second;
   if (p.said_bye) return nullptr;  // a late message of an incarnation that left cleanly
-  p.info.last_heard_ns = now_;
+  d(p).heard_ns = now_;
   // Gossip: a peer declared gone comes back only when it refutes (a higher life, handle_gossip()).
-  if (!p.info.alive && !(opt_.gossip && p.status == Liveness::kDead)) {
-    p.info.alive = true;
+  if (!p.alive && !(opt_.gossip && p.status == Liveness::kDead)) {
+    p.alive = true;
     retire_older_incarnations(from);
-    if (membership_cb_ && p.announced) membership_cb_(Membership::kJoined, p.info);
+    if (membership_cb_ && p.announced) membership_cb_(Membership::kJoined, info_of(p));
   }
   return &p;
 }
 
 void Replicator::mark_left(Peer& p) {
-  if (!p.info.alive) return;
-  p.info.alive = false;
-  if (state_.active && pull_target_ == p.info.id) state_ = Reassembly{};
-  if (pulling_ && pull_target_ == p.info.id) pulling_ = false;
-  if (membership_cb_ && p.announced) membership_cb_(Membership::kLeft, p.info);
+  if (!p.alive) return;
+  p.alive = false;
+  if (state_.active && pull_target_ == p.id) state_ = Reassembly{};
+  if (pulling_ && pull_target_ == p.id) pulling_ = false;
+  if (membership_cb_ && p.announced) membership_cb_(Membership::kLeft, info_of(p));
 }
 
 void Replicator::on_peer_lost(const PeerId& peer, bool gone) {
@@ -59,55 +59,63 @@ void Replicator::on_peer_lost(const PeerId& peer, bool gone) {
 
 // A new incarnation of an agent means the old one is gone.
 void Replicator::retire_older_incarnations(const PeerId& peer) {
-  for (auto& [id, other] : peers_)
-    if (other.info.alive && id.agent == peer.agent && id.incarnation < peer.incarnation) mark_left(other);
+  for (auto&& [id, other] : peers_)
+    if (other.alive && id.agent == peer.agent && id.incarnation < peer.incarnation) mark_left(other);
 }
 
 // Remembered past the peer's departure (deltas it made keep arriving through others), but only
 // a name that hashes to the id it came with: nobody can name another agent's changes.
 bool Replicator::remember_name(const PeerId& from, const std::string& name) {
   if (name.empty() || fnv1a64(name) != from.agent) return false;
-  if (names_.size() < 4 * opt_.max_peers) names_.emplace(from.agent, name);
+  // With gossip, at most kMaxNames are kept (docs/protocol.md, "Protocol state per replica"): a new
+  // one takes the place of the next in id order (a choice every replica makes alike, and no clock).
+  const std::size_t cap = opt_.gossip ? kMaxNames : 4 * opt_.max_peers;
+  if (names_.count(from.agent) == 0 && names_.size() >= cap) {
+    if (!opt_.gossip) return true;
+    auto next = names_.upper_bound(from.agent);
+    names_.erase(next == names_.end() ? names_.begin() : next);
+  }
+  names_.emplace(from.agent, name);
   return true;
 }
 
 std::vector<PeerInfo> Replicator::peers() const {
   std::vector<PeerInfo> out;
   for (const auto& [id, p] : peers_) {
-    out.push_back(p.info);
+    out.push_back(info_of(p));
     // Gossip: a peer some replica failed to probe is suspect until it refutes (or is declared
     // gone): what a lease running out tells with all-to-all summaries, but sooner.
-    out.back().suspect = p.suspect_until > now_ || (opt_.gossip && p.status == Liveness::kSuspect);
+    out.back().suspect = seen(p).suspect_until > now_ || (opt_.gossip && p.status == Liveness::kSuspect);
   }
   return out;
 }
 
 std::size_t Replicator::live_peer_count() const {
   std::size_t n = 0;
-  for (const auto& [id, p] : peers_) n += p.info.alive ? 1 : 0;
+  for (const auto& [id, p] : peers_) n += p.alive ? 1 : 0;
   return n;
 }
 
 bool Replicator::peer_alive(const PeerId& peer) const {
   auto it = peers_.find(peer);
-  return it != peers_.end() && it->second.info.alive;
+  return it != peers_.end() && it->second.alive;
 }
 
 bool Replicator::all_peers_hold(const PeerId& origin, std::uint64_t lo, std::uint64_t hi) const {
   for (const auto& [id, p] : peers_) {
-    if (!p.info.alive) continue;
+    if (!p.alive) continue;
     // Gossip: a peer acknowledges this replica's own numbers (your_seq), and holds others' when
     // its reported set is ours or it told us its whole set. A gateway acknowledges ours only for
     // every replica behind it too (kHolds, replicator_behind.cc).
     bool holds;
     if (!opt_.gossip)
-      holds = p.applied.includes(origin, lo, hi);
-    else if (origin == self_ && p.info.gateway)
+      holds = seen(p).applied.includes(origin, lo, hi);
+    else if (origin == self_ && seen(p).gateway)
       holds = held(p, self_) >= hi;
     else
       holds = (origin == self_ && p.your_seq >= hi) ||
-              (p.report_ns >= 0 && p.hash == set_hash() && applied_.includes(origin, lo, hi)) ||
-              (p.full && p.applied.includes(origin, lo, hi));
+              (seen(p).report_ns >= 0 && seen(p).hash == set_hash() && applied_.includes(origin, lo, hi)) ||
+              (seen(p).full && seen(p).applied.includes(origin, lo, hi));
     if (!holds) return false;
   }
   return true;
@@ -115,16 +123,16 @@ bool Replicator::all_peers_hold(const PeerId& origin, std::uint64_t lo, std::uin
 
 bool Replicator::peers_hold_all() const {
   for (const auto& [id, p] : peers_) {
-    if (!counts(p) || p.info.observer) continue;
-    const bool holds = opt_.gossip ? (p.report_ns >= 0 && p.hash == set_hash()) || p.covered == set_hash()
-                                   : p.applied.includes(applied_);
+    if (!counts(p) || p.observer) continue;
+    const bool holds = opt_.gossip ? (seen(p).report_ns >= 0 && seen(p).hash == set_hash()) || seen(p).covered == set_hash()
+                                   : seen(p).applied.includes(applied_);
     if (!holds) return false;
   }
   return true;
 }
 
 // A live peer whose summaries are believed (not suspected of claiming what it never delivers).
-bool Replicator::counts(const Peer& p) const { return p.info.alive && p.suspect_until <= now_; }
+bool Replicator::counts(const Peer& p) const { return p.alive && seen(p).suspect_until <= now_; }
 
 bool Replicator::synced() const {
   bool any = false;

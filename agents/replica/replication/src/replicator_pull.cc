@@ -29,11 +29,12 @@ void Replicator::pull_if_stale() {
   // so that these pulls cost each replica the same bytes per second at 4 agents as at 1,000.
   if (pulling_ || opt_.sample_ns != 0 || opt_.stale_pull_ns <= 0 || now_ < next_stale_pull_ns_) return;
   for (const auto& [id, p] : peers_)
-    if (counts(p) && p.differing >= kStaleReports) {
+    if (counts(p) && seen(p).differing >= kStaleReports) {
       pull_from(id);
       next_stale_pull_ns_ =
           now_ + std::max(opt_.stale_pull_ns, 2 * opt_.probe_ns * static_cast<std::int64_t>(live_peer_count() + 1));
-      for (auto& [other, q] : peers_) q.differing = 0;
+      for (auto&& [other, q] : peers_)
+        if (seen(q).differing != 0) d(q).differing = 0;
       break;
     }
 }
@@ -45,10 +46,10 @@ void Replicator::handle(const PeerId& from, const PullMsg& m) {
     crdt::CausalContext theirs = to_context(m.applied);
     Peer& p = peers_[from];
     if (!applied_.includes(theirs) && peer_ranges_ + theirs.range_count() <= opt_.max_peer_ranges) {
-      peer_ranges_ = peer_ranges_ - p.applied.range_count() + theirs.range_count();
-      p.applied = std::move(theirs);
-      p.full = true;
-      p.full_hash = 0;
+      peer_ranges_ = peer_ranges_ - seen(p).applied.range_count() + theirs.range_count();
+      d(p).applied = std::move(theirs);
+      d(p).full = true;
+      d(p).full_hash = 0;
       if (!pulling_ && counts(p)) mismatched_.try_emplace(from, now_ - opt_.gap_grace_ns);
     }
   }
@@ -104,11 +105,11 @@ void Replicator::answer_with_state(const PeerId& from, const PullMsg& m) {
   // A whole state is costly to build: to one peer at most once per first-pull patience (an
   // honest puller waits at least that long before asking again).
   Peer& p = peers_[from];
-  if (p.last_state_answer_ns >= 0 && now_ - p.last_state_answer_ns < opt_.pull_first_timeout_ns) {
+  if (seen(p).last_state_answer_ns >= 0 && now_ - seen(p).last_state_answer_ns < opt_.pull_first_timeout_ns) {
     ++stats_.state_answers_throttled;
     return;
   }
-  p.last_state_answer_ns = now_;
+  d(p).last_state_answer_ns = now_;
   ++stats_.pulls_answered_with_state;
   std::vector<std::uint8_t> state = graph::encode(m.whole_state ? g_.state() : g_.state_diff(to_context(m.context)));
   const std::size_t chunk = std::clamp<std::size_t>(opt_.chunk_bytes, 1024, opt_.limits.max_chunk_bytes);
@@ -153,7 +154,7 @@ void Replicator::handle(const PeerId& from, const StateMsg& m) {
                                                        std::to_string(opt_.max_state_bytes) + ")"));
   }
   pull_sent_ns_ = now_;  // progress: the pull is alive
-  peers_[from].pull_failures = 0;
+  d(peers_[from]).pull_failures = 0;
   ra.chunks[m.index] = m.chunk;
   ++ra.received;
   ra.bytes += m.chunk->size();
@@ -173,7 +174,7 @@ void Replicator::handle(const PeerId& from, const StateMsg& m) {
   if (admission_ != nullptr)
     if (Status a = admission_->admit_state(from, scratch_); !a.ok()) {
       ++stats_.states_refused;
-      peers_[from].state_refused = true;
+      d(peers_[from]).state_refused = true;
       return reject(make_error(ErrorCode::kPermissionDenied, "state from " + who(from) + " refused: " + a.error().message));
     }
   g_.merge(scratch_);

@@ -39,13 +39,13 @@ std::uint64_t Replicator::state_digest() {
 // forged interval covering real ones). Twice in a row (a commit may be racing the summary), this
 // replica asks that peer for its whole state; the peer does the same, and the joins converge.
 void Replicator::check_digest(const PeerId& from, Peer& p, std::uint64_t digest) {
-  if (digest == 0 || p.state_refused || pulling_ || state_.active || pending_lo_ != 0 || !(p.applied == applied_)) return;
+  if (digest == 0 || seen(p).state_refused || pulling_ || state_.active || pending_lo_ != 0 || !(seen(p).applied == applied_)) return;
   if (digest == state_digest()) {
-    p.digest_mismatches = 0;
+    d(p).digest_mismatches = 0;
     return;
   }
-  if (++p.digest_mismatches < 2) return;
-  p.digest_mismatches = 0;
+  if (++d(p).digest_mismatches < 2) return;
+  d(p).digest_mismatches = 0;
   ++stats_.divergences;
   equivocation("replica " + who(from) + " holds the same deltas as this one but another state: pulling its whole state");
   pull_from(from, true);
@@ -53,7 +53,7 @@ void Replicator::check_digest(const PeerId& from, Peer& p, std::uint64_t digest)
 
 // A peer's whole (origin, seq) set, within the bound on all peers' ranges together.
 bool Replicator::take_peer_set(const PeerId& from, Peer& p, crdt::CausalContext applied) {
-  const std::size_t total = peer_ranges_ - p.applied.range_count() + applied.range_count();
+  const std::size_t total = peer_ranges_ - seen(p).applied.range_count() + applied.range_count();
   if (total > opt_.max_peer_ranges) {
     reject(make_error(ErrorCode::kTooLarge, "summary from " + who(from) + ": " +
                                                 std::to_string(applied.range_count()) +
@@ -61,7 +61,7 @@ bool Replicator::take_peer_set(const PeerId& from, Peer& p, crdt::CausalContext 
     return false;
   }
   peer_ranges_ = total;
-  p.applied = std::move(applied);
+  d(p).applied = std::move(applied);
   return true;
 }
 
@@ -70,15 +70,16 @@ void Replicator::handle(const PeerId& from, const SummaryMsg& m) {
   if (opt_.gossip) return handle_gossip(from, p, m);
   if (!take_peer_set(from, p, to_context(m.applied))) return;
   const bool first = !p.announced;
-  p.info.name = m.name;
-  p.info.observer = m.observer;
+  d(p).name = m.name;
+  p.named = !m.name.empty();
+  p.observer = m.observer;
   remember_name(from, m.name);
   if (first) {
     p.announced = true;
-    if (membership_cb_ && p.info.alive) membership_cb_(Membership::kJoined, p.info);
+    if (membership_cb_ && p.alive) membership_cb_(Membership::kJoined, info_of(p));
     send_summary();  // let a newcomer learn about us without waiting a heartbeat
   }
-  if (!behind(p)) p.pull_failures = 0;  // it holds nothing we lack: no claim to doubt
+  if (!behind(p)) d(p).pull_failures = 0;  // it holds nothing we lack: no claim to doubt
   if (pulling_ && pull_target_ == from && !behind(p)) {  // caught up with it: the pull is done
     pulling_ = false;
     pull_timeouts_in_a_row_ = 0;

@@ -68,15 +68,15 @@ void Replicator::tick(std::int64_t now_ns) {
     ++stats_.pulls_timed_out;
     ++pull_timeouts_in_a_row_;
     state_ = Reassembly{};
-    if (auto it = peers_.find(pull_target_); it != peers_.end() && it->second.info.alive) {
+    if (auto it = peers_.find(pull_target_); it != peers_.end() && it->second.alive) {
       Peer& p = it->second;
       // Only a peer that keeps talking (its heartbeats arrive) yet never answers is suspected.
-      const bool talking = now_ - p.info.last_heard_ns <= 2 * opt_.heartbeat_ns;
-      if (++p.pull_failures >= opt_.suspect_after_timeouts && talking && p.suspect_until <= now_) {
-        p.suspect_until = now_ + opt_.suspect_ns;
-        p.pull_failures = 0;
+      const bool talking = now_ - seen(p).heard_ns <= 2 * opt_.heartbeat_ns;
+      if (++d(p).pull_failures >= opt_.suspect_after_timeouts && talking && seen(p).suspect_until <= now_) {
+        d(p).suspect_until = now_ + opt_.suspect_ns;
+        d(p).pull_failures = 0;
         ++stats_.suspects;
-        if (error_cb_) error_cb_(make_error(ErrorCode::kRefused, "peer " + p.info.id.to_string() + " ('" + p.info.name + "') left " +
+        if (error_cb_) error_cb_(make_error(ErrorCode::kRefused, "peer " + p.id.to_string() + " ('" + seen(p).name + "') left " +
                                                    std::to_string(opt_.suspect_after_timeouts) +
                                                    " pulls in a row unanswered while claiming changes this replica "
                                                    "lacks: its summaries are ignored for " +
@@ -86,11 +86,11 @@ void Replicator::tick(std::int64_t now_ns) {
   }
   for (auto it = peers_.begin(); it != peers_.end() && !opt_.gossip;) {
     Peer& p = it->second;
-    if (p.info.alive && now_ - p.info.last_heard_ns > opt_.lease_ns) mark_left(p);
+    if (p.alive && now_ - seen(p).heard_ns > opt_.lease_ns) mark_left(p);
     // Forget peers gone for long (bounded memory); a clean goodbye is kept as long, so that
     // its late packets stay ignored.
-    if (!p.info.alive && now_ - p.info.last_heard_ns > 10 * opt_.lease_ns) {
-      peer_ranges_ -= p.applied.range_count();
+    if (!p.alive && now_ - seen(p).heard_ns > 10 * opt_.lease_ns) {
+      peer_ranges_ -= seen(p).applied.range_count();
       it = peers_.erase(it);
     } else {
       ++it;

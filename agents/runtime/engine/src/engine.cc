@@ -60,7 +60,7 @@ LockManager& Engine::locks() {
 bool Engine::hears(std::string_view agent_name) const {
   if (!rep_) return false;
   for (const PeerInfo& p : rep_->peers())
-    if (p.alive && !p.suspect && !p.observer && p.name == agent_name) return true;
+    if (p.alive && !p.suspect && !p.observer && (p.name == agent_name || p.id.agent == fnv1a64(agent_name))) return true;
   return false;
 }
 

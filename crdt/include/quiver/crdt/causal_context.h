@@ -93,6 +93,9 @@ class CausalContext {
   /// Bytes this context holds (its arrays' capacity): a replica costs 24 bytes while its dots
   /// are contiguous, and each range beyond 32 more.
   std::size_t memory_bytes() const;
+  /// Gives back memory: when the replicas' array has room for more than `entries` (at least as
+  /// many as it holds), it is reallocated to hold that many. O(replicas).
+  void shrink_to(std::size_t entries);
   /// Replicas present, ascending.
   /// @returns the replicas with at least one dot, in ReplicaId order.
   std::vector<ReplicaId> replicas() const;

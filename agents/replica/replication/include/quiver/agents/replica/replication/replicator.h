@@ -48,6 +48,7 @@
 #include "quiver/agents/replica/replication/journal.h"
 #include "quiver/agents/replica/replication/buffered_delta.h"
 #include "quiver/agents/replica/replication/messages.h"
+#include "quiver/agents/replica/replication/peer_table.h"
 #include "quiver/agents/replica/replication/replicator_options.h"
 #include "quiver/agents/replica/replication/transport.h"
 #include "quiver/agents/replica/replication/validate.h"
@@ -59,13 +60,17 @@
 
 namespace quiver::agents::inline replica {
 
+/// What a replica knows of a peer (peers(), the membership callbacks). With gossip, beyond the
+/// peers it dealt with most recently a replica keeps no name, time or report of a peer
+/// (peer_table.h): `name` is then the one its bounded name cache holds, or empty, and
+/// `last_heard_ns` 0.
 struct PeerInfo {
   PeerId id;
   std::string name;
   bool observer = false;
   bool gateway = false;  ///< one side of a gateway (ReplicatorOptions::gateway)
   bool alive = false;
-  std::int64_t last_heard_ns = 0;
+  std::int64_t last_heard_ns = 0;  ///< 0: not recorded
   bool suspect = false;  ///< it claimed changes it did not deliver: its summaries are ignored for now
 };
 
@@ -332,48 +337,13 @@ class Replicator {
   using Buffered = BufferedDelta;
   using Version = BufferedDelta::Version;
   using Bytes = std::shared_ptr<const std::vector<std::uint8_t>>;
-  struct Peer {
-    PeerInfo info;
-    crdt::CausalContext applied;
-    bool announced = false;     // kJoined was reported (once its summary named it)
-    bool said_bye = false;      // it left cleanly: late messages of this incarnation are ignored
-    bool state_refused = false;  // it sent a state the Admission refused: no digest repair with it
-    int pull_failures = 0;      // pulls in a row it left unanswered
-    std::int64_t suspect_until = 0;
-    std::int64_t last_state_answer_ns = -1;
-    int digest_mismatches = 0;  // summaries in a row with our (origin, seq) set but another digest
-    // Gossip (ReplicatorOptions::gossip).
-    bool full = false;          // `applied` holds its last kFull (or pull) set, not yet covered here
-    std::uint64_t full_hash = 0;  // that set's hash, acknowledged (covered) once this replica holds it
-    std::uint64_t life = 0;     // its life as last heard or rumored
-    Liveness status = Liveness::kAlive;
-    bool my_suspicion = false;  // this replica suspects it (and declares it gone when the time is up)
-    std::int64_t suspect_since = 0;
-    std::int64_t told_dead_ns = -1;
-    std::uint64_t hash = 0, count = 0;  // its last reported (origin, seq) set: hash and size
-    std::uint64_t others = 0;  // of that count, other origins' than ours (from an addressed beat; 0: unknown)
-    std::int64_t report_ns = -1;
-    std::uint64_t your_seq = 0;  // it holds this replica's own 1..your_seq
-    std::uint64_t covered = 0;   // the hash of our last offered set it holds all of
-    bool told_name = false;      // a beat of ours named us to it
-    std::uint8_t differing = 0;  // its reports in a row whose set hash differed from ours (stale_pull_ns)
-    std::int64_t repaired_ns = -1;  // our own deltas it lacked were last sent again then (repair_own())
-    // Teams (replicator_behind.cc): how far it (and the replicas behind it) holds other origins.
-    struct Held {
-      PeerId origin;
-      std::uint64_t n = 0;            // it said it holds origin's 1..n (kHolds)
-      std::int64_t asked_ns = -1;     // our last hold query about origin
-      std::uint8_t generation = 0;    // the gateway's generation when it said so
-    };
-    std::vector<Held> holds;          // bounded (kMaxHolds), the oldest asked dropped first
-    std::uint8_t behind_generation = 0;  // a gateway's latest (SummaryMsg::generation)
-    std::uint64_t behind_version = 0;    // a gateway's: the version of its list of replicas behind it last taken
-    // When each of those two was last taken (-1: never). A value that looks older is a beat
-    // reordered only shortly after; later, it is a gateway that restarted (its counters start
-    // again from 0 under the incarnation its store kept) and it is taken: newer_from_gateway().
-    std::int64_t generation_ns = -1;
-    std::int64_t behind_version_ns = -1;
-  };
+  using Peer = PeerRecord;
+  /// The peer's detail, made when it has none (peer_table.h).
+  PeerDetail& d(const Peer& p) { return peers_.detail(p, now_); }
+  /// The peer's detail, or one with every field at its default.
+  const PeerDetail& seen(const Peer& p) const { return peers_.seen(p); }
+  /// What the membership callbacks and peers() tell of a peer.
+  PeerInfo info_of(const Peer& p) const;
   // The state transfer answering our outstanding pull (one at a time).
   struct Reassembly {
     bool active = false;
@@ -448,6 +418,11 @@ class Replicator {
   void gossip_tick();
   void probe_tick();
   void trim_buffer_gossip();
+  /// Gossip: keeps the peers' details within kMaxDetails, but those a rule waits on.
+  void trim_details();
+  static constexpr std::size_t kMaxDetails = 16;
+  /// Gossip: names remembered at most (a peer's detail keeps its own).
+  static constexpr std::size_t kMaxNames = 32;
   const PeerId* next_probe_target();
   const PeerId* next_digest_target();
   void refresh_set_hash() const;
@@ -476,7 +451,7 @@ class Replicator {
   };
   static constexpr std::size_t kMaxHolds = 16, kMaxAskers = 256, kMaxGateways = 64;
   static constexpr std::uint8_t kStaleReports = 4;  ///< stale_pull_ns: differing reports in a row
-  Peer::Held& held_entry(Peer& p, const PeerId& origin);
+  PeerDetail::Held& held_entry(Peer& p, const PeerId& origin);
   std::uint64_t held(const Peer& p, const PeerId& origin) const;
   std::uint64_t vouch(const PeerId& origin, std::uint64_t wanted);
   void send_hold(Beat b, const PeerId& to, const PeerId& origin, std::uint64_t n);
@@ -522,7 +497,7 @@ class Replicator {
   /// Forgets origins whose index is empty, once there are many of them.
   void forget_empty_origins();
 
-  std::map<PeerId, Peer> peers_;
+  PeerTable peers_;
   std::map<std::uint64_t, std::string> names_;  // agent id -> announced name (bounded)
   std::map<std::uint64_t, std::string> robots_;  // agent id -> robot, as gateways said (bounded)
   std::map<PeerId, std::string> gateway_robots_;  // gateway peer -> the robot it serves (bounded)
@@ -545,6 +520,7 @@ class Replicator {
   std::uint64_t life_ = 0;
   std::int64_t started_ns_ = 0;
   std::int64_t next_probe_ns_ = 0;
+  std::int64_t next_forget_ns_ = 0;
   PeerId probe_target_, probe_cursor_;
   std::int64_t probe_sent_ns_ = -1;
   bool probe_indirect_ = false;

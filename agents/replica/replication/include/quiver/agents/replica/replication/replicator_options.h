@@ -31,7 +31,7 @@ struct ReplicatorOptions {
   std::size_t max_state_bytes = 1u << 30;    ///< a state transfer larger than this is refused
   bool coalesce = false;                     ///< hold local deltas until flush() or tick()
   SampleLimits limits;                       ///< what one sample may hold (validate.h)
-  std::size_t max_peers = 1024;              ///< peers remembered at once (live or recently gone)
+  std::size_t max_peers = 1024;              ///< peers remembered at once (live or recently gone; at most 65,535)
   std::size_t max_peer_ranges = 1u << 20;    ///< ranges of all peers' summaries kept together
   /// Versions of one (origin, seq) remembered and relayed; later ones are joined but not relayed
   /// (the periodic state digest repairs replicas that missed them).
