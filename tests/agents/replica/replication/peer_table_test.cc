@@ -7,6 +7,9 @@
 #include <random>
 #include <set>
 
+#include "quiver/base/hash.h"
+#include "test_net.h"
+
 namespace quiver::agents {
 namespace {
 
@@ -96,6 +99,56 @@ TEST(PeerTableTest, AThousandPeersTakeAboutThirtyFourBytesEach) {
   // A detail costs what it holds (and its map node).
   t.detail(t[id(0)], 0).name = std::string(100, 'n');
   EXPECT_GE(t.memory_bytes() - empty - bytes, sizeof(PeerDetail) + 100);
+}
+
+// A replica among 40 under gossip keeps a detail for few of them, yet every rule that needs every
+// peer still works: a claim is acknowledged by all (their records' your_seq) and a hand-over
+// completes (a replica offering its set keeps every report until it leaves).
+TEST(PeerTableTest, AmongFortyAReplicaKeepsFewDetailsYetAClaimIsAcknowledgedAndAHandOverCompletes) {
+  Net net;
+  ReplicatorOptions opt;
+  opt.gossip = true;
+  constexpr int kN = 40;
+  std::vector<PeerCard> cards;
+  for (int i = 0; i < kN; ++i) {
+    opt.name = "member" + std::to_string(i);
+    net.add(fnv1a64(opt.name), opt);
+    cards.push_back(PeerCard{net.nodes[i].g->replica(), opt.name, false});
+  }
+  for (int i = 0; i < kN; ++i)
+    for (int j = 0; j < kN; ++j)
+      if (i != j) net.nodes[i].rep->introduce(cards[j]);
+  for (int i = 0; i < kN; ++i) add_node(*net.nodes[i].g, "n" + std::to_string(i));
+  net.advance(3'000'000'000, 300);
+  for (int i = 1; i < kN; ++i) ASSERT_EQ(net.nodes[i].g->digest(), net.nodes[0].g->digest()) << i;
+  Replicator& r = *net.nodes[0].rep;
+  const auto with_detail = [&r] {
+    std::size_t n = 0;
+    for (const PeerInfo& p : r.peers()) n += p.last_heard_ns != 0 ? 1 : 0;
+    return n;
+  };
+  ASSERT_EQ(r.peers().size(), static_cast<std::size_t>(kN - 1));
+  EXPECT_LE(with_detail(), 20u) << "details are kept for the peers dealt with most recently only";
+  // Every peer is still named: by its detail, or the name cache (32), or not at all beyond both.
+  std::size_t named = 0;
+  for (const PeerInfo& p : r.peers()) named += p.name.empty() ? 0 : 1;
+  EXPECT_GE(named, 32u);
+  // A claim's acknowledgements come from every live peer.
+  add_node(*net.nodes[0].g, "claimed");
+  const std::uint64_t seq = r.last_seq();
+  r.want_acks(seq);
+  net.advance(1'000'000'000, 100);
+  EXPECT_TRUE(r.all_peers_hold(net.nodes[0].g->replica(), seq));
+  // A hand-over: every peer holds what this replica holds, and it can tell.
+  add_node(*net.nodes[0].g, "last words");
+  r.offer_all();
+  bool held = false;
+  for (int k = 0; k < 50 && !held; ++k) {
+    net.advance(100'000'000, 10);
+    held = r.peers_hold_all();
+  }
+  EXPECT_TRUE(held) << "the hand-over never saw every peer hold this replica's set";
+  EXPECT_GT(with_detail(), 30u) << "a replica handing over keeps every report";
 }
 
 }  // namespace
