@@ -552,29 +552,6 @@ void Replicator::gossip_tick() {
   }
 }
 
-// What a replica records of the peers it deals with is kept for the kMaxDetails used most recently,
-// and for every peer some rule waits on: the details that hold an offered set, a refused state,
-// a gateway's holds and generations, pull or digest doubts, this replica's suspicion, or that name
-// the peer being pulled from, probed, sent the digest or whose set differs. What goes is a report
-// (hash, count, times) the peer's next beat gives again (docs/protocol.md).
-void Replicator::trim_details() {
-  // A replica handing over before it stops (offer_all()) keeps every report until it has left:
-  // peers_hold_all() reads them all.
-  if (offering_) return;
-  peers_.trim_details(kMaxDetails, [this](const PeerId& id, const PeerDetail& pd) {
-    if (pd.full || !pd.applied.empty() || pd.state_refused || pd.gateway || !pd.holds.empty() || pd.pull_failures > 0 ||
-        pd.digest_mismatches > 0 || pd.suspect_until > now_)
-      return true;
-    if (((pulling_ || state_.active) && id == pull_target_) || (probe_sent_ns_ >= 0 && id == probe_target_) ||
-        id == digest_to_ || (gap_pending_ && id == gap_peer_) || mismatched_.count(id) != 0)
-      return true;
-    auto it = peers_.find(id);
-    return it != peers_.end() && it->second.my_suspicion;
-  });
-  // The (origin, seq) set's arrays keep at most an eighth more than they hold.
-  applied_.shrink_to(applied_.replica_count() + applied_.replica_count() / 8);
-}
-
 void Replicator::trim_buffer_gossip() {
   // Entries are in the order they were remembered (at_ns never decreases along the buffer), so
   // the first one too young for either rule ends the walk: what follows is younger still. Without
