@@ -10,15 +10,9 @@ std::size_t PeerTable::lower(const PeerId& id) const {
   return static_cast<std::size_t>(it - order_.begin());
 }
 
-bool PeerTable::found(const PeerId& id) const {
-  const std::size_t i = lower(id);
-  return i < order_.size() && slots_[order_[i]].id == id;
-}
-
 PeerTable::iterator PeerTable::upper_bound(const PeerId& id) {
-  std::size_t i = lower(id);
-  if (i < order_.size() && slots_[order_[i]].id == id) ++i;
-  return {this, i};
+  const std::size_t i = lower(id);
+  return {this, has_at(i, id) ? i + 1 : i};
 }
 
 PeerRecord& PeerTable::operator[](const PeerId& id) {
@@ -33,7 +27,7 @@ PeerRecord& PeerTable::operator[](const PeerId& id) {
 
 std::pair<PeerTable::iterator, bool> PeerTable::try_emplace(const PeerId& id) {
   const std::size_t i = lower(id);
-  if (i < order_.size() && slots_[order_[i]].id == id) return {iterator{this, i}, false};
+  if (has_at(i, id)) return {iterator{this, i}, false};
   if (order_.size() >= kMaxPeers) return {end(), false};
   std::uint16_t slot;
   if (!free_.empty()) {

@@ -28,10 +28,11 @@ PeerDetail::Held& Replicator::held_entry(Peer& p, const PeerId& origin) {
 
 std::uint64_t Replicator::held(const Peer& p, const PeerId& origin) const {
   std::uint64_t n = 0;
-  for (const auto& h : seen(p).holds)
-    if (h.origin == origin && (!seen(p).gateway || h.generation == seen(p).behind_generation)) n = h.n;
+  const PeerDetail& pd = seen(p);
+  for (const auto& h : pd.holds)
+    if (h.origin == origin && (!pd.gateway || h.generation == pd.behind_generation)) n = h.n;
   // A replica that is no gateway acknowledges our own numbers exactly in every addressed beat.
-  if (origin == self_ && !seen(p).gateway) n = std::max(n, p.your_seq);
+  if (origin == self_ && !pd.gateway) n = std::max(n, p.your_seq);
   return n;
 }
 

@@ -53,8 +53,10 @@ SummaryMsg Replicator::beat(Beat b, const PeerId& to, bool rumors) {
   m.count = set_count();
   if (!to.is_null()) {
     m.your_seq = applied_.contiguous(to);
-    if (auto it = peers_.find(to); it != peers_.end() && seen(it->second).full && applied_.includes(seen(it->second).applied))
-      m.covered = seen(it->second).full_hash;
+    if (auto it = peers_.find(to); it != peers_.end()) {
+      const PeerDetail& pd = seen(it->second);
+      if (pd.full && applied_.includes(pd.applied)) m.covered = pd.full_hash;
+    }
   }
   // The state digest goes to the peers in turn (next_digest_target()), one a period: the first
   // beat after it fell due to whoever came first would reach the same peer every period when
@@ -175,16 +177,17 @@ void Replicator::hear_rumor(const Rumor& heard) {
 }
 
 bool Replicator::behind(const Peer& p) const {
-  if (!opt_.gossip) return !applied_.includes(seen(p).applied);  // its last summary holds more
-  if (seen(p).full && !applied_.includes(seen(p).applied)) return true;
-  if (seen(p).report_ns < 0 || seen(p).hash == set_hash()) return false;
+  const PeerDetail& pd = seen(p);
+  if (!opt_.gossip) return !applied_.includes(pd.applied);  // its last summary holds more
+  if (pd.full && !applied_.includes(pd.applied)) return true;
+  if (pd.report_ns < 0 || pd.hash == set_hash()) return false;
   // It holds more changes of origins other than this replica than this replica does: at least
   // one of them is missing here. Unlike the counts, this holds while this replica keeps changing
   // (its own changes in flight to the peer make the peer's count lag).
-  if (seen(p).others > set_count() - std::min(set_count(), applied_.contiguous(self_))) return true;
+  if (pd.others > set_count() - std::min(set_count(), applied_.contiguous(self_))) return true;
   // Its set differs: it may hold what we lack if it holds more, or as many but others, and
   // nothing changed here since it said so (a delta in flight makes sets differ for a moment).
-  return seen(p).count > set_count() || (seen(p).count == set_count() && seen(p).report_ns >= applied_changed_ns_);
+  return pd.count > set_count() || (pd.count == set_count() && pd.report_ns >= applied_changed_ns_);
 }
 
 void Replicator::handle_gossip(const PeerId& from, Peer& p, const SummaryMsg& m) {
@@ -247,13 +250,14 @@ void Replicator::handle_gossip(const PeerId& from, Peer& p, const SummaryMsg& m)
   // A gateway tells a peer new or back at once who is behind it, not at the next refresh.
   if (opt_.gateway && was_new && !opt_.observer) tell_behind(from);
   if (m.set_hash != 0) {
-    d(p).differing = m.set_hash == set_hash() ? 0 : static_cast<std::uint8_t>(std::min(seen(p).differing + 1, 255));
-    d(p).hash = m.set_hash;
-    d(p).count = m.count;
-    d(p).report_ns = now_;
+    PeerDetail& pd = d(p);
+    pd.differing = m.set_hash == set_hash() ? 0 : static_cast<std::uint8_t>(std::min(pd.differing + 1, 255));
+    pd.hash = m.set_hash;
+    pd.count = m.count;
+    pd.report_ns = now_;
     // An addressed beat says how many of our own changes it holds (your_seq): the rest of its
     // count are other origins' (0: unknown).
-    d(p).others = addressed_ ? m.count - std::min(m.count, m.your_seq) : 0;
+    pd.others = addressed_ ? m.count - std::min(m.count, m.your_seq) : 0;
   }
   p.your_seq = std::max(p.your_seq, m.your_seq);
   if (addressed_ && counts(p) && !p.observer) repair_own(from, p, m.your_seq);

@@ -107,15 +107,16 @@ bool Replicator::all_peers_hold(const PeerId& origin, std::uint64_t lo, std::uin
     // Gossip: a peer acknowledges this replica's own numbers (your_seq), and holds others' when
     // its reported set is ours or it told us its whole set. A gateway acknowledges ours only for
     // every replica behind it too (kHolds, replicator_behind.cc).
+    const PeerDetail& pd = seen(p);
     bool holds;
     if (!opt_.gossip)
-      holds = seen(p).applied.includes(origin, lo, hi);
-    else if (origin == self_ && seen(p).gateway)
+      holds = pd.applied.includes(origin, lo, hi);
+    else if (origin == self_ && pd.gateway)
       holds = held(p, self_) >= hi;
     else
       holds = (origin == self_ && p.your_seq >= hi) ||
-              (seen(p).report_ns >= 0 && seen(p).hash == set_hash() && applied_.includes(origin, lo, hi)) ||
-              (seen(p).full && seen(p).applied.includes(origin, lo, hi));
+              (pd.report_ns >= 0 && pd.hash == set_hash() && applied_.includes(origin, lo, hi)) ||
+              (pd.full && pd.applied.includes(origin, lo, hi));
     if (!holds) return false;
   }
   return true;
@@ -124,8 +125,9 @@ bool Replicator::all_peers_hold(const PeerId& origin, std::uint64_t lo, std::uin
 bool Replicator::peers_hold_all() const {
   for (const auto& [id, p] : peers_) {
     if (!counts(p) || p.observer) continue;
-    const bool holds = opt_.gossip ? (seen(p).report_ns >= 0 && seen(p).hash == set_hash()) || seen(p).covered == set_hash()
-                                   : seen(p).applied.includes(applied_);
+    const PeerDetail& pd = seen(p);
+    const bool holds = opt_.gossip ? (pd.report_ns >= 0 && pd.hash == set_hash()) || pd.covered == set_hash()
+                                   : pd.applied.includes(applied_);
     if (!holds) return false;
   }
   return true;

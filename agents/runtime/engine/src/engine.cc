@@ -59,8 +59,9 @@ LockManager& Engine::locks() {
 
 bool Engine::hears(std::string_view agent_name) const {
   if (!rep_) return false;
+  const std::uint64_t agent = fnv1a64(agent_name);  // an agent's id is the hash of its name
   for (const PeerInfo& p : rep_->peers())
-    if (p.alive && !p.suspect && !p.observer && (p.name == agent_name || p.id.agent == fnv1a64(agent_name))) return true;
+    if (p.alive && !p.suspect && !p.observer && (p.name == agent_name || p.id.agent == agent)) return true;
   return false;
 }
 

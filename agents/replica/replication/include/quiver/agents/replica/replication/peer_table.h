@@ -135,10 +135,16 @@ class PeerTable {
   const_iterator end() const { return {this, order_.size()}; }
   std::size_t size() const { return order_.size(); }
   bool empty() const { return order_.empty(); }
-  std::size_t count(const PeerId& id) const { return found(id) ? 1 : 0; }
+  std::size_t count(const PeerId& id) const { return has_at(lower(id), id) ? 1 : 0; }
 
-  iterator find(const PeerId& id) { return found(id) ? iterator{this, lower(id)} : end(); }
-  const_iterator find(const PeerId& id) const { return found(id) ? const_iterator{this, lower(id)} : end(); }
+  iterator find(const PeerId& id) {
+    const std::size_t i = lower(id);
+    return has_at(i, id) ? iterator{this, i} : end();
+  }
+  const_iterator find(const PeerId& id) const {
+    const std::size_t i = lower(id);
+    return has_at(i, id) ? const_iterator{this, i} : end();
+  }
   /// The first peer after `id`.
   iterator upper_bound(const PeerId& id);
   /// The peer's record, added (with only its id) when it has none. Beyond kMaxPeers a spare
@@ -165,8 +171,10 @@ class PeerTable {
   std::size_t memory_bytes() const;
 
  private:
+  /// The place of the first peer not before `id`.
   std::size_t lower(const PeerId& id) const;
-  bool found(const PeerId& id) const;
+  /// True if the peer at place `i` (lower(id)) is `id`.
+  bool has_at(std::size_t i, const PeerId& id) const { return i < order_.size() && slots_[order_[i]].id == id; }
 
   std::deque<PeerRecord> slots_;     // records never move (a deque grows at its end in place)
   std::vector<std::uint16_t> order_;  // slots sorted by id
