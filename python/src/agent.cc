@@ -31,14 +31,20 @@ Result<std::shared_ptr<AgentCore>> AgentCore::start(AgentOptions options) {
 
 AgentCore::~AgentCore() {
   if (thread_.joinable()) {
-    stop_ = true;
+    wake_to_stop();
     if (on_thread()) thread_.detach();  // the last reference went away inside a callback
     else thread_.join();
   }
 }
 
-void AgentCore::stop() {
+void AgentCore::wake_to_stop() {
   stop_ = true;
+  std::lock_guard<std::mutex> lock(mu_);
+  if (replica_) replica_->stop();  // its round ends now, not at its next tick
+}
+
+void AgentCore::stop() {
+  wake_to_stop();
   if (thread_.joinable() && !on_thread()) thread_.join();
 }
 
@@ -79,7 +85,8 @@ void AgentCore::loop() {
     started_ = true;
     cv_.notify_all();
   }
-  while (!stop_) replica_->spin_once(opt_.replica.tick_ns);
+  // The replica's own ticks, timers and samples decide when a round ends; stop() wakes it.
+  while (!stop_) replica_->spin_once(agents::DdsReplica::kSpinLook);
   if (opt_.hand_over_ns > 0) replica_->hand_over(opt_.hand_over_ns);
   std::unique_ptr<agents::DdsReplica> leaving;
   {

@@ -64,6 +64,7 @@ class AgentCore : public std::enable_shared_from_this<AgentCore> {
  private:
   explicit AgentCore(AgentOptions o) : opt_(std::move(o)) {}
   void loop();
+  void wake_to_stop();  // sets stop_ and ends the replica's round at once
 
   AgentOptions opt_;
   std::thread thread_;

@@ -172,18 +172,24 @@ bool DdsReplica::spin_until(const std::function<bool()>& done, std::int64_t time
   while (!done()) {
     std::int64_t left = end - monotonic_ns();
     if (left <= 0) return false;
-    spin_once(std::min<std::int64_t>(left, 5'000'000));
+    spin_once(std::min(left, kPredicateLook));
   }
   return true;
 }
 
 void DdsReplica::spin_for(std::int64_t duration_ns) {
   const std::int64_t end = monotonic_ns() + duration_ns;
-  while (monotonic_ns() < end && !stop_.load()) spin_once(std::min<std::int64_t>(end - monotonic_ns(), 5'000'000));
+  // Nothing to look at between rounds: a round waits until its next tick, timer or sample (an idle
+  // replica wakes 10 times a second, not 200), and stop() wakes it.
+  while (!stop_.load()) {
+    const std::int64_t left = end - monotonic_ns();
+    if (left <= 0) break;
+    spin_once(left);
+  }
 }
 
 void DdsReplica::spin() {
-  while (!stop_.load()) spin_once(50'000'000);
+  while (!stop_.load()) spin_once(kSpinLook);
 }
 
 void DdsReplica::keep_alive(std::int64_t hang_ns, std::function<void(const std::string&)> warn,

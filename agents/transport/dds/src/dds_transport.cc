@@ -168,46 +168,6 @@ std::string dds_security_plugin_dir() {
 #endif
 }
 
-namespace {
-
-// The embedded configurations: one interface, no multicast, never routed, unicast discovery of
-// the listed peers only, and no sample larger than the protocol sends.
-std::string unicast_xml(const std::string& address, const std::vector<std::string>& peers, int max_index,
-                        const std::string& tag, const DdsConfig& cfg) {
-  auto ms = [](std::int64_t ns) { return std::to_string(std::max<std::int64_t>(1, ns / 1'000'000)) + "ms"; };
-  std::string xml =
-      "<CycloneDDS><Domain id=\"any\">"
-      "<General>"
-      "<Interfaces><NetworkInterface address=\"" + address + "\"/></Interfaces>"
-      "<AllowMulticast>false</AllowMulticast>"
-      "<DontRoute>true</DontRoute>"
-      "</General>"
-      "<Discovery>";
-  if (!tag.empty()) xml += "<Tag>" + tag + "</Tag>";
-  xml += "<ParticipantIndex>auto</ParticipantIndex>"
-         "<MaxAutoParticipantIndex>" + std::to_string(max_index) + "</MaxAutoParticipantIndex><Peers>";
-  for (const std::string& p : peers) xml += "<Peer address=\"" + p + "\"/>";
-  xml += "</Peers><LeaseDuration>" + ms(cfg.lease_ns) + "</LeaseDuration>";
-  if (cfg.own_domain_instance) xml += "<ExternalDomainId>" + std::to_string(cfg.domain) + "</ExternalDomainId>";
-  xml += "</Discovery>";
-  // No sample larger than the largest the protocol sends (a delta at its limit): Cyclone drops a
-  // bigger one before reassembling it, so a peer cannot make us allocate 2 GiB for one sample.
-  xml += "<Internal><MaxSampleSize>" + std::to_string(kMaxSampleBytes) + "B</MaxSampleSize>";
-  if (cfg.xmit_loss_permille > 0)
-    xml += "<Test><XmitLossiness>" + std::to_string(cfg.xmit_loss_permille) + "</XmitLossiness></Test>";
-  xml += "</Internal>";
-  xml += "</Domain></CycloneDDS>";
-  return xml;
-}
-
-}  // namespace
-
-std::string loopback_config_xml(const DdsConfig& cfg) { return unicast_xml("127.0.0.1", {"127.0.0.1"}, 120, "", cfg); }
-
-std::string network_config_xml(const NetworkDomain& net, const DdsConfig& cfg) {
-  return unicast_xml(net.address, net.peers, net.max_participant_index, net.tag, cfg);
-}
-
 // ------------------------------------------------------------------ transport
 
 struct DdsTransport::Impl {

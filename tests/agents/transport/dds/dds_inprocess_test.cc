@@ -48,7 +48,8 @@ struct Running {
   }
 };
 
-std::vector<std::unique_ptr<Running>> start(int n, std::uint32_t domain, int loss_permille = 0) {
+std::vector<std::unique_ptr<Running>> start(int n, std::uint32_t domain, int loss_permille = 0,
+                                            std::int64_t lease_ns = 1'000'000'000) {
   std::vector<std::unique_ptr<Running>> out;
   for (int i = 0; i < n; ++i) {
     DdsReplicaOptions o;
@@ -56,6 +57,7 @@ std::vector<std::unique_ptr<Running>> start(int n, std::uint32_t domain, int los
     o.dds.domain = domain;
     o.dds.own_domain_instance = true;
     o.dds.xmit_loss_permille = loss_permille;
+    o.dds.lease_ns = lease_ns;
     o.replicator.heartbeat_ns = 50 * kMs;
     auto a = DdsReplica::create(o);
     EXPECT_TRUE(a.ok()) << a.error().to_string();
@@ -251,6 +253,26 @@ TEST(DdsInProcessTest, AgentCutOffByDeafMuteCatchesUpAfterHeal) {
   churn(*agents[3], rng, 4, 99999);  // and it changes things on its own side
   agents[3]->call([](DdsReplica& a) { ASSERT_TRUE(a.transport().set_deafmute(false, false, -1).ok()); });
   EXPECT_TRUE(converge(agents, 15000)) << "seed " << seed;
+}
+
+// A lease of 5 s or more paces Cyclone for many processes on one host (slower heartbeats, one
+// port, 64 KiB datagrams on loopback): Cyclone accepts that configuration, and agents on it still
+// replicate through 10% packet loss.
+TEST(DdsInProcessTest, TheManyProcessesPaceReplicatesThroughLoss) {
+  DdsConfig few, many;
+  many.lease_ns = kManyProcessesLeaseNs;
+  const std::string few_xml = loopback_config_xml(few), many_xml = loopback_config_xml(many);
+  for (const char* part : {"<HeartbeatInterval", "<UnicastDataOffset>10", "<MaxMessageSize>65000B"}) {
+    EXPECT_EQ(few_xml.find(part), std::string::npos) << part;
+    EXPECT_NE(many_xml.find(part), std::string::npos) << part;
+  }
+  const auto seed = quiver::testing::base_seed("DdsInProcessTest.TheManyProcessesPaceReplicatesThroughLoss", 7);
+  Rng rng(seed);
+  auto agents = start(3, test_domain(3), /*loss_permille=*/100, /*lease_ns=*/10'000'000'000);
+  ASSERT_EQ(agents.size(), 3u);
+  for (int round = 0; round < 10; ++round)
+    for (auto& a : agents) churn(*a, rng, 3, 100 * round);
+  EXPECT_TRUE(converge(agents, 20000)) << "seed " << seed;
 }
 
 TEST(DdsInProcessTest, ConvergesDespiteTwentyPercentPacketLoss) {

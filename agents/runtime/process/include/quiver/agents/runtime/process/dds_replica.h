@@ -74,6 +74,11 @@ std::int64_t monotonic_ns();
 
 class DdsReplica {
  public:
+  /// The longest spin_until() waits before it looks at its predicate again.
+  static constexpr std::int64_t kPredicateLook = 50'000'000;
+  /// The longest spin() waits before it looks at stop() again (stop() wakes it at once: the
+  /// replica's own ticks, timers and samples decide when it wakes).
+  static constexpr std::int64_t kSpinLook = 1'000'000'000;
   /// @returns the replica, or the error of its store, transport or options (naming what failed).
   ///          kInvalidArgument for an empty name; Store::open()'s and DdsTransport::create()'s
   ///          errors as they are (a damaged store is set aside instead: store_recovery()).
@@ -116,12 +121,13 @@ class DdsReplica {
   /// Local commits are published before it waits and at its end. It returns at once on traffic,
   /// a post() or stop(); it does not itself look at stop().
   void spin_once(std::int64_t max_wait_ns);
-  /// Owner thread: spins until `done()` holds (checked after every round) or `timeout_ns` passes.
-  /// @returns whether `done()` held. `done` is checked before the first round too; stop() does
-  ///          not end the wait (check it in `done` if it should).
+  /// Owner thread: spins until `done()` holds or `timeout_ns` passes. `done` is checked before the
+  /// first round, after every round (each sample, timer or tick ends one) and at least every 50 ms
+  /// (kPredicateLook), for a `done` that looks at what other threads change.
+  /// @returns whether `done()` held. stop() does not end the wait (check it in `done` if it should).
   bool spin_until(const std::function<bool()>& done, std::int64_t timeout_ns);
-  /// Owner thread: spins for `duration_ns` (or until stop()).
-  /// Returns at once once stop() was ever called.
+  /// Owner thread: spins for `duration_ns` (or until stop()), waking only for samples, timers and
+  /// the replica's ticks. Returns at once once stop() was ever called.
   void spin_for(std::int64_t duration_ns);
   /// Owner thread: before leaving cleanly, spins until every live agent peer holds everything
   /// this replica holds (Replicator::peers_hold_all), or `timeout_ns` passes. A peer that was

@@ -41,6 +41,9 @@
 
 namespace quiver::agents::inline transport {
 
+/// The participant lease from which the embedded configurations pace Cyclone for many processes.
+inline constexpr std::int64_t kManyProcessesLeaseNs = 5'000'000'000;
+
 struct DdsConfig {
   enum class Source : std::uint8_t {
     kLoopback,     ///< embedded: 127.0.0.1 only, multicast off (the default)
@@ -55,7 +58,10 @@ struct DdsConfig {
   std::string name;
   bool observer = false;
   bool gateway = false;                        ///< one side of a robot team's gateway (docs/teams.md)
-  std::int64_t lease_ns = 1'000'000'000;       ///< participant lease (crash detection time)
+  /// Participant lease (crash detection time). From kManyProcessesLeaseNs on, the embedded
+  /// configurations also pace Cyclone for many processes on one host (slower heartbeats; on
+  /// loopback one port and 64 KiB datagrams; docs/protocol.md).
+  std::int64_t lease_ns = 1'000'000'000;
   int xmit_loss_permille = 0;                  ///< testing: Cyclone drops this share of sent packets
   bool own_domain_instance = false;            ///< a private Cyclone instance (threads, sockets) for this transport
   std::int64_t max_blocking_ns = 100'000'000;  ///< how long a reliable write may wait for a lagging reader
