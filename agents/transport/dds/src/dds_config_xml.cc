@@ -11,14 +11,13 @@ namespace {
 
 // The embedded configurations: one interface, no multicast, never routed, unicast discovery of
 // the listed peers only, and no sample larger than the protocol sends.
-std::string unicast_xml(const std::string& address, const std::vector<std::string>& peers, int max_index,
-                        const std::string& tag, const DdsConfig& cfg) {
+std::string unicast_xml(bool loopback, const std::string& address, const std::vector<std::string>& peers,
+                        int max_index, const std::string& tag, const DdsConfig& cfg) {
   auto ms = [](std::int64_t ns) { return std::to_string(std::max<std::int64_t>(1, ns / 1'000'000)) + "ms"; };
   // A lease of 5 s or more is what many processes on one host need (docs/protocol.md): Cyclone
   // then runs at their pace too, so that discovering and acknowledging a hundred peers does not
   // take more wakeups than the host has.
   const bool many = cfg.lease_ns >= kManyProcessesLeaseNs;
-  const bool loopback = address == "127.0.0.1";
   std::string xml =
       "<CycloneDDS><Domain id=\"any\">"
       "<General>"
@@ -53,10 +52,10 @@ std::string unicast_xml(const std::string& address, const std::vector<std::strin
 
 }  // namespace
 
-std::string loopback_config_xml(const DdsConfig& cfg) { return unicast_xml("127.0.0.1", {"127.0.0.1"}, 120, "", cfg); }
+std::string loopback_config_xml(const DdsConfig& cfg) { return unicast_xml(true, "127.0.0.1", {"127.0.0.1"}, 120, "", cfg); }
 
 std::string network_config_xml(const NetworkDomain& net, const DdsConfig& cfg) {
-  return unicast_xml(net.address, net.peers, net.max_participant_index, net.tag, cfg);
+  return unicast_xml(false, net.address, net.peers, net.max_participant_index, net.tag, cfg);
 }
 
 }  // namespace quiver::agents
