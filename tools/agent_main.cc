@@ -1,6 +1,7 @@
 // quiver-agent: the commands of `quiver` that run for long on a robot — agent, gateway, echo,
-// dump — in an executable that links only the replica, its store, DDS and security: no OpenCV,
-// Graphviz, HTTP server, kinematics or planner files. `quiver agent ...` becomes this executable
+// dump, and the DDS benchmarks' role processes (the hidden bench-dds-role) — in an executable
+// that links only the replica, its store, DDS and security: no OpenCV, Graphviz, HTTP server,
+// kinematics or planner files. `quiver agent ...` becomes this executable
 // when it is beside it (tools/quiver.cc). Same options as in `quiver`.
 
 #include <CLI/CLI.hpp>
@@ -15,6 +16,7 @@ int main(int argc, char** argv) {
   quiver::tools::add_agent_commands(app);
   quiver::tools::add_echo_command(app);
   quiver::tools::add_gateway_command(app);
+  quiver::tools::add_bench_role_command(app);
   quiver::tools::require_known_subcommands(app, "quiver-agent");
   return quiver::tools::run_cli(app, argc, argv);
 }

@@ -17,6 +17,7 @@ void build_app(CLI::App& app) {
   add_launch_command(app);
   add_gateway_command(app);
   add_dds_bench_commands(app);
+  add_bench_role_command(app);
   add_agents_bench_commands(app);
   add_barthel_commands(app, agm_roles());
   add_agm_commands(app);  // adds to `scenario` and `bench`

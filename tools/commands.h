@@ -32,6 +32,8 @@ void add_launch_command(CLI::App& app);
 /// gateway (a robot team).
 void add_gateway_command(CLI::App& app);
 void add_dds_bench_commands(CLI::App& app);
+/// bench-dds-role (hidden: one process of a DDS benchmark; in quiver-agent and quiver).
+void add_bench_role_command(CLI::App& app);
 void add_agents_bench_commands(CLI::App& app);
 /// run ROLE (the Barthel roles and `extra`'s), scenario barthel.
 void add_barthel_commands(CLI::App& app, const ExtraRoles& extra);

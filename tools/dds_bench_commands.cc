@@ -1,28 +1,24 @@
-// quiver bench dds / dds-tracking (multi-process benchmarks of the DDS transport) and the hidden
-// bench-dds-role command (one process of them): their options; the coordinators and the roles
-// are tools/bench's (quiver_bench).
+// quiver bench dds / dds-tracking / dds-scale (multi-process benchmarks of the DDS transport):
+// their options; the coordinators and the roles are tools/bench's (quiver_bench), and the role
+// processes run the hidden bench-dds-role command (bench_role_command.cc) of quiver-agent.
 #include "quiver/tools/bench/dds_bench.h"
-
-#include <unistd.h>
 
 #include <memory>
 #include <string>
 
 #include "commands.h"
 #include "dds_options.h"
-#include "quiver/tools/bench/dds_roles.h"
+#include "quiver/agents/runtime/process/subprocess.h"
 #include "quiver/tools/bench/dds_scale_bench.h"
-#include "quiver/tools/bench/scale_roles.h"
 #include "quiver/tools/bench/tracking_bench.h"
 
 namespace quiver::tools {
 namespace {
 
-// This executable: the roles run as its `bench-dds-role` command, the viewer as its `view`.
-std::string self_exe() {
-  char buf[4096];
-  ssize_t n = readlink("/proc/self/exe", buf, sizeof buf - 1);
-  return n > 0 ? std::string(buf, static_cast<std::size_t>(n)) : "quiver";
+// The roles run as the `bench-dds-role` command of quiver-agent when it is beside this executable
+// (of this one otherwise), the viewer as this one's `view`.
+bench::RoleCommand role_command(const DdsFlags& dds) {
+  return {agents::sibling_or_self("quiver-agent"), dds, agents::self_executable()};
 }
 
 struct BenchFlags {
@@ -30,16 +26,6 @@ struct BenchFlags {
   bench::DdsBench dds_bench;
   bench::TrackingBench tracking;
   bench::DdsScaleBench scale;
-};
-
-struct RoleFlags {
-  DdsFlags dds;
-  bench::DdsRole role;
-  bool transport_only = false;  ///< DDS Security without signed deltas and permissions
-  long changes = 1000;          ///< scale roles
-  double rate = 10;
-  double idle_s = 10;
-  double settle_s = 2;
 };
 
 }  // namespace
@@ -82,7 +68,7 @@ void add_dds_bench_commands(CLI::App& app) {
                 "(medians, stages_us_p50)");
   dds->callback([f] {
     bench::DdsBench run = f->dds_bench;
-    run.roles = {self_exe(), f->dds};
+    run.roles = role_command(f->dds);
     set_exit_code(bench::run_dds_bench(run));
   });
 
@@ -99,7 +85,7 @@ void add_dds_bench_commands(CLI::App& app) {
                "the viewer reads every delta (`quiver view --every-delta`)");
   tr->callback([f] {
     bench::TrackingBench run = f->tracking;
-    run.roles = {self_exe(), f->dds};
+    run.roles = role_command(f->dds);
     set_exit_code(bench::run_tracking_bench(run));
   });
 
@@ -127,43 +113,8 @@ void add_dds_bench_commands(CLI::App& app) {
       ->capture_default_str();
   dsc->callback([f] {
     bench::DdsScaleBench run = f->scale;
-    run.roles = {self_exe(), f->dds};
+    run.roles = role_command(f->dds);
     set_exit_code(bench::run_dds_scale_bench(run));
-  });
-
-  auto r = std::make_shared<RoleFlags>();
-  bench::DdsRole& o = r->role;
-  auto* role = app.add_subcommand("bench-dds-role", "internal: one process of a DDS benchmark");
-  role->group("");  // hidden
-  role->add_option("role", o.role)->required();
-  r->dds.add_to(role);
-  role->add_option("--id", o.id)->check(CLI::Range(0, 1000));
-  role->add_option("--readers", o.readers)->check(CLI::Range(1, 64));
-  role->add_option("--updates", o.updates)->check(CLI::Range(1L, 1'000'000'000L));
-  role->add_option("--batch", o.batch)->check(CLI::Range(1, 100000));
-  role->add_option("--latency-samples", o.latency_samples)->check(CLI::Range(0, 10'000'000));
-  role->add_option("--join-nodes", o.join_nodes)->check(CLI::Range(0, 10'000'000));
-  role->add_option("--agents", o.agents)->check(CLI::Range(2, 120));
-  role->add_option("--seconds", o.seconds)->check(CLI::Range(0.1, 3600.0));
-  role->add_flag("--transport-only", r->transport_only);
-  role->add_flag("--stages", o.stages);
-  role->add_option("--changes", r->changes)->check(CLI::Range(1L, 10'000'000L));
-  role->add_option("--rate", r->rate)->check(CLI::Range(0.1, 100000.0));
-  role->add_option("--idle", r->idle_s)->check(CLI::Range(1.0, 3600.0));
-  role->add_option("--settle", r->settle_s)->check(CLI::Range(0.0, 3600.0));
-  role->callback([r] {
-    if (r->transport_only) r->dds.graph_security = false;
-    if (r->role.role.rfind("scale-", 0) == 0) {
-      bench::ScaleRole s{r->role.role, nullptr, r->role.id, r->role.agents, r->changes, r->rate, r->idle_s, r->settle_s};
-      s.open = [dds = r->dds](agents::DdsReplicaOptions opts) { return dds.create_agent(std::move(opts)); };
-      set_exit_code(bench::run_scale_role(s));
-      return;
-    }
-    bench::DdsRole run = r->role;
-    run.open = [dds = r->dds](agents::DdsReplicaOptions opts) {
-      return dds.create_agent(std::move(opts));
-    };
-    set_exit_code(bench::run_dds_role(run));
   });
 }
 

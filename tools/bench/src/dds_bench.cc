@@ -111,7 +111,7 @@ int run_dds_bench(const DdsBench& b) {
   if (!readers) return 2;
   std::unique_ptr<AttachedViewer> viewer;
   if (f.with_viewer) {
-    viewer = AttachedViewer::start(f.roles.exe, f.roles.dds, f.viewer_every_delta);
+    viewer = AttachedViewer::start(f.roles.viewer_exe, f.roles.dds, f.viewer_every_delta);
     if (!viewer) return 2;
   }
   auto writer = Subprocess::spawn(role_argv(f.roles, "writer", common));

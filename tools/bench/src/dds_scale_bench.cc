@@ -54,6 +54,7 @@ json one_run(const DdsScaleBench& b, int n, bool& ok) {
     cpu_run.push_back((*r)["cpu_run_pct"].get<double>());
     cpu_idle.push_back((*r)["cpu_idle_pct"].get<double>());
     rss.push_back((*r)["rss_kb"].get<double>());
+    out["member_executable"] = (*r)["executable"];
   }
   std::optional<json> j;
   if (complete) {
@@ -88,7 +89,9 @@ json one_run(const DdsScaleBench& b, int n, bool& ok) {
   out["latency_ms_p50"] = round_to(pa.at(0.50) / 1e3, 3);
   out["latency_ms_p99"] = round_to(pa.at(0.99) / 1e3, 3);
   out["last_of_others_ms_p50"] = round_to(pl.at(0.50) / 1e3, 3);
+  out["last_of_others_ms_p90"] = round_to(pl.at(0.90) / 1e3, 3);
   out["last_of_others_ms_p99"] = round_to(pl.at(0.99) / 1e3, 3);
+  out["last_of_others_ms_max"] = round_to(max(last) / 1e3, 3);
   out["deliveries"] = all.size();
   out["missing"] = missing;
   out["cpu_run_pct_mean"] = round_to(mean(cpu_run), 2);

@@ -6,12 +6,14 @@
 
 #include <sys/resource.h>
 
+#include <filesystem>
 #include <iostream>
 #include <nlohmann/json.hpp>
 #include <vector>
 
 #include "quiver/agents/runtime/process/logging.h"
 #include "quiver/agents/runtime/process/process_host.h"
+#include "quiver/agents/runtime/process/subprocess.h"
 #include "quiver/graph/graph.h"
 
 namespace quiver::tools::bench {
@@ -139,7 +141,8 @@ int member(const ScaleRole& f) {
   const double idle_cpu = idle_cpu_pct(a, f.idle_s);
   json out{{"role", "member"},        {"id", f.id},           {"latencies_us", latency_us},
            {"cpu_run_pct", run_cpu},   {"cpu_idle_pct", idle_cpu},
-           {"peers", a.replicator().live_peer_count()}, {"rss_kb", agents::resident_kb()}};
+           {"peers", a.replicator().live_peer_count()}, {"rss_kb", agents::resident_kb()},
+           {"executable", std::filesystem::path(agents::self_executable()).filename().string()}};
   std::cout << out.dump() << std::endl;
   a.spin_until([&] { return phase(g) == "end"; }, 300 * kSec);
   a.spin_for(kSec / 2);

@@ -20,7 +20,7 @@ int run_tracking_bench(const TrackingBench& f) {
   if (!listeners) return 2;
   std::unique_ptr<AttachedViewer> viewer;
   if (f.with_viewer &&
-      !(viewer = AttachedViewer::start(f.roles.exe, f.roles.dds, f.viewer_every_delta)))
+      !(viewer = AttachedViewer::start(f.roles.viewer_exe, f.roles.dds, f.viewer_every_delta)))
     return 2;
   auto tracker = Subprocess::spawn(role_argv(f.roles, "tracker", common));
   if (!tracker) return 2;

@@ -130,11 +130,17 @@ void DdsReplica::spin_once(std::int64_t max_wait_ns) {
   std::int64_t wait = std::min({max_wait_ns, next_tick_ - now, engine_->next_timer() - now});
   if (wait > 0 && !engine_->tasks_waiting()) transport_->wait(wait);
   bool received = false, busy = false;
+  // A delta, pull or state received keeps an agent's rounds at the busy pace for a while: its
+  // actions, locks and grammar checks run at ticks. A replica without them (an observer, a
+  // store, a benchmark's member) is busy only while its replicator has work waiting (idle()),
+  // so that a change every 100 ms does not make 100 processes tick every 10 ms.
+  const bool ticks_for_samples =
+      engine_->agent() != nullptr || engine_->lock_manager() != nullptr || engine_->guard() != nullptr;
   transport_->drain(
       [&](const Sample& s) {
         engine_->on_sample(s);
         received = true;
-        busy = busy || !std::holds_alternative<SummaryMsg>(s.message);
+        busy = busy || (ticks_for_samples && !std::holds_alternative<SummaryMsg>(s.message));
       },
       [&](const PeerId& p, bool gone) { replicator_->on_peer_lost(p, gone); });
   if (received) engine_->pump();

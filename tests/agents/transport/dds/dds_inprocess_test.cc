@@ -3,6 +3,10 @@
 
 #include <gtest/gtest.h>
 
+#include <sys/syscall.h>
+#include <unistd.h>
+
+#include <fstream>
 #include <future>
 #include <map>
 #include <set>
@@ -273,6 +277,60 @@ TEST(DdsInProcessTest, TheManyProcessesPaceReplicatesThroughLoss) {
   for (int round = 0; round < 10; ++round)
     for (auto& a : agents) churn(*a, rng, 3, 100 * round);
   EXPECT_TRUE(converge(agents, 20000)) << "seed " << seed;
+}
+
+// The voluntary context switches of one thread of this process so far (its wakeups).
+long thread_wakeups(pid_t tid) {
+  std::ifstream f("/proc/self/task/" + std::to_string(tid) + "/status");
+  std::string line;
+  while (std::getline(f, line))
+    if (line.rfind("voluntary_ctxt_switches:", 0) == 0) return std::stol(line.substr(24));
+  return -1;
+}
+
+// A replica that hosts no agent (an observer, a benchmark's member, a program that only reads
+// its graph) stays at the quiet pace while deltas arrive: 20 changes in a second wake it about
+// 20 times plus its 10 quiet rounds and the peer's beats, where the busy pace of 10 ms would
+// wake it more than 100 times (100 processes on two cores are what that costs).
+TEST(DdsInProcessTest, AReplicaWithoutAnAgentStaysQuietWhileDeltasArrive) {
+  std::vector<std::unique_ptr<Running>> agents;
+  for (int i = 0; i < 2; ++i) {
+    DdsReplicaOptions o;
+    o.name = "quiet" + std::to_string(i);
+    o.dds.domain = test_domain(5);
+    o.dds.own_domain_instance = true;
+    auto a = DdsReplica::create(o);
+    ASSERT_TRUE(a.ok()) << a.error().to_string();
+    auto r = std::make_unique<Running>();
+    r->agent = std::move(*a);
+    DdsReplica* raw = r->agent.get();
+    r->thread = std::thread([raw] { raw->spin(); });
+    agents.push_back(std::move(r));
+  }
+  graph::NodeId node;
+  agents[0]->call([&](DdsReplica& a) {
+    auto tx = a.graph().begin();
+    node = *tx.create_node("robot", "robot");
+    ASSERT_TRUE(tx.commit().ok());
+  });
+  ASSERT_TRUE(converge(agents, 5000, 1));
+  const pid_t tid = agents[1]->call([](DdsReplica&) { return static_cast<pid_t>(syscall(SYS_gettid)); });
+  std::this_thread::sleep_for(std::chrono::milliseconds(700));  // past quiet_after_ns
+  const long before = thread_wakeups(tid);
+  for (int i = 0; i < 20; ++i) {
+    agents[0]->call([&](DdsReplica& a) {
+      auto tx = a.graph().begin();
+      ASSERT_TRUE(tx.set(node, graph::Symbol("seq"), graph::Value(static_cast<std::int64_t>(i))).ok());
+      ASSERT_TRUE(tx.commit().ok());
+    });
+    std::this_thread::sleep_for(std::chrono::milliseconds(50));
+  }
+  const long woke = thread_wakeups(tid) - before;
+  ASSERT_GE(before, 0) << "no /proc/self/task/" << tid << "/status";
+  const std::int64_t seen = agents[1]->call([&](DdsReplica& a) { return a.graph().get<std::int64_t>(node, "seq").value_or(-1); });
+  EXPECT_EQ(seen, 19) << "the 20 changes did not all arrive";
+  EXPECT_LT(woke, 80) << "the replica woke " << woke << " times in the second its 20 changes arrived";
+  EXPECT_GE(woke, 10) << "the count of wakeups is not the replica thread's";
 }
 
 TEST(DdsInProcessTest, ConvergesDespiteTwentyPercentPacketLoss) {

@@ -14,11 +14,13 @@ namespace quiver::tools::bench {
 
 /// How a benchmark starts its role processes.
 struct RoleCommand {
-  /// The executable whose hidden `bench-dds-role ROLE` command runs a role (the quiver command;
-  /// run_dds_role() in dds_roles.h).
+  /// The executable whose hidden `bench-dds-role ROLE` command runs a role (quiver-agent, the
+  /// lean one, when it is there; run_dds_role() in dds_roles.h).
   std::string exe;
   /// The domain, DDS configuration, packet loss and security directory every role is given.
   agents::ProcessFlags dds;
+  /// The executable whose `view` command attaches a viewer (the quiver command).
+  std::string viewer_exe;
 };
 
 /// @returns the command line of one `role` process: the executable, `bench-dds-role ROLE`, the

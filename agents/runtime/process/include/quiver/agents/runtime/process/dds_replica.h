@@ -45,7 +45,9 @@ struct DdsReplicaOptions {
   /// The round while the replica is quiet: no delta, pull or state received, nothing committed,
   /// no task posted, no action running and no protocol work pending for quiet_after_ns (beats
   /// answered on arrival do not count). An idle agent then wakes 10 times a second instead of
-  /// 100 (0: always tick_ns).
+  /// 100 (0: always tick_ns). A replica that hosts no agent, locks or grammar (an observer, a
+  /// program that only reads and writes its graph) stays quiet while it receives: it is busy
+  /// only while its replicator has work waiting (Replicator::idle()).
   std::int64_t quiet_tick_ns = 100'000'000;
   std::int64_t quiet_after_ns = 500'000'000;
   /// The engine's options (the clock is the monotonic clock; the log is given by the host).
