@@ -94,6 +94,9 @@ int writer(const ScaleRole& f) {
     (void)tx.set(node, Symbol("seq"), Value(static_cast<std::int64_t>(i)));
     (void)tx.set(node, Symbol("t"), Value(monotonic_ns()));
     (void)tx.commit();
+    // Each change its own delta: a writer behind its schedule (a stall) would otherwise send the
+    // changes made before its next round as one, and the members would never see the ones between.
+    a.replicator().flush();
     next += period;
   }
   const double run_s = static_cast<double>(monotonic_ns() - t0) / 1e9;
