@@ -103,7 +103,8 @@ void ProcessFlags::add_dds(CLI::App* cmd) {
       ->check(CLI::Range(0, 999));
   cmd->add_option("--lease", lease_s,
                   "DDS participant lease in seconds: a crashed or cut-off agent is noticed within it; each "
-                  "process receives a few discovery packets per peer per lease (longer for many processes; from 5 s Cyclone is also paced for them: docs/protocol.md)")
+                  "process receives a few discovery packets per peer per lease (longer for many processes; "
+                  "from 5 s Cyclone is also paced for them: docs/protocol.md)")
       ->check(CLI::Range(0.05, 600.0))
       ->capture_default_str();
   cmd->add_option("--membership", membership,

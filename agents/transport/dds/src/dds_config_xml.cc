@@ -9,8 +9,8 @@
 namespace quiver::agents::inline transport {
 namespace {
 
-// The embedded configurations: one interface, no multicast, never routed, unicast discovery of
-// the listed peers only, and no sample larger than the protocol sends.
+// One interface, no multicast, never routed, unicast discovery of the listed peers only, and no
+// sample larger than the protocol sends.
 std::string unicast_xml(bool loopback, const std::string& address, const std::vector<std::string>& peers,
                         int max_index, const std::string& tag, const DdsConfig& cfg) {
   auto ms = [](std::int64_t ns) { return std::to_string(std::max<std::int64_t>(1, ns / 1'000'000)) + "ms"; };
@@ -35,7 +35,8 @@ std::string unicast_xml(bool loopback, const std::string& address, const std::ve
   xml += "</Peers><LeaseDuration>" + ms(cfg.lease_ns) + "</LeaseDuration>";
   if (cfg.own_domain_instance) xml += "<ExternalDomainId>" + std::to_string(cfg.domain) + "</ExternalDomainId>";
   // One unicast port (and socket) for discovery and data: one receive thread fewer per process.
-  if (many && loopback) xml += "<Ports><UnicastMetaOffset>10</UnicastMetaOffset><UnicastDataOffset>10</UnicastDataOffset></Ports>";
+  if (many && loopback)
+    xml += "<Ports><UnicastMetaOffset>10</UnicastMetaOffset><UnicastDataOffset>10</UnicastDataOffset></Ports>";
   xml += "</Discovery>";
   // No sample larger than the largest the protocol sends (a delta at its limit): Cyclone drops a
   // bigger one before reassembling it, so a peer cannot make us allocate 2 GiB for one sample.
@@ -52,7 +53,9 @@ std::string unicast_xml(bool loopback, const std::string& address, const std::ve
 
 }  // namespace
 
-std::string loopback_config_xml(const DdsConfig& cfg) { return unicast_xml(true, "127.0.0.1", {"127.0.0.1"}, 120, "", cfg); }
+std::string loopback_config_xml(const DdsConfig& cfg) {
+  return unicast_xml(true, "127.0.0.1", {"127.0.0.1"}, 120, "", cfg);
+}
 
 std::string network_config_xml(const NetworkDomain& net, const DdsConfig& cfg) {
   return unicast_xml(false, net.address, net.peers, net.max_participant_index, net.tag, cfg);

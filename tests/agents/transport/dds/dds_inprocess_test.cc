@@ -53,7 +53,8 @@ struct Running {
 };
 
 std::vector<std::unique_ptr<Running>> start(int n, std::uint32_t domain, int loss_permille = 0,
-                                            std::int64_t lease_ns = 1'000'000'000) {
+                                            std::int64_t lease_ns = 1'000'000'000,
+                                            std::int64_t heartbeat_ns = 50 * kMs) {
   std::vector<std::unique_ptr<Running>> out;
   for (int i = 0; i < n; ++i) {
     DdsReplicaOptions o;
@@ -62,7 +63,7 @@ std::vector<std::unique_ptr<Running>> start(int n, std::uint32_t domain, int los
     o.dds.own_domain_instance = true;
     o.dds.xmit_loss_permille = loss_permille;
     o.dds.lease_ns = lease_ns;
-    o.replicator.heartbeat_ns = 50 * kMs;
+    o.replicator.heartbeat_ns = heartbeat_ns;
     auto a = DdsReplica::create(o);
     EXPECT_TRUE(a.ok()) << a.error().to_string();
     if (!a.ok()) return {};
@@ -293,20 +294,9 @@ long thread_wakeups(pid_t tid) {
 // 20 times plus its 10 quiet rounds and the peer's beats, where the busy pace of 10 ms would
 // wake it more than 100 times (100 processes on two cores are what that costs).
 TEST(DdsInProcessTest, AReplicaWithoutAnAgentStaysQuietWhileDeltasArrive) {
-  std::vector<std::unique_ptr<Running>> agents;
-  for (int i = 0; i < 2; ++i) {
-    DdsReplicaOptions o;
-    o.name = "quiet" + std::to_string(i);
-    o.dds.domain = test_domain(5);
-    o.dds.own_domain_instance = true;
-    auto a = DdsReplica::create(o);
-    ASSERT_TRUE(a.ok()) << a.error().to_string();
-    auto r = std::make_unique<Running>();
-    r->agent = std::move(*a);
-    DdsReplica* raw = r->agent.get();
-    r->thread = std::thread([raw] { raw->spin(); });
-    agents.push_back(std::move(r));
-  }
+  // The default heartbeat period (100 ms): the peer's beats are part of what wakes the replica.
+  auto agents = start(2, test_domain(5), 0, 1'000'000'000, ReplicatorOptions{}.heartbeat_ns);
+  ASSERT_EQ(agents.size(), 2u);
   graph::NodeId node;
   agents[0]->call([&](DdsReplica& a) {
     auto tx = a.graph().begin();
