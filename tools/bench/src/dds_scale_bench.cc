@@ -21,8 +21,8 @@ json one_run(const DdsScaleBench& b, int n, bool& ok) {
   const std::vector<std::string> common = {"--agents", std::to_string(n), "--changes", std::to_string(b.changes),
                                            "--rate", std::to_string(b.rate), "--idle", std::to_string(b.idle_s),
                                            "--settle", std::to_string(b.settle_s)};
-  json out{{"bench", "dds-scale"}, {"agents", n}, {"membership", b.roles.dds.membership},
-           {"changes", b.changes}, {"rate", b.rate}};
+  json out{{"bench", "dds-scale"}, {"agents", n},       {"membership", b.roles.dds.membership},
+           {"lease_s", b.roles.dds.lease_s}, {"changes", b.changes}, {"rate", b.rate}};
   auto members = spawn_roles(b.roles, "scale-member", n - 1, common, b.start_gap_ms);
   auto writer = Subprocess::spawn(role_argv(b.roles, "scale-writer", common));
   if (!members || !writer) {
@@ -81,6 +81,7 @@ json one_run(const DdsScaleBench& b, int n, bool& ok) {
   if (w) {
     out["ready_ms"] = round_to((*w)["ready_ms"].get<double>(), 1);
     out["all_joined"] = (*w)["all_joined"];
+    out["writer_peers_lost"] = (*w)["peers_lost"];
     cpu_run.push_back((*w)["cpu_run_pct"].get<double>());
     cpu_idle.push_back((*w)["cpu_idle_pct"].get<double>());
     out["delivered_updates_per_s"] = round_to(static_cast<double>(all.size()) / (*w)["run_s"].get<double>(), 1);

@@ -81,7 +81,19 @@ int writer(const ScaleRole& f) {
     (void)tx.commit();
   }
   const auto others = static_cast<std::size_t>(f.agents - 1);
-  const bool all = a.spin_until([&] { return a.replicator().live_peer_count() >= others; }, 300 * kSec);
+  // Progress every 10 s while peers are missing: a run that does not start says why.
+  std::int64_t next_word = t_open + 10 * kSec;
+  const bool all = a.spin_until(
+      [&] {
+        const std::size_t live = a.replicator().live_peer_count();
+        if (live < others && monotonic_ns() >= next_word) {
+          next_word += 10 * kSec;
+          agents::named_logger("scale-writer")
+              ->info("{} of {} peers live, {} lost", live, others, a.transport().stats().peers_lost);
+        }
+        return live >= others;
+      },
+      300 * kSec);
   const double ready_ms = static_cast<double>(monotonic_ns() - t_open) / 1e6;
   // The members' first pulls (the node) settle, and so does the start of many processes.
   a.spin_for(static_cast<std::int64_t>(f.settle_s * 1e9));
@@ -105,7 +117,8 @@ int writer(const ScaleRole& f) {
   set_phase(g, "idle");
   const double idle_cpu = idle_cpu_pct(a, f.idle_s);
   json out{{"role", "writer"},        {"all_joined", all},       {"ready_ms", ready_ms},
-           {"peers", a.replicator().live_peer_count()}, {"run_s", run_s}, {"cpu_run_pct", run_cpu},
+           {"peers", a.replicator().live_peer_count()}, {"peers_lost", a.transport().stats().peers_lost},
+           {"run_s", run_s}, {"cpu_run_pct", run_cpu},
            {"cpu_idle_pct", idle_cpu}, {"rss_kb", agents::resident_kb()}};
   std::cout << out.dump() << std::endl;
   a.spin_until([&] { return phase(g) == "end"; }, 300 * kSec);

@@ -323,6 +323,28 @@ TEST(DdsInProcessTest, AReplicaWithoutAnAgentStaysQuietWhileDeltasArrive) {
   EXPECT_GE(woke, 10) << "the count of wakeups is not the replica thread's";
 }
 
+// An idle replica waiting in spin_until() wakes at its quiet pace (10 rounds a second), not also
+// for a look at its predicate in between (it looked every 50 ms: 20 wakeups a second, which 100
+// benchmark members waiting for their next phase paid at once).
+TEST(DdsInProcessTest, AnIdleReplicaInSpinUntilWakesAtItsQuietPace) {
+  DdsReplicaOptions o;
+  o.name = "waiting";
+  o.dds.domain = test_domain(6);
+  o.dds.own_domain_instance = true;
+  auto a = DdsReplica::create(o);
+  ASSERT_TRUE(a.ok()) << a.error().to_string();
+  DdsReplica& r = **a;
+  r.spin_for(o.quiet_after_ns + 200 * kMs);
+  const pid_t tid = static_cast<pid_t>(syscall(SYS_gettid));
+  const long before = thread_wakeups(tid);
+  ASSERT_GE(before, 0) << "no /proc/self/task/" << tid << "/status";
+  int looks = 0;
+  EXPECT_FALSE(r.spin_until([&] { return ++looks < 0; }, 2'000'000'000));
+  const long woke = thread_wakeups(tid) - before;
+  EXPECT_LT(woke, 32) << "an idle replica woke " << woke << " times in 2 s of spin_until()";
+  EXPECT_GE(looks, 10) << "spin_until() looked at its predicate " << looks << " times in 2 s";
+}
+
 TEST(DdsInProcessTest, ConvergesDespiteTwentyPercentPacketLoss) {
   const auto seed = quiver::testing::base_seed("DdsInProcessTest.ConvergesDespiteTwentyPercentPacketLoss", 6);
   Rng rng(seed);

@@ -76,8 +76,10 @@ std::int64_t monotonic_ns();
 
 class DdsReplica {
  public:
-  /// The longest spin_until() waits before it looks at its predicate again.
-  static constexpr std::int64_t kPredicateLook = 50'000'000;
+  /// The longest spin_until() waits before it looks at its predicate again: a quiet replica's
+  /// round (the default DdsReplicaOptions::quiet_tick_ns), so that an idle replica waiting in
+  /// spin_until() wakes 10 times a second, not 20.
+  static constexpr std::int64_t kPredicateLook = 100'000'000;
   /// The longest spin() waits before it looks at stop() again (stop() wakes it at once: the
   /// replica's own ticks, timers and samples decide when it wakes).
   static constexpr std::int64_t kSpinLook = 1'000'000'000;
@@ -124,7 +126,7 @@ class DdsReplica {
   /// a post() or stop(); it does not itself look at stop().
   void spin_once(std::int64_t max_wait_ns);
   /// Owner thread: spins until `done()` holds or `timeout_ns` passes. `done` is checked before the
-  /// first round, after every round (each sample, timer or tick ends one) and at least every 50 ms
+  /// first round, after every round (each sample, timer or tick ends one) and at least every 100 ms
   /// (kPredicateLook), for a `done` that looks at what other threads change.
   /// @returns whether `done()` held. stop() does not end the wait (check it in `done` if it should).
   bool spin_until(const std::function<bool()>& done, std::int64_t timeout_ns);
