@@ -52,15 +52,21 @@ struct Running {
   }
 };
 
+// A replica of its own Cyclone domain instance on the loopback default configuration.
+DdsReplicaOptions own_instance(const std::string& name, std::uint32_t domain) {
+  DdsReplicaOptions o;
+  o.name = name;
+  o.dds.domain = domain;
+  o.dds.own_domain_instance = true;
+  return o;
+}
+
 std::vector<std::unique_ptr<Running>> start(int n, std::uint32_t domain, int loss_permille = 0,
                                             std::int64_t lease_ns = 1'000'000'000,
                                             std::int64_t heartbeat_ns = 50 * kMs) {
   std::vector<std::unique_ptr<Running>> out;
   for (int i = 0; i < n; ++i) {
-    DdsReplicaOptions o;
-    o.name = "agent" + std::to_string(i);
-    o.dds.domain = domain;
-    o.dds.own_domain_instance = true;
+    DdsReplicaOptions o = own_instance("agent" + std::to_string(i), domain);
     o.dds.xmit_loss_permille = loss_permille;
     o.dds.lease_ns = lease_ns;
     o.replicator.heartbeat_ns = heartbeat_ns;
@@ -327,10 +333,7 @@ TEST(DdsInProcessTest, AReplicaWithoutAnAgentStaysQuietWhileDeltasArrive) {
 // for a look at its predicate in between (it looked every 50 ms: 20 wakeups a second, which 100
 // benchmark members waiting for their next phase paid at once).
 TEST(DdsInProcessTest, AnIdleReplicaInSpinUntilWakesAtItsQuietPace) {
-  DdsReplicaOptions o;
-  o.name = "waiting";
-  o.dds.domain = test_domain(6);
-  o.dds.own_domain_instance = true;
+  const DdsReplicaOptions o = own_instance("waiting", test_domain(6));
   auto a = DdsReplica::create(o);
   ASSERT_TRUE(a.ok()) << a.error().to_string();
   DdsReplica& r = **a;
