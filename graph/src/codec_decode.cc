@@ -1,6 +1,7 @@
 // The GraphDelta decoder: bounds-checked reading of the wire format of codec_format.h, with
 // symbols provisional until the whole message has been read and checked.
 
+#include <algorithm>
 #include <unordered_map>
 
 #include "codec_format.h"
@@ -22,8 +23,9 @@ struct DecodeTables {
 
 class Decoder {
  public:
-  Decoder(std::span<const std::uint8_t> in, GraphDelta& out, const DecodeLimits& lim)
-      : r_(in, "graph delta"), d_(out), lim_(lim) {
+  Decoder(std::span<const std::uint8_t> in, GraphDelta& out, const DecodeLimits& lim,
+          const PartSink* sink = nullptr, std::size_t part_ops = 0)
+      : r_(in, "graph delta"), d_(out), lim_(lim), sink_(sink), part_ops_(std::max<std::size_t>(part_ops, 1)) {
     replicas_.clear();
     symbols_.clear();
     names_.clear();
@@ -102,15 +104,21 @@ class Decoder {
     if (implicit_ && r_.ok() && (next_implicit_ == 0 || next_implicit_ > crdt::kMaxCounter))
       return fail(ErrorCode::kMalformed, "first implicit dot", "invalid counter");
 
+    if (sink_ != nullptr && d_.kind != GraphDelta::Kind::kState)
+      return fail(ErrorCode::kMalformed, "kind", "only a state is decoded in parts");
     std::uint64_t nnodes = r_.count("node count", UINT32_MAX, 2);
-    d_.nodes.reserve(nnodes);
+    d_.nodes.reserve(sink_ == nullptr ? nnodes : std::min<std::uint64_t>(nnodes, part_ops_));
     NodeId prev{};
     for (std::uint64_t i = 0; i < nnodes && r_.ok(); ++i) {
       node(prev);
       if (r_.ok()) prev = d_.nodes.back().id;
+      if (Status s = part_full(); !s.ok()) return s;
     }
     std::uint64_t nedges = r_.count("edge count", UINT32_MAX, 4);
-    for (std::uint64_t i = 0; i < nedges && r_.ok(); ++i) edge();
+    for (std::uint64_t i = 0; i < nedges && r_.ok(); ++i) {
+      edge();
+      if (Status s = part_full(); !s.ok()) return s;
+    }
     if (claim && r_.ok()) {
       d_.rule = std::string(r_.string("claimed rule", lim_.max_name_bytes));
       if (r_.ok() && (d_.rule.empty() || !valid_utf8(d_.rule)))
@@ -130,11 +138,29 @@ class Decoder {
       return fail(ErrorCode::kMalformed, "end", std::to_string(r_.remaining()) + " trailing bytes after the message");
     if (d_.kind == GraphDelta::Kind::kDelta)
       if (Status s = check_delta(); !s.ok()) return s;
-    if (provisional_) return intern_names();
+    if (provisional_)
+      if (Status s = intern_names(); !s.ok()) return s;
+    if (sink_ != nullptr) return (*sink_)(d_);  // the last part: the rest, and the keep list
     return {};
   }
 
  private:
+  // In parts: a part holding part_ops_ node and edge ops goes to the sink, and its ops make way
+  // for the next (the context stays: every part carries the message's).
+  Status part_full() {
+    if (sink_ == nullptr || !r_.ok() || d_.nodes.size() + d_.edges.size() < part_ops_) return {};
+    if (Status s = (*sink_)(d_); !s.ok()) return s;
+    d_.nodes.clear();
+    d_.edges.clear();
+    d_.attrs.clear();
+    d_.removed.clear();
+    d_.added.clear();
+    d_.values.clear();
+    d_.claims.clear();
+    d_.samples.clear();
+    return {};
+  }
+
   Status fail(ErrorCode code, const char* field, const std::string& why) {
     r_.fail(code, field, why);
     return r_.error();
@@ -469,6 +495,8 @@ class Decoder {
   bytes::Reader r_;
   GraphDelta& d_;
   const DecodeLimits& lim_;
+  const PartSink* sink_;
+  std::size_t part_ops_;
   static constexpr std::size_t kKeptEntries = 64;
   static thread_local DecodeTables tables_;
   std::vector<ReplicaId>& replicas_ = tables_.replicas;
@@ -489,6 +517,11 @@ thread_local DecodeTables Decoder::tables_;
 
 Status decode(std::span<const std::uint8_t> in, GraphDelta& out, const DecodeLimits& limits) {
   return Decoder(in, out, limits).run();
+}
+
+Status decode_parts(std::span<const std::uint8_t> in, GraphDelta& scratch, std::size_t part_ops, const PartSink& part,
+                    const DecodeLimits& limits) {
+  return Decoder(in, scratch, limits, &part, part_ops).run();
 }
 
 Result<GraphDelta> decode(std::span<const std::uint8_t> in, const DecodeLimits& limits) {

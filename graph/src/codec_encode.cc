@@ -24,7 +24,7 @@ struct EncodeTables {
 class Encoder {
  public:
   Encoder(const GraphDelta& d, std::vector<std::uint8_t>& out, std::uint64_t seq_lo, std::uint64_t seq_hi)
-      : d_(d), w_(out), seq_lo_(seq_lo), seq_hi_(seq_hi) {
+      : d_(&d), w_(out), seq_lo_(seq_lo), seq_hi_(seq_hi) {
     replicas_.clear();
     symbols_.clear();
     rmap_.clear();
@@ -38,16 +38,95 @@ class Encoder {
 
   void run() {
     collect_tables();
+    plan_dots();
+    for (const auto& e : d_->values) fenced_ = fenced_ || e.fence != 0;
+    for (const auto& n : d_->nodes) typed_ = typed_ || (!n.has_header && !n.type.is_null());
+    header(d_->nodes.size());
+    NodeId prev{};
+    for (const auto& n : d_->nodes) {
+      node(n, prev);
+      prev = n.id;
+    }
+    w_.varint(d_->edges.size());
+    for (const auto& e : d_->edges) edge(e);
+    if (!d_->rule.empty()) {
+      w_.string(d_->rule);
+      w_.varint(d_->binding.size());
+      for (const auto& [var, id] : d_->binding) {
+        w_.string(var);
+        node_ref(id);
+      }
+    }
+    if (d_->kind == GraphDelta::Kind::kState) keep(d_->keep);
+  }
+
+  // A state from its parts, in three passes over them: the tables, flags and counts; the header
+  // and the node ops; the edge ops. Dots are written in full (no implicit run across parts).
+  void run_parts(const PartSource& parts) {
+    std::size_t nnodes = 0, nedges = 0;
+    std::vector<Dot> kept;
+    NodeId prev{};
+    bool first = true;
+    base_ = UINT64_MAX;
+    parts(PartOps::kAll, [&](const GraphDelta& p) {
+      d_ = &p;
+      if (first) {
+        add_replica(p.origin);
+        p.context.for_each_range([&](const ReplicaId& r, std::uint64_t, std::uint64_t) { add_replica(r); });
+        first = false;
+      }
+      collect_op_tables();
+      for_each_added_in_order([&](const Dot& x) {
+        if (x.replica == p.origin) base_ = std::min(base_, x.counter);
+      });
+      for (const auto& e : p.values) fenced_ = fenced_ || e.fence != 0;
+      for (const auto& n : p.nodes) {
+        typed_ = typed_ || (!n.has_header && !n.type.is_null());
+        if (!prev.is_null() && prev.dot.replica == n.id.dot.replica && n.id.dot.counter < prev.dot.counter)
+          sorted_ = false;
+        prev = n.id;
+      }
+      nnodes += p.nodes.size();
+      nedges += p.edges.size();
+      kept.insert(kept.end(), p.keep.begin(), p.keep.end());
+    });
+    if (base_ == UINT64_MAX) base_ = 0;
+    bool started = false;
+    prev = NodeId{};
+    parts(PartOps::kNodes, [&](const GraphDelta& p) {
+      d_ = &p;
+      if (!started) header(nnodes);
+      started = true;
+      for (const auto& n : p.nodes) {
+        node(n, prev);
+        prev = n.id;
+      }
+    });
+    if (!started) {  // no part at all: an empty state
+      GraphDelta empty;
+      empty.kind = GraphDelta::Kind::kState;
+      d_ = &empty;
+      if (replicas_.empty()) add_replica(empty.origin);
+      header(0);
+    }
+    w_.varint(nedges);
+    parts(PartOps::kEdges, [&](const GraphDelta& p) {
+      d_ = &p;
+      for (const auto& e : p.edges) edge(e);
+    });
+    keep(kept);
+  }
+
+ private:
+  // Everything before the node ops: magic, kind, flags, tables, context, dot base, node count.
+  void header(std::size_t nnodes) {
     w_.u8(kMagic0);
     w_.u8(kMagic1);
     w_.u8(kCodecVersion);
-    w_.u8(static_cast<std::uint8_t>(d_.kind));
-    plan_dots();
-    for (const auto& e : d_.values) fenced_ = fenced_ || e.fence != 0;
-    for (const auto& n : d_.nodes) typed_ = typed_ || (!n.has_header && !n.type.is_null());
+    w_.u8(static_cast<std::uint8_t>(d_->kind));
     const bool seq = seq_lo_ != 0;
     std::uint64_t flags = (implicit_ ? kImplicitDots : 0) | (sorted_ ? kSortedNodes : 0) | (fenced_ ? kFenced : 0) |
-                          (d_.rule.empty() ? 0 : kClaim) | (seq ? kSeq : 0) | (typed_ ? kTyped : 0);
+                          (d_->rule.empty() ? 0 : kClaim) | (seq ? kSeq : 0) | (typed_ ? kTyped : 0);
     w_.varint(flags);
     if (seq) {
       w_.varint(seq_lo_);
@@ -60,35 +139,18 @@ class Encoder {
     }
     w_.varint(symbols_.size());
     for (Symbol s : symbols_) w_.string(s.str());
-    std::size_t nranges = d_.context.range_count();
+    std::size_t nranges = d_->context.range_count();
     w_.varint(nranges);
-    d_.context.for_each_range([&](const ReplicaId& r, std::uint64_t lo, std::uint64_t hi) {
+    d_->context.for_each_range([&](const ReplicaId& r, std::uint64_t lo, std::uint64_t hi) {
       w_.varint(rindex(r));
       w_.varint(lo);
       w_.varint(hi - lo);
     });
     if (implicit_) w_.varint(next_implicit_);
     else w_.varint(base_);
-    w_.varint(d_.nodes.size());
-    NodeId prev{};
-    for (const auto& n : d_.nodes) {
-      node(n, prev);
-      prev = n.id;
-    }
-    w_.varint(d_.edges.size());
-    for (const auto& e : d_.edges) edge(e);
-    if (!d_.rule.empty()) {
-      w_.string(d_.rule);
-      w_.varint(d_.binding.size());
-      for (const auto& [var, id] : d_.binding) {
-        w_.string(var);
-        node_ref(id);
-      }
-    }
-    if (d_.kind == GraphDelta::Kind::kState) keep();
+    w_.varint(nnodes);
   }
 
- private:
   // Tables are tiny in deltas (one or two replicas, a handful of names): a linear scan with a
   // last-hit cache beats hashing; large states switch to a hash index.
   template <class T, class Map>
@@ -117,27 +179,31 @@ class Encoder {
   std::uint64_t sindex(Symbol s) { return find_or_add(symbols_, smap_, slast_, s, false); }
 
   void collect_tables() {
-    add_replica(d_.origin);
-    d_.context.for_each_range([&](const ReplicaId& r, std::uint64_t, std::uint64_t) { add_replica(r); });
+    add_replica(d_->origin);
+    d_->context.for_each_range([&](const ReplicaId& r, std::uint64_t, std::uint64_t) { add_replica(r); });
+    collect_op_tables();
+  }
+  // The replicas and symbols of the ops, added dots and keep list.
+  void collect_op_tables() {
     // Attribute names by the op that holds them (stream order), whatever order a transaction
     // wrote them in: a decoded delta then re-encodes to the same bytes.
-    for (const auto& n : d_.nodes) {
+    for (const auto& n : d_->nodes) {
       add_replica(n.id.dot.replica);
       if (n.has_header || !n.type.is_null()) add_symbol(n.type);
-      for (std::uint32_t i = n.attrs.begin; i < n.attrs.end; ++i) add_symbol(d_.attrs[i].name);
+      for (std::uint32_t i = n.attrs.begin; i < n.attrs.end; ++i) add_symbol(d_->attrs[i].name);
     }
-    for (const auto& e : d_.edges) {
+    for (const auto& e : d_->edges) {
       add_replica(e.key.from.dot.replica);
       add_replica(e.key.to.dot.replica);
       add_symbol(e.key.type);
-      for (std::uint32_t i = e.attrs.begin; i < e.attrs.end; ++i) add_symbol(d_.attrs[i].name);
+      for (std::uint32_t i = e.attrs.begin; i < e.attrs.end; ++i) add_symbol(d_->attrs[i].name);
     }
-    for (const Dot& x : d_.removed) add_replica(x.replica);
-    for (const Dot& x : d_.added) add_replica(x.replica);
-    for (const Dot& x : d_.keep) add_replica(x.replica);
-    for (const auto& [var, id] : d_.binding) add_replica(id.dot.replica);
-    for (const auto& e : d_.values) add_replica(e.dot.replica);
-    for (const auto& e : d_.claims) {
+    for (const Dot& x : d_->removed) add_replica(x.replica);
+    for (const Dot& x : d_->added) add_replica(x.replica);
+    for (const Dot& x : d_->keep) add_replica(x.replica);
+    for (const auto& [var, id] : d_->binding) add_replica(id.dot.replica);
+    for (const auto& e : d_->values) add_replica(e.dot.replica);
+    for (const auto& e : d_->claims) {
       add_replica(e.dot.replica);
       if (!e.value.parent.is_null()) add_replica(e.value.parent.dot.replica);
       if (!e.value.fallback_parent.is_null()) {
@@ -145,7 +211,7 @@ class Encoder {
         add_replica(e.value.fallback_epoch.replica);
       }
     }
-    for (const auto& s : d_.samples) {
+    for (const auto& s : d_->samples) {
       add_replica(s.dot.replica);
       add_replica(s.epoch.replica);
     }
@@ -154,16 +220,16 @@ class Encoder {
   // Added dots in stream order (must match the decoder's order).
   template <class F>
   void for_each_added_in_order(F&& f) const {
-    for (const auto& n : d_.nodes) {
+    for (const auto& n : d_->nodes) {
       for (std::uint32_t i = n.attrs.begin; i < n.attrs.end; ++i)
-        for (std::uint32_t j = d_.attrs[i].added.begin; j < d_.attrs[i].added.end; ++j) f(d_.values[j].dot);
-      for (std::uint32_t j = n.claim_added.begin; j < n.claim_added.end; ++j) f(d_.claims[j].dot);
-      for (std::uint32_t j = n.samples.begin; j < n.samples.end; ++j) f(d_.samples[j].dot);
+        for (std::uint32_t j = d_->attrs[i].added.begin; j < d_->attrs[i].added.end; ++j) f(d_->values[j].dot);
+      for (std::uint32_t j = n.claim_added.begin; j < n.claim_added.end; ++j) f(d_->claims[j].dot);
+      for (std::uint32_t j = n.samples.begin; j < n.samples.end; ++j) f(d_->samples[j].dot);
     }
-    for (const auto& e : d_.edges) {
-      for (std::uint32_t j = e.added.begin; j < e.added.end; ++j) f(d_.added[j]);
+    for (const auto& e : d_->edges) {
+      for (std::uint32_t j = e.added.begin; j < e.added.end; ++j) f(d_->added[j]);
       for (std::uint32_t i = e.attrs.begin; i < e.attrs.end; ++i)
-        for (std::uint32_t j = d_.attrs[i].added.begin; j < d_.attrs[i].added.end; ++j) f(d_.values[j].dot);
+        for (std::uint32_t j = d_->attrs[i].added.begin; j < d_->attrs[i].added.end; ++j) f(d_->values[j].dot);
     }
   }
 
@@ -173,9 +239,9 @@ class Encoder {
     std::uint64_t expect = 0;
     base_ = UINT64_MAX;
     for_each_added_in_order([&](const Dot& x) {
-      if (x.replica == d_.origin) base_ = std::min(base_, x.counter);
+      if (x.replica == d_->origin) base_ = std::min(base_, x.counter);
       if (!ok) return;
-      if (!(x.replica == d_.origin)) {
+      if (!(x.replica == d_->origin)) {
         ok = false;
         return;
       }
@@ -203,9 +269,9 @@ class Encoder {
     if (base_ == UINT64_MAX) base_ = 0;
     // Sorted nodes: within each replica, node counters never decrease.
     sorted_ = true;
-    for (std::size_t i = 1; i < d_.nodes.size(); ++i) {
-      const Dot& a = d_.nodes[i - 1].id.dot;
-      const Dot& b = d_.nodes[i].id.dot;
+    for (std::size_t i = 1; i < d_->nodes.size(); ++i) {
+      const Dot& a = d_->nodes[i - 1].id.dot;
+      const Dot& b = d_->nodes[i].id.dot;
       if (a.replica == b.replica && b.counter < a.counter) sorted_ = false;
     }
   }
@@ -223,7 +289,7 @@ class Encoder {
     w_.varint(x.counter - base_);
   }
   bool is_origin_dot(const Dot& x) const {
-    return x.replica == d_.origin && (implicit_ || x.counter >= base_);
+    return x.replica == d_->origin && (implicit_ || x.counter >= base_);
   }
   void pose(const Pose& p) {
     for (double v : p.translation) w_.f64(v);
@@ -238,15 +304,15 @@ class Encoder {
   void attr(const GraphDelta::AttrOp& a) {
     std::uint64_t sym = sindex(a.name);
     const std::uint32_t nrem = a.removed.size(), nadd = a.added.size();
-    if (nadd == 1 && is_origin_dot(d_.values[a.added.begin].dot)) {
-      const auto& e = d_.values[a.added.begin];
+    if (nadd == 1 && is_origin_dot(d_->values[a.added.begin].dot)) {
+      const auto& e = d_->values[a.added.begin];
       if (nrem == 0) {
         w_.varint(sym << 2 | kFresh);
         origin_dot(e.dot);
         value(e);
         return;
       }
-      const Dot& old = d_.removed[a.removed.begin];
+      const Dot& old = d_->removed[a.removed.begin];
       if (nrem == 1 && old.replica == e.dot.replica && old.counter < e.dot.counter) {
         w_.varint(sym << 2 | kOverwrite);
         origin_dot(e.dot);
@@ -258,17 +324,17 @@ class Encoder {
     if (nadd == 0) {
       w_.varint(sym << 2 | kRemoveOnly);
       w_.varint(nrem);
-      for (std::uint32_t i = a.removed.begin; i < a.removed.end; ++i) dot(d_.removed[i]);
+      for (std::uint32_t i = a.removed.begin; i < a.removed.end; ++i) dot(d_->removed[i]);
       return;
     }
     w_.varint(sym << 2 | kGeneral);
     w_.varint(nrem);
-    for (std::uint32_t i = a.removed.begin; i < a.removed.end; ++i) dot(d_.removed[i]);
+    for (std::uint32_t i = a.removed.begin; i < a.removed.end; ++i) dot(d_->removed[i]);
     w_.varint(nadd);
     for (std::uint32_t i = a.added.begin; i < a.added.end; ++i) {
       // Under implicit dots the dot is known; otherwise it is written in full.
-      if (!implicit_) dot(d_.values[i].dot);
-      value(d_.values[i]);
+      if (!implicit_) dot(d_->values[i].dot);
+      value(d_->values[i]);
     }
   }
 
@@ -292,13 +358,13 @@ class Encoder {
     } else if (typed_) {
       w_.varint(n.type.is_null() ? 0 : sindex(n.type) + 1);
     }
-    for (std::uint32_t i = n.attrs.begin; i < n.attrs.end; ++i) attr(d_.attrs[i]);
+    for (std::uint32_t i = n.attrs.begin; i < n.attrs.end; ++i) attr(d_->attrs[i]);
     if (flags & kClaims) {
       w_.varint(n.claim_removed.size());
-      for (std::uint32_t i = n.claim_removed.begin; i < n.claim_removed.end; ++i) dot(d_.removed[i]);
+      for (std::uint32_t i = n.claim_removed.begin; i < n.claim_removed.end; ++i) dot(d_->removed[i]);
       w_.varint(n.claim_added.size());
       for (std::uint32_t i = n.claim_added.begin; i < n.claim_added.end; ++i) {
-        const auto& e = d_.claims[i];
+        const auto& e = d_->claims[i];
         if (!implicit_) dot(e.dot);
         node_ref(e.value.parent);
         pose(e.value.pose);
@@ -314,7 +380,7 @@ class Encoder {
     if (flags & kSamples) {
       w_.varint(n.samples.size());
       for (std::uint32_t i = n.samples.begin; i < n.samples.end; ++i) {
-        const RtSample& s = d_.samples[i];
+        const RtSample& s = d_->samples[i];
         if (!implicit_) dot(s.dot);
         w_.svarint(s.stamp);
         dot(s.epoch);
@@ -332,21 +398,21 @@ class Encoder {
     w_.varint(flags);
     if (flags & kEdgeRemoved) {
       w_.varint(e.removed.size());
-      for (std::uint32_t i = e.removed.begin; i < e.removed.end; ++i) dot(d_.removed[i]);
+      for (std::uint32_t i = e.removed.begin; i < e.removed.end; ++i) dot(d_->removed[i]);
     }
     if (flags & kEdgeAdded) {
       w_.varint(e.added.size());
       if (!implicit_)
-        for (std::uint32_t i = e.added.begin; i < e.added.end; ++i) dot(d_.added[i]);
+        for (std::uint32_t i = e.added.begin; i < e.added.end; ++i) dot(d_->added[i]);
     }
     if (flags & kEdgeAttrs) {
       w_.varint(e.attrs.size());
-      for (std::uint32_t i = e.attrs.begin; i < e.attrs.end; ++i) attr(d_.attrs[i]);
+      for (std::uint32_t i = e.attrs.begin; i < e.attrs.end; ++i) attr(d_->attrs[i]);
     }
   }
 
-  void keep() {
-    std::vector<Dot> k = d_.keep;
+  void keep(const std::vector<Dot>& kept) {
+    std::vector<Dot> k = kept;
     std::sort(k.begin(), k.end());
     w_.varint(k.size());
     ReplicaId cur{};
@@ -366,7 +432,7 @@ class Encoder {
     }
   }
 
-  const GraphDelta& d_;
+  const GraphDelta* d_;  // the message, or in parts the part at hand
   bytes::Writer w_;
   std::uint64_t seq_lo_, seq_hi_;
   static constexpr std::size_t kKeptEntries = 64;
@@ -404,6 +470,11 @@ void encode(const GraphDelta& d, std::vector<std::uint8_t>& out, std::uint64_t s
   Encoder(d, scratch, seq_lo, seq_hi).run();
   out.assign(scratch.begin(), scratch.end());
   if (scratch.capacity() > 64 * 1024) std::vector<std::uint8_t>().swap(scratch);  // large values
+}
+
+void encode_parts(const PartSource& parts, std::vector<std::uint8_t>& out) {
+  const GraphDelta none;
+  Encoder(none, out, 0, 0).run_parts(parts);
 }
 
 std::vector<std::uint8_t> encode(const GraphDelta& d) {

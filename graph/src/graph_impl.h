@@ -223,6 +223,15 @@ inline void save_attr(ChangeTracker::AttrBefore& v, Symbol s, const AttrList& at
   v.emplace_back(s, register_fingerprint(attrs, s));
 }
 
+/// What a replica whose context is `theirs` lacks of one record goes into `out` as ops (state
+/// transfer, graph_state.cc); the dots it holds already go to out.keep.
+void emit_node(NodeId id, const NodeRec& r, const crdt::CausalContext& theirs, GraphDelta& out);
+void emit_edge(const EdgeKey& key, const EdgeRec& e, const crdt::CausalContext& theirs, GraphDelta& out);
+
+/// Adds the dots of the entries a state holds (node creations, values, edge dots, claims, and
+/// its keep list) to `held`.
+void add_held(const GraphDelta& s, std::unordered_set<Dot>& held);
+
 struct Graph::Impl {
   explicit Impl(ReplicaId self, GraphOptions opts) : self(self), options(opts) {}
 
@@ -400,6 +409,11 @@ struct Graph::Impl {
   // ---- merging (graph_merge.cc) ----
   void merge_delta(const GraphDelta& d);
   void merge_state(const GraphDelta& s);
+  /// The first phase of joining a state: removes every entry of ours whose dot `context` (the
+  /// sender's) holds but `held` (the dots of the sender's entries, add_held()) does not.
+  void remove_unheld(const crdt::CausalContext& context, const std::unordered_set<Dot>& held);
+  /// Nodes whose ids `d` lists as removed dots go (at after_merge()).
+  void kill_removed_ids(const GraphDelta& d);
   /// Adds what `d` adds and removes what it removes under its keys (phases shared by both).
   void merge_ops(const GraphDelta& d);
   void merge_register(AttrList& attrs, const GraphDelta& d, const GraphDelta::AttrOp& a);
@@ -427,6 +441,12 @@ struct Graph::Impl {
   void local_remove_rt(NodeRec* child);
   void record_attr_removals(std::vector<GraphDelta::AttrOp>& ops, AttrList& attrs);
   void record_edge_removal(EdgeRec& e);
+};
+
+/// The library's own free functions that work on a graph's records (state_parts.h).
+struct GraphAccess {
+  static Graph::Impl& of(Graph& g) { return *g.impl_; }
+  static const Graph::Impl& of(const Graph& g) { return *g.impl_; }
 };
 
 }  // namespace quiver::graph

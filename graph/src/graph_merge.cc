@@ -41,11 +41,15 @@ void Graph::Impl::merge_ops(const GraphDelta& d) {
       touch_incident_edges(r);
       set_alive(r, true, op.type, op.name);
     }
+    // A record's attribute list grows to the op's count at once, not by doubling (a joiner's
+    // ten attributes take ten slots, not sixteen: a third less memory to touch).
+    if (r != nullptr && r->attrs.empty()) r->attrs.reserve(op.attrs.size());
     for (std::uint32_t i = op.attrs.begin; i < op.attrs.end; ++i) {
       const auto& a = d.attrs[i];
       if (r == nullptr) {
         if (a.added.empty()) continue;
         r = &node_record(op.id);
+        r->attrs.reserve(op.attrs.end - i);
       }
       touch_attr(r, a.name);
       merge_register(r->attrs, d, a);
@@ -108,7 +112,7 @@ void Graph::Impl::merge_ops(const GraphDelta& d) {
   }
 }
 
-void Graph::Impl::after_merge(const GraphDelta& d, bool full_gc) {
+void Graph::Impl::kill_removed_ids(const GraphDelta& d) {
   // A removed dot that is a node's id removes that node, whatever key the fragment lists it
   // under: an honest delta lists it as the node's own removal, and a forged one must not delete
   // the node while leaving its data behind (a zombie).
@@ -117,6 +121,10 @@ void Graph::Impl::after_merge(const GraphDelta& d, bool full_gc) {
       pending_kills.push_back(NodeId{x});
       gc_candidates.push_back(NodeId{x});
     }
+}
+
+void Graph::Impl::after_merge(const GraphDelta& d, bool full_gc) {
+  kill_removed_ids(d);
   for (NodeId id : pending_kills) {
     NodeRec* r = find_node(id);
     if (r && r->alive) {
@@ -178,22 +186,32 @@ void Graph::Impl::merge_delta(const GraphDelta& d) {
   after_merge(d, false);
 }
 
+void add_held(const GraphDelta& s, std::unordered_set<Dot>& held) {
+  held.reserve(held.size() + s.values.size() + s.added.size() + s.claims.size() + s.nodes.size() + s.keep.size());
+  for (const auto& n : s.nodes)
+    if (n.has_header) held.insert(n.id.dot);
+  for (const auto& e : s.values) held.insert(e.dot);
+  for (const auto& x : s.added) held.insert(x);
+  for (const auto& e : s.claims) held.insert(e.dot);
+  for (const auto& x : s.keep) held.insert(x);
+}
+
 void Graph::Impl::merge_state(const GraphDelta& s) {
   ++epoch;
   begin_tracking();
   // Dots of the entries the sender holds; only our own records are checked against them, so a
   // replica that holds nothing yet (a joiner, a reload from a store) skips building the set.
-  std::unordered_set<Dot> held;
   if (!nodes.empty() || !edges.empty()) {
-    held.reserve(s.values.size() + s.added.size() + s.claims.size() + s.nodes.size() + s.keep.size());
-    for (const auto& n : s.nodes)
-      if (n.has_header) held.insert(n.id.dot);
-    for (const auto& e : s.values) held.insert(e.dot);
-    for (const auto& x : s.added) held.insert(x);
-    for (const auto& e : s.claims) held.insert(e.dot);
-    for (const auto& x : s.keep) held.insert(x);
+    std::unordered_set<Dot> held;
+    add_held(s, held);
+    remove_unheld(s.context, held);
   }
-  auto removed_there = [&](const Dot& x) { return s.context.contains(x) && held.count(x) == 0; };
+  merge_ops(s);
+  after_merge(s, true);
+}
+
+void Graph::Impl::remove_unheld(const crdt::CausalContext& context, const std::unordered_set<Dot>& held) {
+  auto removed_there = [&](const Dot& x) { return context.contains(x) && held.count(x) == 0; };
 
   for (auto& [id, r] : nodes) {
     bool touched = false;
@@ -251,8 +269,6 @@ void Graph::Impl::merge_state(const GraphDelta& s) {
     gc_candidates.push_back(e->key.to);
     erase_edge_record(e);
   }
-  merge_ops(s);
-  after_merge(s, true);
 }
 
 }  // namespace quiver::graph

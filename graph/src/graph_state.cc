@@ -45,71 +45,104 @@ Digest128 digest_attrs(const AttrList& attrs, std::uint64_t tag, HashOwner&& own
 
 GraphDelta Graph::state() const { return state_diff(crdt::CausalContext{}); }
 
+namespace {
+
+void emit_attrs(const AttrList& attrs, const crdt::CausalContext& theirs, GraphDelta& out) {
+  for (const AttrSlot& slot : attrs) {
+    GraphDelta::AttrOp a;
+    a.name = slot.name;
+    a.removed = {u32(out.removed.size()), u32(out.removed.size())};
+    a.added.begin = u32(out.values.size());
+    for (const auto& e : slot.reg) {
+      if (theirs.contains(e.dot)) out.keep.push_back(e.dot);
+      else out.values.push_back(e);
+    }
+    a.added.end = u32(out.values.size());
+    if (!a.added.empty()) out.attrs.push_back(a);
+  }
+}
+
+}  // namespace
+
+void emit_node(NodeId id, const NodeRec& r, const crdt::CausalContext& theirs, GraphDelta& out) {
+  GraphDelta::NodeOp op;
+  op.id = id;
+  op.type = r.type;  // stated even without the header (docs/security.md)
+  if (r.alive) {
+    if (theirs.contains(id.dot)) {
+      out.keep.push_back(id.dot);
+    } else {
+      op.has_header = true;
+      op.type = r.type;
+      op.name = r.name;
+    }
+  }
+  op.attrs.begin = u32(out.attrs.size());
+  emit_attrs(r.attrs, theirs, out);
+  op.attrs.end = u32(out.attrs.size());
+  op.claim_removed = {u32(out.removed.size()), u32(out.removed.size())};
+  op.claim_added.begin = u32(out.claims.size());
+  for (const auto& e : r.claim) {
+    if (theirs.contains(e.dot)) out.keep.push_back(e.dot);
+    else out.claims.push_back(e);
+  }
+  op.claim_added.end = u32(out.claims.size());
+  op.samples.begin = u32(out.samples.size());
+  for (const RtSample& s : r.history)
+    if (!theirs.contains(s.dot)) out.samples.push_back(s);
+  op.samples.end = u32(out.samples.size());
+  if (op.has_header || !op.attrs.empty() || !op.claim_added.empty() || !op.samples.empty())
+    out.nodes.push_back(std::move(op));
+}
+
+void emit_edge(const EdgeKey& key, const EdgeRec& e, const crdt::CausalContext& theirs, GraphDelta& out) {
+  GraphDelta::EdgeOp op;
+  op.key = key;
+  op.removed = {u32(out.removed.size()), u32(out.removed.size())};
+  op.added.begin = u32(out.added.size());
+  for (const Dot& x : e.exists) {
+    if (theirs.contains(x)) out.keep.push_back(x);
+    else out.added.push_back(x);
+  }
+  op.added.end = u32(out.added.size());
+  op.attrs.begin = u32(out.attrs.size());
+  emit_attrs(e.attrs, theirs, out);
+  op.attrs.end = u32(out.attrs.size());
+  if (!op.added.empty() || !op.attrs.empty()) out.edges.push_back(op);
+}
+
 GraphDelta Graph::state_diff(const crdt::CausalContext& theirs) const {
   const Impl& g = *impl_;
   GraphDelta out;
   out.kind = GraphDelta::Kind::kState;
   out.origin = g.self;
   out.context = g.ctx;
-  auto emit_attrs = [&](const AttrList& attrs) {
-    for (const AttrSlot& slot : attrs) {
-      GraphDelta::AttrOp a;
-      a.name = slot.name;
-      a.removed = {u32(out.removed.size()), u32(out.removed.size())};
-      a.added.begin = u32(out.values.size());
-      for (const auto& e : slot.reg) {
-        if (theirs.contains(e.dot)) out.keep.push_back(e.dot);
-        else out.values.push_back(e);
-      }
-      a.added.end = u32(out.values.size());
-      if (!a.added.empty()) out.attrs.push_back(a);
-    }
+  // Every array sized at once (an upper bound: entries the receiver holds go to `keep`), not by
+  // doubling: a 10k-node state is megabytes, and memory touched for the first time is what
+  // building it costs.
+  std::size_t n_attrs = 0, n_values = 0, n_claims = 0, n_samples = 0, n_added = 0;
+  auto count_attrs = [&](const AttrList& attrs) {
+    n_attrs += attrs.size();
+    for (const AttrSlot& slot : attrs) n_values += slot.reg.size();
   };
   for (const auto& [id, r] : g.nodes) {
-    GraphDelta::NodeOp op;
-    op.id = id;
-    op.type = r.type;  // stated even without the header (docs/security.md)
-    if (r.alive) {
-      if (theirs.contains(id.dot)) {
-        out.keep.push_back(id.dot);
-      } else {
-        op.has_header = true;
-        op.type = r.type;
-        op.name = r.name;
-      }
-    }
-    op.attrs.begin = u32(out.attrs.size());
-    emit_attrs(r.attrs);
-    op.attrs.end = u32(out.attrs.size());
-    op.claim_removed = {u32(out.removed.size()), u32(out.removed.size())};
-    op.claim_added.begin = u32(out.claims.size());
-    for (const auto& e : r.claim) {
-      if (theirs.contains(e.dot)) out.keep.push_back(e.dot);
-      else out.claims.push_back(e);
-    }
-    op.claim_added.end = u32(out.claims.size());
-    op.samples.begin = u32(out.samples.size());
-    for (const RtSample& s : r.history)
-      if (!theirs.contains(s.dot)) out.samples.push_back(s);
-    op.samples.end = u32(out.samples.size());
-    if (op.has_header || !op.attrs.empty() || !op.claim_added.empty() || !op.samples.empty())
-      out.nodes.push_back(std::move(op));
+    count_attrs(r.attrs);
+    n_claims += r.claim.size();
+    n_samples += r.history.size();
   }
   for (const auto& [key, e] : g.edges) {
-    GraphDelta::EdgeOp op;
-    op.key = key;
-    op.removed = {u32(out.removed.size()), u32(out.removed.size())};
-    op.added.begin = u32(out.added.size());
-    for (const Dot& x : e.exists) {
-      if (theirs.contains(x)) out.keep.push_back(x);
-      else out.added.push_back(x);
-    }
-    op.added.end = u32(out.added.size());
-    op.attrs.begin = u32(out.attrs.size());
-    emit_attrs(e.attrs);
-    op.attrs.end = u32(out.attrs.size());
-    if (!op.added.empty() || !op.attrs.empty()) out.edges.push_back(op);
+    count_attrs(e.attrs);
+    n_added += e.exists.size();
   }
+  out.nodes.reserve(g.nodes.size());
+  out.edges.reserve(g.edges.size());
+  out.attrs.reserve(n_attrs);
+  out.values.reserve(n_values);
+  out.claims.reserve(n_claims);
+  out.samples.reserve(n_samples);
+  out.added.reserve(n_added);
+  for (const auto& [id, r] : g.nodes) emit_node(id, r, theirs, out);
+  for (const auto& [key, e] : g.edges) emit_edge(key, e, theirs, out);
   return out;
 }
 

@@ -16,6 +16,7 @@
 #include "quiver/base/byte_codec.h"
 #include "quiver/graph/codec.h"
 #include "quiver/graph/graph.h"
+#include "quiver/graph/state_parts.h"
 #include "quiver/graph/world_file.h"
 #include "quiver/agents/view/recording/history.h"
 #include "quiver/agents/view/recording/record_file.h"
@@ -55,8 +56,20 @@ struct NullTransport : agents::Transport {
 }  // namespace
 
 bool graph_delta(const std::uint8_t* data, std::size_t size) {
+  const std::span<const std::uint8_t> bytes(data, size);
   GraphDelta d;
-  Status s = decode(std::span<const std::uint8_t>(data, size), d);
+  Status s = decode(bytes, d);
+  // Joined in parts (as a replica joins a state), the same bytes are refused exactly when they
+  // do not decode or are not a state, and a refusal joins nothing.
+  Graph parts(ReplicaId{1, 1});
+  populate(parts);
+  const Digest128 before = parts.digest();
+  GraphDelta scratch;
+  Status ps = merge_state(parts, bytes, scratch, {}, {}, 3);
+  if (ps.ok() != (s.ok() && d.kind == GraphDelta::Kind::kState) || (!ps.ok() && parts.digest() != before)) {
+    std::fprintf(stderr, "a join in parts disagrees with decode(): %s\n", ps.ok() ? "joined" : ps.error().to_string().c_str());
+    std::abort();
+  }
   if (!s.ok()) {
     if (s.error().message.empty()) std::abort();  // every error must say what was wrong
     return false;
@@ -65,10 +78,24 @@ bool graph_delta(const std::uint8_t* data, std::size_t size) {
   populate(g);
   g.merge(d);
   check(g, "graph_delta");
+  if (ps.ok() && parts.digest() != g.digest()) {
+    std::fprintf(stderr, "a state joined in parts differs from the state joined whole\n");
+    std::abort();
+  }
   // Whatever was accepted must survive a round trip through the encoder.
   auto again = decode(encode(d));
   if (!again.ok()) {
     std::fprintf(stderr, "re-encoded delta does not decode: %s\n", again.error().to_string().c_str());
+    std::abort();
+  }
+  // And the replica's state, encoded in parts, must decode and rebuild it.
+  std::vector<std::uint8_t> state;
+  encode_state(g, {}, state, 2);
+  Graph rebuilt(ReplicaId{2, 1});
+  auto st = decode(state);
+  if (!st.ok() || (rebuilt.merge(*st), rebuilt.digest() != g.digest())) {
+    std::fprintf(stderr, "a state encoded in parts does not rebuild its replica: %s\n",
+                 st.ok() ? "different digest" : st.error().to_string().c_str());
     std::abort();
   }
   return true;

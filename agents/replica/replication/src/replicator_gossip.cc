@@ -356,7 +356,8 @@ void Replicator::repair_own(const PeerId& to, Peer& p, std::uint64_t your_seq) {
   }
   if (covered && entries.empty()) return;  // the first missing delta was sent just now
   d(p).repaired_ns = now_;
-  if (!covered) return send_full(to);
+  // A long history goes as a state (handle(PullMsg)): our whole set, and the peer pulls.
+  if (!covered || entries.size() > opt_.max_relayed_answer) return send_full(to);
   for (const Buffered* e : entries) {
     queue(to, DeltaMsg{e->origin, e->lo, e->hi, e->bytes, e->signature});
     ++stats_.deltas_relayed;

@@ -19,6 +19,7 @@
 
 #include "lmdb.h"
 #include "quiver/graph/codec.h"
+#include "quiver/graph/state_parts.h"
 #include "quiver/base/hash.h"
 #include "quiver/base/byte_codec.h"
 #include "quiver/agents/replica/store/records.h"
@@ -266,11 +267,9 @@ struct Store::Impl {
     if (int rc = mdb_get(txn, snap, &k, &v); rc == 0) {
       auto s = decode_snapshot(bytes_of(v), where + ": snapshot");
       if (!s.ok()) return s.error();
-      if (Status d = graph::decode(s->state, scratch); !d.ok())
+      // Joined a few hundred ops at a time: a large snapshot is never held decoded whole.
+      if (Status d = graph::merge_state(g, s->state, scratch); !d.ok())
         return make_error(ErrorCode::kMalformed, where + ": snapshot: " + d.error().message);
-      if (scratch.kind != graph::GraphDelta::Kind::kState)
-        return make_error(ErrorCode::kMalformed, where + ": snapshot: not a state");
-      g.merge(scratch);
       applied.join(s->applied);
       after = s->upto;
       snap_bytes = v.mv_size;
@@ -329,7 +328,8 @@ struct Store::Impl {
       if (Status s = t.begin(env, true, where); !s.ok()) return s;
       if (Status s = replay(t.get(), shadow, applied, upto, records, log_read, snap_read); !s.ok()) return s;
     }
-    const std::vector<std::uint8_t> state = graph::encode(shadow.state());
+    std::vector<std::uint8_t> state;
+    graph::encode_state(shadow, {}, state);
     std::vector<std::uint8_t> snapshot = encode_snapshot(upto, applied, state);
     if (fault(StoreWrite::What::kSnapshot, snapshot.size()).kind == StoreFault::Kind::kNoSpace)
       return lmdb_error(where, "mdb_put (snapshot)", ENOSPC);

@@ -24,6 +24,7 @@
 /// interns into is thread-safe). Errors are returned as values; nothing throws on bad input.
 
 #include <cstdint>
+#include <functional>
 #include <span>
 #include <vector>
 
@@ -54,6 +55,18 @@ void encode(const GraphDelta& d, std::vector<std::uint8_t>& out, std::uint64_t s
 /// @returns the encoding of `d` in a new buffer. @pre as above.
 std::vector<std::uint8_t> encode(const GraphDelta& d);
 
+/// Which ops a state's parts hold in one pass of encode_parts(): both, node ops only, or edge
+/// ops only (the other kind may be left out of the parts).
+enum class PartOps { kAll, kNodes, kEdges };
+/// Calls its second argument with each part of one state in order, the same parts on every call:
+/// kState fragments of one origin and context whose ops together are the state's, the keep list
+/// spread over them. At least one part, if only an empty one.
+using PartSource = std::function<void(PartOps, const std::function<void(const GraphDelta& part)>&)>;
+/// Appends the encoding of the state whose parts `parts` gives, as one message (decode() reads
+/// it whole, decode_parts() in parts): a state of megabytes is never held as one GraphDelta.
+/// encode_state() (state_parts.h) is the source it was made for.
+void encode_parts(const PartSource& parts, std::vector<std::uint8_t>& out);
+
 /// Decodes into `out` (cleared first; its capacity is reused). On error `out` is unspecified
 /// and the error names what was wrong and where.
 /// @returns kMalformed (bad magic, kind, flags or structure; a check above fails), kTruncated
@@ -63,4 +76,16 @@ Status decode(std::span<const std::uint8_t> in, GraphDelta& out, const DecodeLim
 /// The same into a new GraphDelta. @returns the fragment or decode()'s error.
 Result<GraphDelta> decode(std::span<const std::uint8_t> in, const DecodeLimits& limits = {});
 
+/// Receives one part of a state decoded in parts; an error stops the decoding and is returned.
+using PartSink = std::function<Status(const GraphDelta& part)>;
+/// Decodes a state (kind kState) a part at a time, into `scratch`: `part` sees at most
+/// `part_ops` node and edge ops (with their attributes, values, claims and samples), each part
+/// the message's context, and the last part the rest and the keep list. The whole message is
+/// checked as decode() checks it, but the checks of its end come after the earlier parts went
+/// to `part`, and a symbol new to this process is provisional in those parts: decode the
+/// message once with a sink that keeps nothing before acting on its parts (merge_state() in
+/// state_parts.h does). So a state of megabytes is never held decoded at once.
+/// @returns decode()'s errors, kMalformed for a delta, or the first error of `part`.
+Status decode_parts(std::span<const std::uint8_t> in, GraphDelta& scratch, std::size_t part_ops, const PartSink& part,
+                    const DecodeLimits& limits = {});
 }  // namespace quiver::graph

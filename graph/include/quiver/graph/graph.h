@@ -577,7 +577,7 @@ class Graph {
 
  private:
   friend class Transaction;
-  friend struct GraphAccess;
+  friend struct GraphAccess;  // graph_impl.h: the library's own free functions (state_parts.h)
   Error missing_attr_error(NodeId id, std::string_view name) const;
   Error wrong_type_error(NodeId id, std::string_view name, const Value& v, ValueType wanted) const;
   Error missing_attr_error(const EdgeKey& key, std::string_view name) const;

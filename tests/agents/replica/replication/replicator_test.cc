@@ -177,6 +177,26 @@ TEST(ReplicatorTest, ALateJoinerGetsTheStateInChunksFromAnyPeer) {
   EXPECT_TRUE(net.nodes[c].rep->synced());
 }
 
+// A pull the relay buffer could answer only with a long history (here 300 deltas, over the
+// limit of 256) is answered with a state, which holds what is there now; a short one (the lost
+// delta above) with deltas.
+TEST(ReplicatorTest, APullMissingALongHistoryIsAnsweredWithAState) {
+  Net net;
+  int a = net.add(1), b = net.add(2);
+  net.pump();
+  net.drop = [&](const Packet& f) { return f.from == a && f.to == b && f.sample.topic == DdsTopic::kDelta; };
+  for (int i = 0; i < 300; ++i) add_node(*net.nodes[a].g, "n" + std::to_string(i));
+  net.pump();
+  ASSERT_EQ(net.nodes[b].g->node_count(), 0u);
+  net.drop = nullptr;
+  net.advance(1'000'000'000, 20);
+  EXPECT_EQ(net.nodes[b].g->node_count(), 300u);
+  EXPECT_EQ(net.nodes[b].g->digest(), net.nodes[a].g->digest());
+  EXPECT_GE(net.nodes[a].rep->stats().pulls_answered_with_state, 1u);
+  EXPECT_EQ(net.nodes[a].rep->stats().pulls_answered_with_deltas, 0u) << "not 300 deltas";
+  EXPECT_EQ(net.nodes[b].rep->stats().deltas_applied, 0u);
+}
+
 TEST(ReplicatorTest, LostStateChunksAreRetried) {
   ReplicatorOptions opt;
   opt.chunk_bytes = 1024;

@@ -383,6 +383,8 @@ class Replicator {
   void handle(const PeerId& from, const DeltaMsg& m);
   void handle(const PeerId& from, const PullMsg& m);
   void answer_with_state(const PeerId& from, const PullMsg& m);
+  /// False while a state went to `from` less than a first-pull patience ago.
+  bool state_answer_allowed(const PeerId& from);
   void handle(const PeerId& from, const StateMsg& m);
   void handle(const PeerId& from, const ByeMsg& m);
   Peer* heard_from(const PeerId& from);

@@ -28,6 +28,9 @@ struct ReplicatorOptions {
   std::int64_t stale_pull_ns = 0;
   std::size_t buffer_bytes = 16u << 20;      ///< relay buffer of recent deltas (all origins)
   std::size_t chunk_bytes = 256u << 10;      ///< state transfer chunk size
+  /// A pull that the relay buffer would answer with more deltas than this is answered with a
+  /// state (a context diff): a joiner of a long history gets what is there, not every change.
+  std::size_t max_relayed_answer = 256;
   std::size_t max_state_bytes = 1u << 30;    ///< a state transfer larger than this is refused
   bool coalesce = false;                     ///< hold local deltas until flush() or tick()
   SampleLimits limits;                       ///< what one sample may hold (validate.h)
