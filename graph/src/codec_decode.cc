@@ -150,14 +150,7 @@ class Decoder {
   Status part_full() {
     if (sink_ == nullptr || !r_.ok() || d_.nodes.size() + d_.edges.size() < part_ops_) return {};
     if (Status s = (*sink_)(d_); !s.ok()) return s;
-    d_.nodes.clear();
-    d_.edges.clear();
-    d_.attrs.clear();
-    d_.removed.clear();
-    d_.added.clear();
-    d_.values.clear();
-    d_.claims.clear();
-    d_.samples.clear();
+    d_.clear_ops();  // the keep list comes after the last op
     return {};
   }
 

@@ -1,4 +1,5 @@
-// GraphDelta, a fragment of the graph CRDT's state: cleared, its changes counted, and another appended to it.
+// GraphDelta, a fragment of the graph CRDT's state: cleared (whole or its ops), its changes counted, and
+// another appended to it.
 #include "quiver/graph/delta.h"
 
 namespace quiver::graph {
@@ -8,6 +9,12 @@ void GraphDelta::clear() {
   origin = ReplicaId{};
   seq_lo = seq_hi = 0;
   context.clear();
+  clear_ops();
+  rule.clear();
+  binding.clear();
+}
+
+void GraphDelta::clear_ops() {
   nodes.clear();
   edges.clear();
   attrs.clear();
@@ -17,8 +24,6 @@ void GraphDelta::clear() {
   claims.clear();
   samples.clear();
   keep.clear();
-  rule.clear();
-  binding.clear();
 }
 
 std::size_t GraphDelta::change_count() const {

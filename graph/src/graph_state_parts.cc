@@ -17,26 +17,16 @@ void encode_state(const Graph& graph, const crdt::CausalContext& theirs, std::ve
   part.kind = GraphDelta::Kind::kState;
   part.origin = g.self;
   part.context = g.ctx;
-  const auto clear_ops = [&] {
-    part.nodes.clear();
-    part.edges.clear();
-    part.attrs.clear();
-    part.values.clear();
-    part.claims.clear();
-    part.samples.clear();
-    part.added.clear();
-    part.keep.clear();
-  };
   part_ops = std::max<std::size_t>(part_ops, 1);
   encode_parts(
       [&](PartOps ops, const std::function<void(const GraphDelta&)>& each) {
-        clear_ops();
+        part.clear_ops();
         bool sent = false;
         const auto full = [&] {
           if (part.nodes.size() + part.edges.size() < part_ops) return;
           each(part);
           sent = true;
-          clear_ops();
+          part.clear_ops();
         };
         if (ops != PartOps::kEdges)
           for (const auto& [id, r] : g.nodes) {

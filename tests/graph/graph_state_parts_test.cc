@@ -70,6 +70,12 @@ std::unique_ptr<Peer> copy_of(const Peer& p, std::uint64_t id) {
   return c;
 }
 
+// What a state goes into: an empty replica (target 0, a joiner) or a copy of `holder` (target 1,
+// which holds entries the sender removed and lacks some of its own).
+std::unique_ptr<Peer> target_replica(int target, const Peer& holder, std::uint64_t id) {
+  return target == 0 ? std::make_unique<Peer>(id) : copy_of(holder, id);
+}
+
 TEST(GraphStatePartsTest, PartsJoinAsTheWholeStateDoes) {
   const auto base = quiver::testing::base_seed("GraphStatePartsTest.PartsJoinAsTheWholeStateDoes", 4100);
   for (int s = 0; s < quiver::testing::seed_count(60); ++s) {
@@ -83,8 +89,8 @@ TEST(GraphStatePartsTest, PartsJoinAsTheWholeStateDoes) {
     for (int target = 0; target < 2; ++target) {
       for (bool diff : {false, true}) {
         for (std::size_t part_ops : {std::size_t{1}, std::size_t{3}, std::size_t{256}}) {
-          auto whole = target == 0 ? std::make_unique<Peer>(300) : copy_of(*peers[1], 300);
-          auto parts = target == 0 ? std::make_unique<Peer>(300) : copy_of(*peers[1], 300);
+          auto whole = target_replica(target, *peers[1], 300);
+          auto parts = target_replica(target, *peers[1], 300);
           const auto bytes = encode(diff ? peers[0]->g.state_diff(whole->g.context()) : peers[0]->g.state());
           EventLog whole_events(whole->g), parts_events(parts->g);
           whole->receive(bytes);
@@ -117,8 +123,8 @@ TEST(GraphStatePartsTest, AnEncodedStateHoldsWhatStateDiffHolds) {
     ASSERT_FALSE(HasFailure()) << "seed " << seed;
     for (int target = 0; target < 2; ++target) {
       for (std::size_t part_ops : {std::size_t{1}, std::size_t{4}, std::size_t{256}}) {
-        auto by_diff = target == 0 ? std::make_unique<Peer>(310) : copy_of(*peers[1], 310);
-        auto by_parts = target == 0 ? std::make_unique<Peer>(310) : copy_of(*peers[1], 310);
+        auto by_diff = target_replica(target, *peers[1], 310);
+        auto by_parts = target_replica(target, *peers[1], 310);
         const GraphDelta diff = peers[0]->g.state_diff(by_diff->g.context());
         std::vector<std::uint8_t> bytes;
         encode_state(peers[0]->g, by_parts->g.context(), bytes, part_ops);

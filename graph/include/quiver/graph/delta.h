@@ -86,6 +86,9 @@ struct GraphDelta {
 
   /// Resets every field to its default (kind kDelta, null origin, no claim), keeping capacity.
   void clear();
+  /// Empties the ops and the arrays they index, and the keep list (a state sent in parts: the
+  /// next part reuses them); the header, context, rule and binding stay.
+  void clear_ops();
   /// @returns true if the fragment carries no node op, no edge op and an empty context.
   bool empty() const { return nodes.empty() && edges.empty() && context.empty(); }
   /// Number of entry-level changes (for statistics).
